@@ -1,0 +1,22 @@
+"""framefree: recognize hand-held 6-DoF motion gestures without calibrating any reference frame."""
+
+from .classifier import NearestNeighborClassifier
+from .descriptors import Descriptor, available_descriptors, get_descriptor, register
+from .errors import DatasetError, DegenerateMotionError, FramefreeError, TrajectoryError
+from .trajectory import Trajectory
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "DatasetError",
+    "DegenerateMotionError",
+    "Descriptor",
+    "FramefreeError",
+    "NearestNeighborClassifier",
+    "Trajectory",
+    "TrajectoryError",
+    "__version__",
+    "available_descriptors",
+    "get_descriptor",
+    "register",
+]

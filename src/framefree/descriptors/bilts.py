@@ -1,0 +1,309 @@
+"""BILTS and BILTS+: bi-invariant local trajectory-shape descriptors (§5.7, §5.8).
+
+Pipeline per trajectory (Appendix C of ALGORITHMS.md):
+
+1. resample at 50 Hz, reparameterize to N = 50 equidistant progress samples, step Δs;
+2. window spacing ``m = min(23, max(1, round(ds_scale / Δs)))``;
+3. Gaussian smoothing (window 20 for BILTS, 10 for BILTS+) of positions and quaternions;
+4. central spatial twists (with the reference's boundary quirk) plus 1e-12 noise (seeded);
+5. for each centre k: the window ``[ξ_{k-m}, ξ_k, ξ_{k+m}]`` is re-expressed in a moving frame
+   {Q, p} found by an extended QR decomposition (eQR); BILTS+ keeps p within L of the body origin;
+6. row layout per sample (24 columns): ``Lω'₋, v'₋, Lω'₀, v'₀, Lω'₊, v'₊`` (18 numbers), then the
+   ascending singular values of the rotational and translational 3×3 blocks (6 numbers).
+
+Distances: DTW path on the singular values, then the sum along the path of the squared Euclidean
+difference of the 18 twist entries (BILTS) or of the Kabsch residual of the six 3-vectors (BILTS+),
+divided by ``n_query + n_model - 1``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+from numba import njit
+
+from .. import se3
+from ..dtw import POINTWISE_KABSCH, POINTWISE_SQUARED, pack_sequences, path_distance_matrix_kernel
+from ..progress import DEFAULT_SAMPLES, reparameterize
+from ..smoothing import smooth_poses
+from ..trajectory import Trajectory
+from .base import Descriptor, register
+
+__all__ = [
+    "BILTS",
+    "BILTSPlus",
+    "MAX_WINDOW_SPACING",
+    "bilts_sample",
+    "bilts_windows",
+    "window_spacing",
+]
+
+#: Largest window spacing m (leaves at least 4 of 50 samples).
+MAX_WINDOW_SPACING = 23
+#: Standard deviation of the perturbation added to every twist entry (reference, §5.7 step 5).
+TWIST_NOISE = 1e-12
+#: Number of columns of a BILTS sample.
+N_FEATURES = 24
+
+
+def window_spacing(ds_scale: float, ds: float, cap: int = MAX_WINDOW_SPACING) -> int:
+    """``m = min(cap, max(1, round(ds_scale / ds)))`` with MATLAB rounding (halves away from zero)."""
+    if not (ds > 0 and math.isfinite(ds)):
+        return 1
+    ratio = ds_scale / ds
+    m = int(math.floor(ratio + 0.5)) if math.isfinite(ratio) else 1
+    return min(cap, max(1, m))
+
+
+@njit(cache=True)
+def _sym3_eigvals_ascending(A):
+    """Eigenvalues of a symmetric 3×3 matrix by cyclic Jacobi rotations, ascending."""
+    a = A.copy()
+    for _ in range(50):
+        off = a[0, 1] * a[0, 1] + a[0, 2] * a[0, 2] + a[1, 2] * a[1, 2]
+        diag = a[0, 0] * a[0, 0] + a[1, 1] * a[1, 1] + a[2, 2] * a[2, 2]
+        if off <= 1e-36 * diag or off == 0.0:
+            break
+        for p in range(2):
+            for q in range(p + 1, 3):
+                apq = a[p, q]
+                if apq == 0.0:
+                    continue
+                theta = (a[q, q] - a[p, p]) / (2.0 * apq)
+                t = (1.0 if theta >= 0.0 else -1.0) / (abs(theta) + math.sqrt(theta * theta + 1.0))
+                c = 1.0 / math.sqrt(t * t + 1.0)
+                s = t * c
+                for k in range(3):
+                    akp = a[k, p]
+                    akq = a[k, q]
+                    a[k, p] = c * akp - s * akq
+                    a[k, q] = s * akp + c * akq
+                for k in range(3):
+                    apk = a[p, k]
+                    aqk = a[q, k]
+                    a[p, k] = c * apk - s * aqk
+                    a[q, k] = s * apk + c * aqk
+    ev = np.array([a[0, 0], a[1, 1], a[2, 2]])
+    ev.sort()
+    return ev
+
+
+@njit(cache=True)
+def bilts_sample(xm, x0, xp, p_obj, L, regularized):
+    """One BILTS(+) sample (24,) from the window twists ``ξ_{k-m}, ξ_k, ξ_{k+m}`` (6,) each.
+
+    Parameters
+    ----------
+    xm, x0, xp : ndarray, shape (6,)
+        Spatial twists (ω; v), v referred to the world origin.
+    p_obj : ndarray, shape (3,)
+        Body origin at the window centre (world), the centre of the BILTS+ clamp.
+    L : float
+        Scale length [m]: weight of the rotational rows and clamp radius.
+    regularized : bool
+        BILTS+ (clamp the frame origin within L of ``p_obj``) or BILTS.
+    """
+    # X = W A = [ξ_k, ξ_{k+m} - ξ_{k-m}, ξ_{k-m}]
+    X = np.empty((6, 3))
+    for r in range(6):
+        X[r, 0] = x0[r]
+        X[r, 1] = xp[r] - xm[r]
+        X[r, 2] = xm[r]
+    # Gram-Schmidt on the first two rotational columns
+    Q = np.empty((3, 3))
+    n1 = math.sqrt(X[0, 0] ** 2 + X[1, 0] ** 2 + X[2, 0] ** 2)
+    for r in range(3):
+        Q[r, 0] = X[r, 0] / n1
+    d = X[0, 1] * Q[0, 0] + X[1, 1] * Q[1, 0] + X[2, 1] * Q[2, 0]
+    u = np.empty(3)
+    for r in range(3):
+        u[r] = X[r, 1] - d * Q[r, 0]
+    nu = math.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2)
+    for r in range(3):
+        Q[r, 1] = u[r] / nu
+    Q[0, 2] = Q[1, 0] * Q[2, 1] - Q[2, 0] * Q[1, 1]
+    Q[1, 2] = Q[2, 0] * Q[0, 1] - Q[0, 0] * Q[2, 1]
+    Q[2, 2] = Q[0, 0] * Q[1, 1] - Q[1, 0] * Q[0, 1]
+    # R1 = Q^T X1, Y = Q^T X2
+    R1 = np.empty((3, 3))
+    Y = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            R1[i, j] = Q[0, i] * X[0, j] + Q[1, i] * X[1, j] + Q[2, i] * X[2, j]
+            Y[i, j] = Q[0, i] * X[3, j] + Q[1, i] * X[4, j] + Q[2, i] * X[5, j]
+    # frame origin in Q coordinates: on the ISA of the centre twist, with Y(3,2) made zero
+    ps = np.empty(3)
+    ps[2] = Y[1, 0] / R1[0, 0]
+    ps[1] = -Y[2, 0] / R1[0, 0]
+    ps[0] = (Y[2, 1] + R1[0, 1] * ps[1]) / R1[1, 1]
+    if regularized:
+        qo = np.empty(3)
+        for i in range(3):
+            qo[i] = Q[0, i] * p_obj[0] + Q[1, i] * p_obj[1] + Q[2, i] * p_obj[2]
+        delta = ps - qo
+        nd = math.sqrt(delta[0] ** 2 + delta[1] ** 2 + delta[2] ** 2)
+        if nd > L:
+            delta *= L / nd
+        ps = qo + delta
+    # R2 = Y - [p*]x R1
+    R2 = np.empty((3, 3))
+    for j in range(3):
+        c0 = ps[1] * R1[2, j] - ps[2] * R1[1, j]
+        c1 = ps[2] * R1[0, j] - ps[0] * R1[2, j]
+        c2 = ps[0] * R1[1, j] - ps[1] * R1[0, j]
+        R2[0, j] = Y[0, j] - c0
+        R2[1, j] = Y[1, j] - c1
+        R2[2, j] = Y[2, j] - c2
+    # undo the mixing: F = [R1; R2] A^-1 -> columns ξ'_{k-m}, ξ'_k, ξ'_{k+m}
+    out = np.empty(24)
+    Fw = np.empty((3, 3))
+    Fv = np.empty((3, 3))
+    for r in range(3):
+        Fw[r, 0] = L * R1[r, 2]
+        Fw[r, 1] = L * R1[r, 0]
+        Fw[r, 2] = L * (R1[r, 1] + R1[r, 2])
+        Fv[r, 0] = R2[r, 2]
+        Fv[r, 1] = R2[r, 0]
+        Fv[r, 2] = R2[r, 1] + R2[r, 2]
+    for c in range(3):
+        for r in range(3):
+            out[6 * c + r] = Fw[r, c]
+            out[6 * c + 3 + r] = Fv[r, c]
+    ew = _sym3_eigvals_ascending(Fw @ Fw.T)
+    ev = _sym3_eigvals_ascending(Fv @ Fv.T)
+    for i in range(3):
+        out[18 + i] = math.sqrt(max(ew[i], 0.0))
+        out[21 + i] = math.sqrt(max(ev[i], 0.0))
+    return out
+
+
+@njit(cache=True)
+def bilts_windows(twists, positions, m, L, regularized):
+    """BILTS(+) samples for every centre k = m .. N-1-m (0-based): shape (N - 2m, 24).
+
+    Parameters
+    ----------
+    twists : ndarray, shape (N, 6)
+        Spatial twists of the smoothed trajectory.
+    positions : ndarray, shape (N, 3)
+        Smoothed body-origin positions (clamp centres).
+    m : int
+        Window spacing in samples.
+    """
+    n = twists.shape[0]
+    k_count = n - 2 * m
+    out = np.empty((k_count, 24))
+    for j in range(k_count):
+        k = j + m
+        out[j] = bilts_sample(twists[k - m], twists[k], twists[k + m], positions[k], L, regularized)
+    return out
+
+
+class _BILTSBase(Descriptor):
+    progress_types = ("screw", "angle")
+    param_names = ("progress", "L", "ds_scale", "window", "n_samples", "seed")
+    regularized: bool = False
+    default_window: int = 20
+
+    def __init__(
+        self,
+        progress: str = "screw",
+        L: float = 0.5,
+        ds_scale: float = 0.09,
+        window: int | None = None,
+        n_samples: int = DEFAULT_SAMPLES,
+        seed: int | None = 0,
+    ) -> None:
+        self.progress = self._check_progress(progress)
+        if not L > 0:
+            raise ValueError(f"L must be positive, got {L}")
+        if not ds_scale > 0:
+            raise ValueError(f"ds_scale must be positive, got {ds_scale}")
+        if n_samples < 2 * 1 + 1:
+            raise ValueError(f"n_samples must be at least 3, got {n_samples}")
+        self.L = float(L)
+        self.ds_scale = float(ds_scale)
+        self.window = self.default_window if window is None else int(window)
+        self.n_samples = int(n_samples)
+        self.seed = seed
+
+    def _max_spacing(self) -> int:
+        return min(MAX_WINDOW_SPACING, (self.n_samples - 1) // 2)
+
+    def compute(self, traj: Trajectory) -> np.ndarray:
+        """BILTS(+) descriptor of a trajectory, shape (n_samples - 2m, 24).
+
+        Raises
+        ------
+        DegenerateMotionError
+            If the trajectory has no progress (motionless).
+        """
+        rep = reparameterize(traj, self.progress, self.L, self.n_samples)
+        return self.from_reparameterized(rep.poses, rep.ds)
+
+    def from_reparameterized(self, poses: np.ndarray, ds: float) -> np.ndarray:
+        """Descriptor from poses (N, 4, 4) already at equidistant progress with step ``ds``."""
+        m = window_spacing(self.ds_scale, ds, self._max_spacing())
+        smoothed = smooth_poses(poses, self.window)
+        twists = se3.central_spatial_twists(smoothed, ds)
+        rng = np.random.default_rng(self.seed)
+        twists = twists + rng.normal(0.0, TWIST_NOISE, twists.shape)
+        positions = np.ascontiguousarray(smoothed[:, :3, 3])
+        return bilts_windows(np.ascontiguousarray(twists), positions, m, self.L, self.regularized)
+
+    _pointwise: int = POINTWISE_SQUARED
+
+    def distance_matrix(self, queries: Sequence[np.ndarray], models: Sequence[np.ndarray]) -> np.ndarray:
+        """DTW on the singular values, pointwise sum of the twist part along the path (§6.5-6.6).
+
+        Returns
+        -------
+        ndarray, shape (n_queries, n_models)
+        """
+        qd, qo = pack_sequences(list(queries))
+        md, mo = pack_sequences(list(models))
+        if qd.shape[1] != N_FEATURES or md.shape[1] != N_FEATURES:
+            raise ValueError(f"BILTS sequences have {N_FEATURES} columns")
+        return path_distance_matrix_kernel(qd, qo, md, mo, 18, 24, self._pointwise)
+
+
+@register
+class BILTS(_BILTSBase):
+    """BILTS (``BILTS_discrete``): Gaussian window 20, ISA-based frame origin, squared-Euclidean
+    distance along the DTW path (§5.7, §6.5).
+
+    Parameters
+    ----------
+    progress : {"screw", "angle"}
+    L : float
+        Scale length [m] (screw progress, rotational weight).
+    ds_scale : float
+        Window scale: metres (screw progress) or radians (angle progress).
+    window : int, optional
+        Gaussian smoothing window in samples (default 20).
+    n_samples : int
+        Progress samples (50 in the reference).
+    seed : int or None
+        Seed of the 1e-12 twist perturbation (None: unseeded, as the reference).
+    """
+
+    name = "bilts"
+    regularized = False
+    default_window = 20
+    _pointwise = POINTWISE_SQUARED
+
+
+@register
+class BILTSPlus(_BILTSBase):
+    """BILTS+ (``BILTS_discrete_reg``): Gaussian window 10, frame origin clamped within L of the
+    body origin, per-pair Kabsch-aligned distance along the DTW path (§5.8, §6.6).
+
+    Parameters are those of :class:`BILTS` (default window 10).
+    """
+
+    name = "bilts+"
+    regularized = True
+    default_window = 10
+    _pointwise = POINTWISE_KABSCH

@@ -1,0 +1,200 @@
+"""Dynamic time warping as the reference uses it (MATLAB ``dtw(X, Y)``, §6.2), in numba.
+
+* local cost: Euclidean distance between feature vectors (not squared);
+* steps (1,1), (1,0), (0,1), all of weight 1, no window;
+* traceback from the last cell with the reference's tie rule: the diagonal wins unless it is worse
+  than both alternatives; between a pure model step and a pure query step an exact tie prefers the
+  model step.
+
+Sequences are arrays with **time leading**: shape (n, features). The model is the first argument.
+
+The BILTS distances (§6.5, §6.6) align with DTW on the singular-value features (columns 18–23)
+and then sum another pointwise quantity along the warping path; those kernels live here too so
+that one path traversal does both.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .kabsch import residual_columns
+
+__all__ = [
+    "accumulated_cost",
+    "dtw_distance",
+    "pack_sequences",
+    "warping_path",
+]
+
+
+@njit(cache=True)
+def accumulated_cost_kernel(X, Y, lo, hi):
+    """Accumulated DTW cost matrix (n, m) with Euclidean local cost over feature columns lo..hi-1."""
+    n = X.shape[0]
+    m = Y.shape[0]
+    C = np.empty((n, m))
+    for i in range(n):
+        for j in range(m):
+            d = 0.0
+            for f in range(lo, hi):
+                diff = X[i, f] - Y[j, f]
+                d += diff * diff
+            d = math.sqrt(d)
+            if i == 0 and j == 0:
+                C[i, j] = d
+            elif i == 0:
+                C[i, j] = d + C[i, j - 1]
+            elif j == 0:
+                C[i, j] = d + C[i - 1, j]
+            else:
+                best = C[i - 1, j - 1]
+                if C[i - 1, j] < best:
+                    best = C[i - 1, j]
+                if C[i, j - 1] < best:
+                    best = C[i, j - 1]
+                C[i, j] = d + best
+    return C
+
+
+@njit(cache=True)
+def warping_path_kernel(C):
+    """Traceback of an accumulated cost matrix with the reference tie rule; (L, 2) from start to end."""
+    n, m = C.shape
+    path = np.empty((n + m - 1, 2), dtype=np.int64)
+    i = n - 1
+    j = m - 1
+    k = 0
+    path[k, 0] = i
+    path[k, 1] = j
+    while i > 0 or j > 0:
+        if j == 0:
+            i -= 1
+        elif i == 0:
+            j -= 1
+        else:
+            cd = C[i - 1, j - 1]
+            ci = C[i - 1, j]
+            cj = C[i, j - 1]
+            step_i = ci <= cj or cd <= cj
+            step_j = cj < ci or cd <= ci
+            if step_i:
+                i -= 1
+            if step_j:
+                j -= 1
+        k += 1
+        path[k, 0] = i
+        path[k, 1] = j
+    return path[k::-1].copy()
+
+
+def _as_seq(x: np.ndarray, name: str) -> np.ndarray:
+    x = np.asarray(x, dtype=np.float64)
+    if x.ndim == 1:
+        x = x[:, None]
+    if x.ndim != 2 or x.shape[0] == 0:
+        raise ValueError(f"{name} must be a non-empty (n, features) array, got shape {x.shape}")
+    return np.ascontiguousarray(x)
+
+
+def accumulated_cost(model: np.ndarray, query: np.ndarray) -> np.ndarray:
+    """DTW accumulated cost matrix (n_model, n_query), Euclidean local cost."""
+    X = _as_seq(model, "model")
+    Y = _as_seq(query, "query")
+    if X.shape[1] != Y.shape[1]:
+        raise ValueError(f"feature counts differ: {X.shape[1]} vs {Y.shape[1]}")
+    return accumulated_cost_kernel(X, Y, 0, X.shape[1])
+
+
+def warping_path(model: np.ndarray, query: np.ndarray) -> np.ndarray:
+    """Optimal warping path (L, 2) of (model index, query index) pairs, from (0, 0) to the end."""
+    return warping_path_kernel(accumulated_cost(model, query))
+
+
+def dtw_distance(model: np.ndarray, query: np.ndarray) -> float:
+    """DTW distance: the accumulated Euclidean cost of the optimal path (not normalized)."""
+    return float(accumulated_cost(model, query)[-1, -1])
+
+
+# --------------------------------------------------------------------------------------------------
+# Path distances of the descriptors (one traversal: align, then sum another pointwise quantity)
+# --------------------------------------------------------------------------------------------------
+
+#: pointwise quantities summed along the path
+POINTWISE_EUCLIDEAN = 0  # DTW cost itself (DHB, eFS, ISA, RRV, DSRF)
+POINTWISE_SQUARED = 1  # squared Euclidean over columns 0..17 (BILTS)
+POINTWISE_KABSCH = 2  # Kabsch residual over the six 3-vectors in columns 0..17 (BILTS+)
+
+
+@njit(cache=True)
+def path_distance_kernel(X, Y, align_lo, align_hi, mode):
+    """Normalized path distance between model X (n, F) and query Y (m, F).
+
+    DTW on columns ``align_lo..align_hi-1``; then, depending on ``mode``, either the accumulated cost
+    itself, or the sum along the path of a pointwise quantity on columns 0..17; divided by n + m - 1.
+    """
+    C = accumulated_cost_kernel(X, Y, align_lo, align_hi)
+    n = X.shape[0]
+    m = Y.shape[0]
+    if mode == POINTWISE_EUCLIDEAN:
+        return C[n - 1, m - 1] / (n + m - 1)
+    total = 0.0
+    i = n - 1
+    j = m - 1
+    while True:
+        if mode == POINTWISE_SQUARED:
+            d = 0.0
+            for f in range(18):
+                diff = X[i, f] - Y[j, f]
+                d += diff * diff
+            total += d
+        else:
+            total += residual_columns(X[i], Y[j], 6)
+        if i == 0 and j == 0:
+            break
+        if j == 0:
+            i -= 1
+        elif i == 0:
+            j -= 1
+        else:
+            cd = C[i - 1, j - 1]
+            ci = C[i - 1, j]
+            cj = C[i, j - 1]
+            step_i = ci <= cj or cd <= cj
+            step_j = cj < ci or cd <= ci
+            if step_i:
+                i -= 1
+            if step_j:
+                j -= 1
+    return total / (n + m - 1)
+
+
+@njit(cache=True, parallel=True)
+def path_distance_matrix_kernel(qdata, qoff, mdata, moff, align_lo, align_hi, mode):
+    """Distances between every packed query and every packed model, shape (n_queries, n_models)."""
+    nq = qoff.shape[0] - 1
+    nm = moff.shape[0] - 1
+    out = np.empty((nq, nm))
+    for t in prange(nq * nm):
+        a = t // nm
+        b = t % nm
+        out[a, b] = path_distance_kernel(
+            mdata[moff[b] : moff[b + 1]], qdata[qoff[a] : qoff[a + 1]], align_lo, align_hi, mode
+        )
+    return out
+
+
+def pack_sequences(seqs: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Concatenate sequences (n_i, F) into one array (Σn_i, F) with offsets (len+1,)."""
+    if not seqs:
+        raise ValueError("no sequences to pack")
+    arrs = [np.asarray(s, dtype=np.float64) for s in seqs]
+    width = arrs[0].shape[1]
+    for a in arrs:
+        if a.ndim != 2 or a.shape[1] != width or a.shape[0] == 0:
+            raise ValueError(f"all sequences must be non-empty (n, {width}) arrays, got {a.shape}")
+    offsets = np.zeros(len(arrs) + 1, dtype=np.int64)
+    offsets[1:] = np.cumsum([a.shape[0] for a in arrs])
+    return np.ascontiguousarray(np.concatenate(arrs, axis=0)), offsets

@@ -1,0 +1,636 @@
+"""SO(3) / SE(3) / quaternion maths, batched over a leading axis.
+
+Conventions (see ``ALGORITHMS.md`` §0 and §2):
+
+* poses are homogeneous 4×4 matrices ``T = [[R, p], [0, 1]]`` (R: orientation of the body in the world,
+  p: position of the body origin in the world, metres);
+* quaternions are scalar first ``(w, x, y, z)``, Hamilton product, active rotation;
+* twists and displacement twists are ordered rotation first: ``(φ; ρ)`` or ``(ω; v)``.
+
+Every formula is written once, as a numba kernel acting on a single element (the ``*_one``
+functions, usable from other kernels). The public functions accept any leading batch shape
+``(..., k)`` and loop over it in compiled code.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "central_spatial_twists",
+    "hat",
+    "interpolate_poses",
+    "matrix_from_quaternion",
+    "pose_from_twist",
+    "poses_from_pq",
+    "pq_from_poses",
+    "quaternion_continuity",
+    "quaternion_conjugate",
+    "quaternion_from_matrix",
+    "quaternion_multiply",
+    "relative_displacement_twists",
+    "rotation_from_vector",
+    "sclerp",
+    "screw_axis",
+    "transform_inverse",
+    "twist_from_pose",
+    "vector_from_rotation",
+    "vee",
+]
+
+#: Below this rotation angle [rad] the SE(3) coefficients use their Taylor series.
+_SMALL_ANGLE = 1e-4
+#: Below this value of cos θ the rotation logarithm reads the axis from the symmetric part (θ near π).
+_NEAR_PI_COS = -0.99
+
+
+# --------------------------------------------------------------------------------------------------
+# single-element kernels
+# --------------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def cross_one(a, b):
+    """Cross product of two 3-vectors."""
+    out = np.empty(3)
+    out[0] = a[1] * b[2] - a[2] * b[1]
+    out[1] = a[2] * b[0] - a[0] * b[2]
+    out[2] = a[0] * b[1] - a[1] * b[0]
+    return out
+
+
+@njit(cache=True)
+def hat_one(v):
+    """Skew-symmetric matrix ``[v]×`` of a 3-vector."""
+    S = np.zeros((3, 3))
+    S[0, 1] = -v[2]
+    S[0, 2] = v[1]
+    S[1, 0] = v[2]
+    S[1, 2] = -v[0]
+    S[2, 0] = -v[1]
+    S[2, 1] = v[0]
+    return S
+
+
+@njit(cache=True)
+def rotation_from_vector_one(phi):
+    """SO(3) exponential (Rodrigues) of a rotation vector ``phi`` (3,) [rad]."""
+    theta2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2]
+    theta = math.sqrt(theta2)
+    if theta < _SMALL_ANGLE:
+        a = 1.0 - theta2 / 6.0 + theta2 * theta2 / 120.0
+        b = 0.5 - theta2 / 24.0 + theta2 * theta2 / 720.0
+    else:
+        a = math.sin(theta) / theta
+        b = (1.0 - math.cos(theta)) / theta2
+    K = hat_one(phi)
+    R = np.eye(3) + a * K + b * (K @ K)
+    return R
+
+
+@njit(cache=True)
+def vector_from_rotation_one(R):
+    """SO(3) logarithm: rotation vector (3,) of a rotation matrix, angle in [0, π].
+
+    Follows the reference closed form (``atan2`` of the skew and trace parts); close to π, where
+    the skew part vanishes, the axis is read from the symmetric part instead.
+    """
+    ax = 0.5 * (R[2, 1] - R[1, 2])
+    ay = 0.5 * (R[0, 2] - R[2, 0])
+    az = 0.5 * (R[1, 0] - R[0, 1])
+    s = math.sqrt(ax * ax + ay * ay + az * az)
+    c = 0.5 * (R[0, 0] + R[1, 1] + R[2, 2] - 1.0)
+    c = min(1.0, max(-1.0, c))
+    out = np.empty(3)
+    if c < _NEAR_PI_COS:
+        theta = math.atan2(s, c)
+        # B = (R + R^T)/2 - c I = (1 - c) n n^T
+        best = 0
+        bval = -1.0
+        for i in range(3):
+            bii = R[i, i] - c
+            if bii > bval:
+                bval = bii
+                best = i
+        n = np.empty(3)
+        for r in range(3):
+            n[r] = 0.5 * (R[r, best] + R[best, r])
+        n[best] = R[best, best] - c
+        nn = math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+        sign = 1.0
+        if n[0] * ax + n[1] * ay + n[2] * az < 0.0:
+            sign = -1.0
+        for r in range(3):
+            out[r] = sign * theta * n[r] / nn
+        return out
+    if s < 1e-14:
+        alpha = 1.0
+    else:
+        alpha = math.atan2(s, c) / s
+    out[0] = alpha * ax
+    out[1] = alpha * ay
+    out[2] = alpha * az
+    return out
+
+
+@njit(cache=True)
+def pose_from_twist_one(xi):
+    """SE(3) exponential of a displacement twist ``xi = (phi, rho)`` (6,) → 4×4 pose."""
+    phi = xi[:3]
+    theta2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2]
+    theta = math.sqrt(theta2)
+    if theta < _SMALL_ANGLE:
+        a = 1.0 - theta2 / 6.0 + theta2 * theta2 / 120.0
+        b = 0.5 - theta2 / 24.0 + theta2 * theta2 / 720.0
+        c = 1.0 / 6.0 - theta2 / 120.0 + theta2 * theta2 / 5040.0
+    else:
+        st = math.sin(theta)
+        a = st / theta
+        b = (1.0 - math.cos(theta)) / theta2
+        c = (theta - st) / (theta2 * theta)
+    K = hat_one(phi)
+    K2 = K @ K
+    T = np.eye(4)
+    I3 = np.eye(3)
+    R = I3 + a * K + b * K2
+    V = I3 + b * K + c * K2
+    T[:3, :3] = R
+    for r in range(3):
+        T[r, 3] = V[r, 0] * xi[3] + V[r, 1] * xi[4] + V[r, 2] * xi[5]
+    return T
+
+
+@njit(cache=True)
+def twist_from_pose_one(T):
+    """SE(3) logarithm of a 4×4 pose → displacement twist ``(phi, rho)`` (6,).
+
+    ``rho = V(phi)^-1 p``; identical to the reference's ``theta * G^-1 p`` (§2.5).
+    """
+    phi = vector_from_rotation_one(T[:3, :3])
+    theta2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2]
+    theta = math.sqrt(theta2)
+    out = np.empty(6)
+    out[:3] = phi
+    p = T[:3, 3]
+    if theta == 0.0:
+        out[3:] = p
+        return out
+    if theta < _SMALL_ANGLE:
+        beta = 1.0 / 12.0 + theta2 / 720.0 + theta2 * theta2 / 30240.0
+    else:
+        half = 0.5 * theta
+        beta = (1.0 - half * math.cos(half) / math.sin(half)) / theta2
+    K = hat_one(phi)
+    Kp = K @ p
+    KKp = K @ Kp
+    for r in range(3):
+        out[3 + r] = p[r] - 0.5 * Kp[r] + beta * KKp[r]
+    return out
+
+
+@njit(cache=True)
+def compose_one(A, B):
+    """Product of two 4×4 poses (rigid transforms), written out for speed."""
+    C = np.zeros((4, 4))
+    for i in range(3):
+        for j in range(3):
+            C[i, j] = A[i, 0] * B[0, j] + A[i, 1] * B[1, j] + A[i, 2] * B[2, j]
+        C[i, 3] = A[i, 0] * B[0, 3] + A[i, 1] * B[1, 3] + A[i, 2] * B[2, 3] + A[i, 3]
+    C[3, 3] = 1.0
+    return C
+
+
+@njit(cache=True)
+def inverse_one(T):
+    """Inverse of a rigid transform: ``[R^T, -R^T p]``."""
+    Ti = np.zeros((4, 4))
+    for i in range(3):
+        for j in range(3):
+            Ti[i, j] = T[j, i]
+    for i in range(3):
+        Ti[i, 3] = -(T[0, i] * T[0, 3] + T[1, i] * T[1, 3] + T[2, i] * T[2, 3])
+    Ti[3, 3] = 1.0
+    return Ti
+
+
+@njit(cache=True)
+def relative_one(A, B):
+    """``A^-1 B`` for rigid transforms, without forming the inverse."""
+    C = np.zeros((4, 4))
+    for i in range(3):
+        for j in range(3):
+            C[i, j] = A[0, i] * B[0, j] + A[1, i] * B[1, j] + A[2, i] * B[2, j]
+        C[i, 3] = (
+            A[0, i] * (B[0, 3] - A[0, 3])
+            + A[1, i] * (B[1, 3] - A[1, 3])
+            + A[2, i] * (B[2, 3] - A[2, 3])
+        )
+    C[3, 3] = 1.0
+    return C
+
+
+@njit(cache=True)
+def sclerp_one(A, B, alpha):
+    """Screw linear interpolation ``A exp(alpha log(A^-1 B))`` (constant body twist)."""
+    xi = twist_from_pose_one(relative_one(A, B))
+    return compose_one(A, pose_from_twist_one(alpha * xi))
+
+
+@njit(cache=True)
+def matrix_from_quaternion_one(q):
+    """Rotation matrix of a quaternion ``(w, x, y, z)``; the quaternion is normalized first."""
+    n = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    w = q[0] / n
+    x = q[1] / n
+    y = q[2] / n
+    z = q[3] / n
+    R = np.empty((3, 3))
+    R[0, 0] = 1.0 - 2.0 * (y * y + z * z)
+    R[0, 1] = 2.0 * (x * y - w * z)
+    R[0, 2] = 2.0 * (x * z + w * y)
+    R[1, 0] = 2.0 * (x * y + w * z)
+    R[1, 1] = 1.0 - 2.0 * (x * x + z * z)
+    R[1, 2] = 2.0 * (y * z - w * x)
+    R[2, 0] = 2.0 * (x * z - w * y)
+    R[2, 1] = 2.0 * (y * z + w * x)
+    R[2, 2] = 1.0 - 2.0 * (x * x + y * y)
+    return R
+
+
+@njit(cache=True)
+def quaternion_from_matrix_one(R):
+    """Quaternion ``(w, x, y, z)`` with ``w >= 0`` of a rotation matrix (reference algorithm §2.3)."""
+    tr1 = R[0, 0] + R[1, 1] + R[2, 2] + 1.0
+    w = 0.5 * math.sqrt(max(tr1, 0.0))
+    k0 = np.empty(3)
+    k0[0] = R[2, 1] - R[1, 2]
+    k0[1] = R[0, 2] - R[2, 0]
+    k0[2] = R[1, 0] - R[0, 1]
+    k1 = np.empty(3)
+    if R[0, 0] >= R[1, 1] and R[0, 0] >= R[2, 2]:
+        k1[0] = R[0, 0] - R[1, 1] - R[2, 2] + 1.0
+        k1[1] = R[1, 0] + R[0, 1]
+        k1[2] = R[2, 0] + R[0, 2]
+        idx = 0
+    elif R[1, 1] >= R[2, 2]:
+        k1[0] = R[1, 0] + R[0, 1]
+        k1[1] = R[1, 1] - R[0, 0] - R[2, 2] + 1.0
+        k1[2] = R[2, 1] + R[1, 2]
+        idx = 1
+    else:
+        k1[0] = R[2, 0] + R[0, 2]
+        k1[1] = R[2, 1] + R[1, 2]
+        k1[2] = R[2, 2] - R[0, 0] - R[1, 1] + 1.0
+        idx = 2
+    sgn = 1.0 if k0[idx] >= 0.0 else -1.0
+    k = k0 + sgn * k1
+    nk = math.sqrt(k[0] * k[0] + k[1] * k[1] + k[2] * k[2])
+    q = np.zeros(4)
+    if nk == 0.0:
+        q[0] = 1.0
+        return q
+    sv = math.sqrt(max(1.0 - w * w, 0.0)) / nk
+    q[0] = w
+    q[1] = sv * k[0]
+    q[2] = sv * k[1]
+    q[3] = sv * k[2]
+    return q
+
+
+# --------------------------------------------------------------------------------------------------
+# batch loops (compiled)
+# --------------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _rotation_from_vector_batch(phi):
+    out = np.empty((phi.shape[0], 3, 3))
+    for i in range(phi.shape[0]):
+        out[i] = rotation_from_vector_one(phi[i])
+    return out
+
+
+@njit(cache=True)
+def _vector_from_rotation_batch(R):
+    out = np.empty((R.shape[0], 3))
+    for i in range(R.shape[0]):
+        out[i] = vector_from_rotation_one(R[i])
+    return out
+
+
+@njit(cache=True)
+def _pose_from_twist_batch(xi):
+    out = np.empty((xi.shape[0], 4, 4))
+    for i in range(xi.shape[0]):
+        out[i] = pose_from_twist_one(xi[i])
+    return out
+
+
+@njit(cache=True)
+def _twist_from_pose_batch(T):
+    out = np.empty((T.shape[0], 6))
+    for i in range(T.shape[0]):
+        out[i] = twist_from_pose_one(T[i])
+    return out
+
+
+@njit(cache=True)
+def _matrix_from_quaternion_batch(q):
+    out = np.empty((q.shape[0], 3, 3))
+    for i in range(q.shape[0]):
+        out[i] = matrix_from_quaternion_one(q[i])
+    return out
+
+
+@njit(cache=True)
+def _quaternion_from_matrix_batch(R):
+    out = np.empty((R.shape[0], 4))
+    for i in range(R.shape[0]):
+        out[i] = quaternion_from_matrix_one(R[i])
+    return out
+
+
+@njit(cache=True)
+def continuity_inplace(q, threshold):
+    """Negate every quaternion farther than ``threshold`` (Euclidean, R^4) from its predecessor."""
+    for i in range(1, q.shape[0]):
+        d = 0.0
+        for c in range(4):
+            diff = q[i, c] - q[i - 1, c]
+            d += diff * diff
+        if math.sqrt(d) > threshold:
+            for c in range(4):
+                q[i, c] = -q[i, c]
+
+
+@njit(cache=True)
+def _sclerp_batch(A, B, alpha):
+    out = np.empty((A.shape[0], 4, 4))
+    for i in range(A.shape[0]):
+        out[i] = sclerp_one(A[i], B[i], alpha[i])
+    return out
+
+
+@njit(cache=True)
+def interpolate_poses_kernel(x, T, xq):
+    """Reference ``interpT``: ScLERP of poses ``T`` (n,4,4) at knots ``x`` (n,) for sorted ``xq``.
+
+    The segment index only walks forward; equal knots return the left pose (§2.9).
+    """
+    n = x.shape[0]
+    out = np.empty((xq.shape[0], 4, 4))
+    j = 0
+    for i in range(xq.shape[0]):
+        while j < n - 2 and xq[i] > x[j + 1]:
+            j += 1
+        if x[j + 1] == x[j]:
+            out[i] = T[j]
+        else:
+            alpha = (xq[i] - x[j]) / (x[j + 1] - x[j])
+            out[i] = sclerp_one(T[j], T[j + 1], alpha)
+    return out
+
+
+@njit(cache=True)
+def central_spatial_twists_kernel(T, ds):
+    """Central spatial twists ``log(T_{k+1} T_{k-1}^-1) / (2 ds)`` with the reference boundary quirk."""
+    n = T.shape[0]
+    out = np.empty((n, 6))
+    for k in range(n):
+        lo = k - 1 if k > 0 else 0
+        hi = k + 1 if k < n - 1 else n - 1
+        D = compose_one(T[hi], inverse_one(T[lo]))
+        xi = twist_from_pose_one(D)
+        for c in range(6):
+            out[k, c] = xi[c] / (2.0 * ds)
+    return out
+
+
+@njit(cache=True)
+def _relative_twists_kernel(T):
+    n = T.shape[0]
+    out = np.empty((max(n - 1, 0), 6))
+    for k in range(n - 1):
+        out[k] = twist_from_pose_one(relative_one(T[k], T[k + 1]))
+    return out
+
+
+# --------------------------------------------------------------------------------------------------
+# public, batched API
+# --------------------------------------------------------------------------------------------------
+
+
+def _flat(a: np.ndarray, tail: tuple[int, ...]) -> tuple[np.ndarray, tuple[int, ...]]:
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    if a.shape[a.ndim - len(tail) :] != tail:
+        raise ValueError(f"expected an array of shape (..., {', '.join(map(str, tail))}), got {a.shape}")
+    lead = a.shape[: a.ndim - len(tail)]
+    return a.reshape((-1, *tail)), lead
+
+
+def hat(v: np.ndarray) -> np.ndarray:
+    """Skew-symmetric matrices ``[v]×``.
+
+    Parameters
+    ----------
+    v : ndarray, shape (..., 3)
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+    """
+    v = np.asarray(v, dtype=np.float64)
+    S = np.zeros((*v.shape[:-1], 3, 3))
+    S[..., 0, 1] = -v[..., 2]
+    S[..., 0, 2] = v[..., 1]
+    S[..., 1, 0] = v[..., 2]
+    S[..., 1, 2] = -v[..., 0]
+    S[..., 2, 0] = -v[..., 1]
+    S[..., 2, 1] = v[..., 0]
+    return S
+
+
+def vee(S: np.ndarray) -> np.ndarray:
+    """Inverse of :func:`hat`: reads entries (3,2), (1,3), (2,1). Shape (..., 3, 3) → (..., 3)."""
+    S = np.asarray(S, dtype=np.float64)
+    return np.stack([S[..., 2, 1], S[..., 0, 2], S[..., 1, 0]], axis=-1)
+
+
+def rotation_from_vector(phi: np.ndarray) -> np.ndarray:
+    """SO(3) exponential. ``phi`` (..., 3) rotation vectors [rad] → (..., 3, 3) rotation matrices."""
+    f, lead = _flat(phi, (3,))
+    return _rotation_from_vector_batch(f).reshape((*lead, 3, 3))
+
+
+def vector_from_rotation(R: np.ndarray) -> np.ndarray:
+    """SO(3) logarithm. ``R`` (..., 3, 3) → rotation vectors (..., 3), angle in [0, π]."""
+    f, lead = _flat(R, (3, 3))
+    return _vector_from_rotation_batch(f).reshape((*lead, 3))
+
+
+def pose_from_twist(xi: np.ndarray) -> np.ndarray:
+    """SE(3) exponential. Displacement twists ``(phi, rho)`` (..., 6) → poses (..., 4, 4)."""
+    f, lead = _flat(xi, (6,))
+    return _pose_from_twist_batch(f).reshape((*lead, 4, 4))
+
+
+def twist_from_pose(T: np.ndarray) -> np.ndarray:
+    """SE(3) logarithm. Poses (..., 4, 4) → displacement twists ``(phi, rho)`` (..., 6)."""
+    f, lead = _flat(T, (4, 4))
+    return _twist_from_pose_batch(f).reshape((*lead, 6))
+
+
+def transform_inverse(T: np.ndarray) -> np.ndarray:
+    """Inverse of rigid transforms (..., 4, 4)."""
+    T = np.asarray(T, dtype=np.float64)
+    Ti = np.zeros_like(T)
+    Rt = np.swapaxes(T[..., :3, :3], -1, -2)
+    Ti[..., :3, :3] = Rt
+    Ti[..., :3, 3] = -np.einsum("...ij,...j->...i", Rt, T[..., :3, 3])
+    Ti[..., 3, 3] = 1.0
+    return Ti
+
+
+def matrix_from_quaternion(q: np.ndarray) -> np.ndarray:
+    """Rotation matrices (..., 3, 3) of quaternions (..., 4) ``(w, x, y, z)`` (normalized first)."""
+    f, lead = _flat(q, (4,))
+    return _matrix_from_quaternion_batch(f).reshape((*lead, 3, 3))
+
+
+def quaternion_from_matrix(R: np.ndarray, continuous: bool = True) -> np.ndarray:
+    """Quaternions (..., 4) of rotation matrices (..., 3, 3), reference algorithm (§2.3).
+
+    With ``continuous=True`` and a sequence (leading axis = time), signs are made continuous:
+    a quaternion farther than 0.5 from its predecessor is negated.
+    """
+    f, lead = _flat(R, (3, 3))
+    q = _quaternion_from_matrix_batch(f)
+    if continuous and len(lead) == 1:
+        continuity_inplace(q, 0.5)
+    return q.reshape((*lead, 4))
+
+
+def quaternion_continuity(q: np.ndarray, threshold: float = 0.5) -> np.ndarray:
+    """Copy of a quaternion sequence (N, 4) with sign flips removed (§2.3 step 5)."""
+    q = np.array(q, dtype=np.float64, copy=True)
+    if q.ndim != 2 or q.shape[1] != 4:
+        raise ValueError(f"expected quaternions of shape (N, 4), got {q.shape}")
+    continuity_inplace(q, threshold)
+    return q
+
+
+def quaternion_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton product ``a ⊗ b`` of quaternions (..., 4), scalar first."""
+    a = np.asarray(a, dtype=np.float64)
+    b = np.asarray(b, dtype=np.float64)
+    w = a[..., 0] * b[..., 0] - np.sum(a[..., 1:] * b[..., 1:], axis=-1)
+    v = a[..., :1] * b[..., 1:] + b[..., :1] * a[..., 1:] + np.cross(a[..., 1:], b[..., 1:])
+    return np.concatenate([w[..., None], v], axis=-1)
+
+
+def quaternion_conjugate(q: np.ndarray) -> np.ndarray:
+    """Conjugate ``(w, -x, -y, -z)`` of quaternions (..., 4)."""
+    q = np.asarray(q, dtype=np.float64)
+    return np.concatenate([q[..., :1], -q[..., 1:]], axis=-1)
+
+
+def poses_from_pq(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Poses (..., 4, 4) from positions (..., 3) [m] and quaternions (..., 4) ``(w, x, y, z)``."""
+    p = np.asarray(p, dtype=np.float64)
+    R = matrix_from_quaternion(q)
+    T = np.zeros((*p.shape[:-1], 4, 4))
+    T[..., :3, :3] = R
+    T[..., :3, 3] = p
+    T[..., 3, 3] = 1.0
+    return T
+
+
+def pq_from_poses(T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Positions (N, 3) and sign-continuous quaternions (N, 4) of a pose sequence (N, 4, 4)."""
+    T = np.asarray(T, dtype=np.float64)
+    return T[..., :3, 3].copy(), quaternion_from_matrix(T[..., :3, :3], continuous=True)
+
+
+def sclerp(A: np.ndarray, B: np.ndarray, alpha: np.ndarray | float) -> np.ndarray:
+    """Screw linear interpolation between poses ``A`` and ``B`` (..., 4, 4).
+
+    ``alpha = 0`` gives ``A``, ``alpha = 1`` gives ``B``; the path is the constant-body-twist screw
+    motion ``A exp(alpha log(A^-1 B))``.
+    """
+    fa, lead = _flat(A, (4, 4))
+    fb, leadb = _flat(B, (4, 4))
+    if lead != leadb:
+        fa, fb = (x.reshape(-1, 4, 4) for x in np.broadcast_arrays(np.asarray(A), np.asarray(B)))
+        lead = np.broadcast_shapes(np.shape(A), np.shape(B))[:-2]
+    al = np.broadcast_to(np.asarray(alpha, dtype=np.float64), lead).reshape(-1)
+    out = _sclerp_batch(np.ascontiguousarray(fa), np.ascontiguousarray(fb), np.ascontiguousarray(al))
+    return out.reshape((*lead, 4, 4))
+
+
+def interpolate_poses(x: np.ndarray, T: np.ndarray, xq: np.ndarray) -> np.ndarray:
+    """ScLERP poses ``T`` (n, 4, 4) given at non-decreasing knots ``x`` (n,) at query values ``xq``.
+
+    ``xq`` must be non-decreasing and inside ``[x[0], x[-1]]``. Equal knots (a standstill) return
+    the left pose, as the reference ``interpT`` does.
+
+    Returns
+    -------
+    ndarray, shape (len(xq), 4, 4)
+    """
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    xq = np.ascontiguousarray(xq, dtype=np.float64)
+    T = np.ascontiguousarray(T, dtype=np.float64)
+    if x.ndim != 1 or T.shape != (x.shape[0], 4, 4) or x.shape[0] < 2:
+        raise ValueError("interpolate_poses needs at least two knots and one pose per knot")
+    if xq.size and (xq[0] < x[0] or xq[-1] > x[-1]):
+        raise ValueError(
+            f"query range [{xq[0]}, {xq[-1]}] lies outside the knot range [{x[0]}, {x[-1]}]"
+        )
+    return interpolate_poses_kernel(x, T, xq)
+
+
+def relative_displacement_twists(T: np.ndarray) -> np.ndarray:
+    """Body-frame displacement twists ``log(T_k^-1 T_{k+1})`` (N-1, 6) of a pose sequence (N, 4, 4)."""
+    return _relative_twists_kernel(np.ascontiguousarray(T, dtype=np.float64))
+
+
+def central_spatial_twists(T: np.ndarray, ds: float) -> np.ndarray:
+    """Spatial twists (N, 6) from central differences ``log(T_{k+1} T_{k-1}^-1) / (2 ds)``.
+
+    The first and last twists are one-sided differences still divided by ``2 ds`` (reference
+    quirk, §2.7).
+    """
+    return central_spatial_twists_kernel(np.ascontiguousarray(T, dtype=np.float64), float(ds))
+
+
+def screw_axis(twist: np.ndarray, ref_point: np.ndarray | None = None):
+    """Instantaneous screw axis of twists ``(ω, v_r)`` (..., 6) referred to point ``r`` (§2.8).
+
+    Parameters
+    ----------
+    twist : ndarray, shape (..., 6)
+        Rotation first; ``v`` is the velocity of the point ``ref_point``.
+    ref_point : ndarray, shape (..., 3), optional
+        The reference point ``r`` of the twist (default: the origin).
+
+    Returns
+    -------
+    direction : ndarray, shape (..., 3)
+        Unit axis direction (NaN where ``ω = 0``: the axis is undefined for pure translation).
+    point : ndarray, shape (..., 3)
+        The point of the axis closest to ``r``.
+    pitch : ndarray, shape (...)
+        ``ω·v / |ω|^2`` [m/rad].
+    """
+    twist = np.asarray(twist, dtype=np.float64)
+    w, v = twist[..., :3], twist[..., 3:]
+    r = np.zeros_like(w) if ref_point is None else np.broadcast_to(ref_point, w.shape)
+    nw2 = np.sum(w * w, axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        direction = w / np.sqrt(nw2)[..., None]
+        point = r + np.cross(w, v) / nw2[..., None]
+        pitch = np.sum(w * v, axis=-1) / nw2
+    return direction, point, pitch
