@@ -50,7 +50,10 @@ class NearestNeighborClassifier:
     """
 
     def __init__(
-        self, descriptor: Descriptor | str = "bilts+", round_digits: int | None = None, **descriptor_params: Any
+        self,
+        descriptor: Descriptor | str = "bilts+",
+        round_digits: int | None = None,
+        **descriptor_params: Any,
     ) -> None:
         if isinstance(descriptor, str):
             descriptor = get_descriptor(descriptor, **descriptor_params)
@@ -68,7 +71,9 @@ class NearestNeighborClassifier:
             out.append(d)
         return out
 
-    def fit(self, trajectories: Sequence[Trajectory], labels: Sequence[Any]) -> NearestNeighborClassifier:
+    def fit(
+        self, trajectories: Sequence[Trajectory], labels: Sequence[Any]
+    ) -> NearestNeighborClassifier:
         """Compute and store the model descriptors.
 
         Parameters
@@ -80,7 +85,9 @@ class NearestNeighborClassifier:
         """
         return self.fit_descriptors(self._describe(trajectories), labels)
 
-    def fit_descriptors(self, descriptors: Sequence[np.ndarray], labels: Sequence[Any]) -> NearestNeighborClassifier:
+    def fit_descriptors(
+        self, descriptors: Sequence[np.ndarray], labels: Sequence[Any]
+    ) -> NearestNeighborClassifier:
         """Like :meth:`fit` with precomputed descriptor sequences."""
         if len(descriptors) != len(labels):
             raise ValueError(f"{len(descriptors)} models but {len(labels)} labels")

@@ -19,7 +19,7 @@ COMMAND_MODULES = ("core", "dataset", "benchmark", "online", "robot")
 
 
 class _Group(click.Group):
-    def invoke(self, ctx: click.Context):  # noqa: D401 - click hook
+    def invoke(self, ctx: click.Context):
         try:
             return super().invoke(ctx)
         except FramefreeError as exc:

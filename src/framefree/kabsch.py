@@ -14,6 +14,8 @@ rotations is the largest eigenvalue λ of a symmetric, traceless 4×4 matrix bui
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -22,51 +24,89 @@ __all__ = ["kabsch_residual", "kabsch_rotation", "max_rotation_trace"]
 
 @njit(cache=True)
 def _det3(a00, a01, a02, a10, a11, a12, a20, a21, a22):
-    return a00 * (a11 * a22 - a12 * a21) - a01 * (a10 * a22 - a12 * a20) + a02 * (a10 * a21 - a11 * a20)
+    return (
+        a00 * (a11 * a22 - a12 * a21)
+        - a01 * (a10 * a22 - a12 * a20)
+        + a02 * (a10 * a21 - a11 * a20)
+    )
+
+
+#: Relative size of P'(λ) below which λ is treated as a (near-)double root of the quartic.
+_DOUBLE_ROOT = 1e-3
 
 
 @njit(cache=True)
-def max_rotation_trace_from_m(M, e0):
-    """``max_R tr(R M)`` over proper rotations, for a 3×3 correlation ``M``; ``e0`` bounds it by 2×."""
-    sxx, sxy, sxz = M[0, 0], M[0, 1], M[0, 2]
-    syx, syy, syz = M[1, 0], M[1, 1], M[1, 2]
-    szx, szy, szz = M[2, 0], M[2, 1], M[2, 2]
-    N = np.empty((4, 4))
-    N[0, 0] = sxx + syy + szz
-    N[0, 1] = syz - szy
-    N[0, 2] = szx - sxz
-    N[0, 3] = sxy - syx
-    N[1, 1] = sxx - syy - szz
-    N[1, 2] = sxy + syx
-    N[1, 3] = szx + sxz
-    N[2, 2] = -sxx + syy - szz
-    N[2, 3] = syz + szy
-    N[3, 3] = -sxx - syy + szz
-    for i in range(4):
-        for j in range(i):
-            N[i, j] = N[j, i]
-    # characteristic polynomial λ⁴ + c2 λ² + c1 λ + c0 of the traceless symmetric N
-    p2 = 0.0
-    for i in range(4):
-        for j in range(4):
-            p2 += N[i, j] * N[i, j]
-    N2 = N @ N
-    p3 = 0.0
-    for i in range(4):
-        for j in range(4):
-            p3 += N2[i, j] * N[j, i]
-    c2 = -0.5 * p2
-    c1 = -p3 / 3.0
-    # det(N) by expansion along the first row
-    c0 = (
-        N[0, 0] * _det3(N[1, 1], N[1, 2], N[1, 3], N[2, 1], N[2, 2], N[2, 3], N[3, 1], N[3, 2], N[3, 3])
-        - N[0, 1] * _det3(N[1, 0], N[1, 2], N[1, 3], N[2, 0], N[2, 2], N[2, 3], N[3, 0], N[3, 2], N[3, 3])
-        + N[0, 2] * _det3(N[1, 0], N[1, 1], N[1, 3], N[2, 0], N[2, 1], N[2, 3], N[3, 0], N[3, 1], N[3, 3])
-        - N[0, 3] * _det3(N[1, 0], N[1, 1], N[1, 2], N[2, 0], N[2, 1], N[2, 2], N[3, 0], N[3, 1], N[3, 2])
+def _signed_singular_value_sum(M):
+    """``σ₁ + σ₂ + sign(det M) σ₃`` by one-sided Jacobi SVD (accurate to eps·σ₁ for every σ)."""
+    A = M.copy()
+    for _ in range(30):
+        rotated = False
+        for p in range(2):
+            for q in range(p + 1, 3):
+                alpha = A[0, p] * A[0, p] + A[1, p] * A[1, p] + A[2, p] * A[2, p]
+                beta = A[0, q] * A[0, q] + A[1, q] * A[1, q] + A[2, q] * A[2, q]
+                gamma = A[0, p] * A[0, q] + A[1, p] * A[1, q] + A[2, p] * A[2, q]
+                if gamma == 0.0 or abs(gamma) <= 1e-16 * math.sqrt(alpha * beta):
+                    continue
+                rotated = True
+                zeta = (beta - alpha) / (2.0 * gamma)
+                t = (1.0 if zeta >= 0.0 else -1.0) / (abs(zeta) + math.sqrt(1.0 + zeta * zeta))
+                c = 1.0 / math.sqrt(1.0 + t * t)
+                s = c * t
+                for r in range(3):
+                    ap = A[r, p]
+                    aq = A[r, q]
+                    A[r, p] = c * ap - s * aq
+                    A[r, q] = s * ap + c * aq
+        if not rotated:
+            break
+    sv = np.empty(3)
+    for c in range(3):
+        sv[c] = math.sqrt(A[0, c] * A[0, c] + A[1, c] * A[1, c] + A[2, c] * A[2, c])
+    sv.sort()
+    det = _det3(M[0, 0], M[0, 1], M[0, 2], M[1, 0], M[1, 1], M[1, 2], M[2, 0], M[2, 1], M[2, 2])
+    return sv[2] + sv[1] + (sv[0] if det >= 0.0 else -sv[0])
+
+
+@njit(cache=True)
+def _max_trace(sxx, sxy, sxz, syx, syy, syz, szx, szy, szz, e0):
+    """``max_R tr(R M)`` for ``M = [[sxx, sxy, sxz], [syx, ...], ...]``; ``e0/2`` bounds it from above."""
+    # Horn's symmetric, traceless 4x4 matrix N; its largest eigenvalue is the maximum
+    n00 = sxx + syy + szz
+    n01 = syz - szy
+    n02 = szx - sxz
+    n03 = sxy - syx
+    n11 = sxx - syy - szz
+    n12 = sxy + syx
+    n13 = szx + sxz
+    n22 = -sxx + syy - szz
+    n23 = syz + szy
+    n33 = -sxx - syy + szz
+    # characteristic polynomial λ⁴ + c2 λ² + c1 λ + c0
+    c2 = -2.0 * (
+        sxx * sxx
+        + sxy * sxy
+        + sxz * sxz
+        + syx * syx
+        + syy * syy
+        + syz * syz
+        + szx * szx
+        + szy * szy
+        + szz * szz
     )
-    lam = 0.5 * e0
+    c1 = -8.0 * _det3(sxx, sxy, sxz, syx, syy, syz, szx, szy, szz)
+    c0 = (
+        n00 * _det3(n11, n12, n13, n12, n22, n23, n13, n23, n33)
+        - n01 * _det3(n01, n12, n13, n02, n22, n23, n03, n23, n33)
+        + n02 * _det3(n01, n11, n13, n02, n12, n23, n03, n13, n33)
+        - n03 * _det3(n01, n11, n12, n02, n12, n22, n03, n13, n23)
+    )
+    # two upper bounds of λ_max: e0/2 (Cauchy-Schwarz) and ||N||_F = 2 ||M||_F
+    m_norm = math.sqrt(-0.5 * c2)
+    lam = min(0.5 * e0, 2.0 * m_norm)
     if lam <= 0.0:
         return 0.0
+    df = 0.0
     for _ in range(60):
         lam2 = lam * lam
         f = (lam2 + c2) * lam2 + c1 * lam + c0
@@ -80,21 +120,48 @@ def max_rotation_trace_from_m(M, e0):
         lam = lam_new
         if done:
             break
+    if not df > _DOUBLE_ROOT * 4.0 * m_norm * m_norm * m_norm:
+        # λ is a (near-)double root (rank-deficient M, non-unique rotation), where the quartic
+        # resolves it only to ~sqrt(eps): take the singular values instead (rare, exact singularities)
+        M = np.empty((3, 3))
+        M[0, 0], M[0, 1], M[0, 2] = sxx, sxy, sxz
+        M[1, 0], M[1, 1], M[1, 2] = syx, syy, syz
+        M[2, 0], M[2, 1], M[2, 2] = szx, szy, szz
+        return _signed_singular_value_sum(M)
     return lam
+
+
+@njit(cache=True)
+def max_rotation_trace_from_m(M, e0):
+    """``max_R tr(R M)`` over proper rotations for a 3×3 ``M``; ``e0 / 2`` must bound it from above."""
+    return _max_trace(
+        M[0, 0], M[0, 1], M[0, 2], M[1, 0], M[1, 1], M[1, 2], M[2, 0], M[2, 1], M[2, 2], e0
+    )
 
 
 @njit(cache=True)
 def residual_columns(a, b, ncols):
     """δ for two flat vectors holding ``ncols`` consecutive 3-vectors each (column-major 3×ncols)."""
-    M = np.zeros((3, 3))
+    sxx = sxy = sxz = syx = syy = syz = szx = szy = szz = 0.0
     e0 = 0.0
     for c in range(ncols):
-        for r in range(3):
-            ar = a[3 * c + r]
-            e0 += ar * ar + b[3 * c + r] * b[3 * c + r]
-            for s in range(3):
-                M[r, s] += ar * b[3 * c + s]
-    lam = max_rotation_trace_from_m(M, e0)
+        ax = a[3 * c]
+        ay = a[3 * c + 1]
+        az = a[3 * c + 2]
+        bx = b[3 * c]
+        by = b[3 * c + 1]
+        bz = b[3 * c + 2]
+        e0 += ax * ax + ay * ay + az * az + bx * bx + by * by + bz * bz
+        sxx += ax * bx
+        sxy += ax * by
+        sxz += ax * bz
+        syx += ay * bx
+        syy += ay * by
+        syz += ay * bz
+        szx += az * bx
+        szy += az * by
+        szz += az * bz
+    lam = _max_trace(sxx, sxy, sxz, syx, syy, syz, szx, szy, szz, e0)
     res = e0 - 2.0 * lam
     return res if res > 0.0 else 0.0
 
@@ -146,4 +213,3 @@ def kabsch_rotation(A: np.ndarray, B: np.ndarray) -> np.ndarray:
         U[:, -1] *= -1
         R = Vt.T @ U.T
     return R
-

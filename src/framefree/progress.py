@@ -100,7 +100,9 @@ def _check_progress(progress: str) -> int:
     try:
         return _PROGRESS_CODES[progress]
     except KeyError:
-        raise ValueError(f"unknown progress type {progress!r}; choose one of {PROGRESS_TYPES}") from None
+        raise ValueError(
+            f"unknown progress type {progress!r}; choose one of {PROGRESS_TYPES}"
+        ) from None
 
 
 def progress_increments(poses: np.ndarray, progress: str = "screw", L: float = 0.3) -> np.ndarray:
@@ -237,7 +239,9 @@ class StreamingReparameterizer:
             self.last_kept = np.array(pose, dtype=np.float64)
             self.n_kept += 1
             return True
-        ds = screw_path_increment(self.last_kept, np.ascontiguousarray(pose, dtype=np.float64), self.L)
+        ds = screw_path_increment(
+            self.last_kept, np.ascontiguousarray(pose, dtype=np.float64), self.L
+        )
         if ds > self.resolution:
             self.last_kept = np.array(pose, dtype=np.float64)
             self.n_kept += 1

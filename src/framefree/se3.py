@@ -27,8 +27,8 @@ __all__ = [
     "pose_from_twist",
     "poses_from_pq",
     "pq_from_poses",
-    "quaternion_continuity",
     "quaternion_conjugate",
+    "quaternion_continuity",
     "quaternion_from_matrix",
     "quaternion_multiply",
     "relative_displacement_twists",
@@ -426,7 +426,9 @@ def _relative_twists_kernel(T):
 def _flat(a: np.ndarray, tail: tuple[int, ...]) -> tuple[np.ndarray, tuple[int, ...]]:
     a = np.ascontiguousarray(a, dtype=np.float64)
     if a.shape[a.ndim - len(tail) :] != tail:
-        raise ValueError(f"expected an array of shape (..., {', '.join(map(str, tail))}), got {a.shape}")
+        raise ValueError(
+            f"expected an array of shape (..., {', '.join(map(str, tail))}), got {a.shape}"
+        )
     lead = a.shape[: a.ndim - len(tail)]
     return a.reshape((-1, *tail)), lead
 
@@ -566,7 +568,9 @@ def sclerp(A: np.ndarray, B: np.ndarray, alpha: np.ndarray | float) -> np.ndarra
         fa, fb = (x.reshape(-1, 4, 4) for x in np.broadcast_arrays(np.asarray(A), np.asarray(B)))
         lead = np.broadcast_shapes(np.shape(A), np.shape(B))[:-2]
     al = np.broadcast_to(np.asarray(alpha, dtype=np.float64), lead).reshape(-1)
-    out = _sclerp_batch(np.ascontiguousarray(fa), np.ascontiguousarray(fb), np.ascontiguousarray(al))
+    out = _sclerp_batch(
+        np.ascontiguousarray(fa), np.ascontiguousarray(fb), np.ascontiguousarray(al)
+    )
     return out.reshape((*lead, 4, 4))
 
 

@@ -108,4 +108,3 @@ def smooth_poses(poses: np.ndarray, window: int) -> np.ndarray:
     return smooth_poses_kernel(
         np.ascontiguousarray(poses, dtype=np.float64), gaussian_weights(window), before
     )
-

@@ -68,9 +68,13 @@ def read_pose_csv(path: str | Path, quat_order: str = "wxyz") -> np.ndarray:
             try:
                 v = float(item)
             except ValueError:
-                raise TrajectoryError(f"column {col}: {item.strip()!r} is not a number", path, lineno) from None
+                raise TrajectoryError(
+                    f"column {col}: {item.strip()!r} is not a number", path, lineno
+                ) from None
             if not math.isfinite(v):
-                raise TrajectoryError(f"column {col}: value {item.strip()} is not finite", path, lineno)
+                raise TrajectoryError(
+                    f"column {col}: value {item.strip()} is not finite", path, lineno
+                )
             values.append(v)
         rows.append(values)
     if not rows:
@@ -121,11 +125,15 @@ class Trajectory:
         if q.shape != (n, 4):
             raise TrajectoryError(f"q must have shape ({n}, 4), got {q.shape}", src)
         if n < MIN_SAMPLES:
-            raise TrajectoryError(f"only {n} samples; a trajectory needs at least {MIN_SAMPLES}", src)
+            raise TrajectoryError(
+                f"only {n} samples; a trajectory needs at least {MIN_SAMPLES}", src
+            )
         for name, arr in (("time", t), ("position", p), ("quaternion", q)):
             bad = ~np.isfinite(arr.reshape(n, -1)).all(axis=1)
             if bad.any():
-                raise TrajectoryError(f"{name} is not finite (NaN or inf)", src, int(np.argmax(bad)) + 1)
+                raise TrajectoryError(
+                    f"{name} is not finite (NaN or inf)", src, int(np.argmax(bad)) + 1
+                )
         dt = np.diff(t)
         if (dt <= 0).any():
             k = int(np.argmax(dt <= 0)) + 2
@@ -222,7 +230,9 @@ class Trajectory:
             q = -q
         return Trajectory(t, p, q, source=self.source)
 
-    def transformed(self, world: np.ndarray | None = None, body: np.ndarray | None = None) -> Trajectory:
+    def transformed(
+        self, world: np.ndarray | None = None, body: np.ndarray | None = None
+    ) -> Trajectory:
         """Change of reference frames: ``T'(t) = world · T(t) · body``.
 
         Parameters
@@ -255,22 +265,26 @@ class Trajectory:
         """
         if not dt > 0:
             raise ValueError(f"dt must be positive, got {dt}")
-        n = int(math.floor(1.0 + math.floor(self.duration / dt) + 0.5))
+        n = math.floor(1.0 + math.floor(self.duration / dt) + 0.5)
         n = max(n, 2)
-        tq = np.linspace(self.t[0], self.t[-1], n)
-        tq[-1] = self.t[-1]
-        T = se3.interpolate_poses(self.t, self.poses(), tq)
         if n < MIN_SAMPLES:
             raise TrajectoryError(
-                f"resampling a {self.duration:.3g} s trajectory at {dt} s leaves {n} samples", self.source
+                f"resampling a {self.duration:.3g} s trajectory at {dt} s leaves {n} samples",
+                self.source,
             )
-        return self._with_poses(tq, T)
+        # interpolate in time relative to the first sample, so that large absolute clocks
+        # (e.g. Unix time) cost no precision in the interpolation fractions
+        t_rel = self.t - self.t[0]
+        tq = np.linspace(0.0, t_rel[-1], n)
+        tq[-1] = t_rel[-1]
+        T = se3.interpolate_poses(t_rel, self.poses(), tq)
+        return self._with_poses(self.t[0] + tq, T)
 
     def head(self, fraction: float) -> Trajectory:
         """The first ``ceil(fraction · N)`` samples (e.g. 0.5 for an unfinished gesture)."""
         if not 0 < fraction <= 1:
             raise ValueError(f"fraction must be in (0, 1], got {fraction}")
-        n = int(math.ceil(fraction * len(self)))
+        n = math.ceil(fraction * len(self))
         return Trajectory(self.t[:n], self.p[:n], self.q[:n], source=self.source)
 
     def slice_time(self, start: float, end: float) -> Trajectory:

@@ -99,5 +99,7 @@ class Descriptor(ABC):
         return float(self.distance_matrix([query], [model])[0, 0])
 
     @abstractmethod
-    def distance_matrix(self, queries: Sequence[np.ndarray], models: Sequence[np.ndarray]) -> np.ndarray:
+    def distance_matrix(
+        self, queries: Sequence[np.ndarray], models: Sequence[np.ndarray]
+    ) -> np.ndarray:
         """Distances (n_queries, n_models) between descriptor sequences."""

@@ -33,8 +33,8 @@ from .base import Descriptor, register
 
 __all__ = [
     "BILTS",
-    "BILTSPlus",
     "MAX_WINDOW_SPACING",
+    "BILTSPlus",
     "bilts_sample",
     "bilts_windows",
     "window_spacing",
@@ -53,7 +53,7 @@ def window_spacing(ds_scale: float, ds: float, cap: int = MAX_WINDOW_SPACING) ->
     if not (ds > 0 and math.isfinite(ds)):
         return 1
     ratio = ds_scale / ds
-    m = int(math.floor(ratio + 0.5)) if math.isfinite(ratio) else 1
+    m = math.floor(ratio + 0.5) if math.isfinite(ratio) else 1
     return min(cap, max(1, m))
 
 
@@ -255,7 +255,9 @@ class _BILTSBase(Descriptor):
 
     _pointwise: int = POINTWISE_SQUARED
 
-    def distance_matrix(self, queries: Sequence[np.ndarray], models: Sequence[np.ndarray]) -> np.ndarray:
+    def distance_matrix(
+        self, queries: Sequence[np.ndarray], models: Sequence[np.ndarray]
+    ) -> np.ndarray:
         """DTW on the singular values, pointwise sum of the twist part along the path (§6.5-6.6).
 
         Returns
