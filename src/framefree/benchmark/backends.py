@@ -1,0 +1,230 @@
+"""Execution backends: run the benchmark's pure task functions in-process, on local processes
+(joblib), or on an existing Dask or Ray cluster.
+
+Every backend has one method, :meth:`Backend.run`, taking a top-level function and a list of
+argument tuples and yielding ``(index, result)`` pairs as tasks finish. The task functions of
+:mod:`framefree.benchmark.protocol` are pure (arguments in, result out, no shared state), so the
+same functions run unchanged on every backend. Dask and Ray are optional extras
+(``pip install 'framefree[dask]'`` / ``'framefree[ray]'``) imported only when asked for.
+"""
+
+from __future__ import annotations
+
+import os
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Iterator, Sequence
+from typing import Any
+
+from ..errors import FramefreeError
+
+__all__ = [
+    "BACKENDS",
+    "Backend",
+    "BackendUnavailableError",
+    "DaskBackend",
+    "JoblibBackend",
+    "RayBackend",
+    "SerialBackend",
+    "make_backend",
+]
+
+#: argument tuples of the tasks of one call
+Tasks = Sequence[tuple[Any, ...]]
+#: ``(task index, result)`` pairs in completion order
+Results = Iterator[tuple[int, Any]]
+
+#: names accepted by :func:`make_backend`
+BACKENDS: tuple[str, ...] = ("joblib", "dask", "ray")
+
+
+class BackendUnavailableError(FramefreeError):
+    """The requested backend needs an optional package that is not installed."""
+
+
+def _call_indexed(index: int, fn: Callable[..., Any], args: tuple[Any, ...]) -> tuple[int, Any]:
+    return index, fn(*args)
+
+
+def available_cpus() -> int:
+    """CPU cores this process may use."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not Linux
+        return os.cpu_count() or 1
+
+
+class Backend(ABC):
+    """Runs independent tasks; subclasses decide where.
+
+    Attributes
+    ----------
+    name : str
+    jobs : int
+        Parallel workers (local backends) or a hint (cluster backends).
+    task_threads : int or None
+        Numba threads each task should use (None: leave the worker's default).
+    """
+
+    name: str = "?"
+
+    def __init__(self, jobs: int = 1) -> None:
+        self.jobs = max(1, int(jobs))
+        self.task_threads: int | None = None
+
+    @abstractmethod
+    def run(self, fn: Callable[..., Any], tasks: Tasks) -> Results:
+        """Run ``fn(*args)`` for each ``args`` in ``tasks``; yield ``(index, result)`` when done."""
+
+    def close(self) -> None:
+        """Release workers or cluster connections this backend started."""
+        self.closed = True
+
+    def __enter__(self) -> Backend:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def describe(self) -> str:
+        """One line for logs: the backend and its parallelism."""
+        return f"{self.name} ({self.jobs} worker{'s' if self.jobs != 1 else ''})"
+
+
+class SerialBackend(Backend):
+    """Runs every task in this process, in order (numba kernels still use all cores)."""
+
+    name = "serial"
+
+    def run(self, fn: Callable[..., Any], tasks: Tasks) -> Results:
+        for i, args in enumerate(tasks):
+            yield i, fn(*args)
+
+
+class JoblibBackend(Backend):
+    """Local worker processes through joblib (loky), results as they complete.
+
+    Each task is told to use ``cores // jobs`` numba threads so that the processes do not
+    oversubscribe the machine.
+    """
+
+    name = "joblib"
+
+    def __init__(self, jobs: int = 2) -> None:
+        super().__init__(jobs)
+        self.task_threads = max(1, available_cpus() // self.jobs)
+
+    def run(self, fn: Callable[..., Any], tasks: Tasks) -> Results:
+        from joblib import Parallel, delayed
+
+        par = Parallel(n_jobs=self.jobs, return_as="generator_unordered", batch_size=1)
+        yield from par(delayed(_call_indexed)(i, fn, args) for i, args in enumerate(tasks))
+
+
+class DaskBackend(Backend):
+    """A Dask ``distributed`` cluster: an existing one (``address``) or a local one started here."""
+
+    name = "dask"
+
+    def __init__(self, jobs: int = 2, address: str | None = None) -> None:
+        super().__init__(jobs)
+        try:
+            from dask.distributed import Client
+        except ImportError as exc:
+            raise BackendUnavailableError(
+                f"the dask backend needs the optional extra: pip install 'framefree[dask]' ({exc})"
+            ) from None
+        if address:
+            self._client = Client(address)
+            self._owned = False
+        else:
+            self._client = Client(n_workers=self.jobs, threads_per_worker=1, processes=True)
+            self._owned = True
+            self.task_threads = max(1, available_cpus() // self.jobs)
+        self.address = address
+
+    def run(self, fn: Callable[..., Any], tasks: Tasks) -> Results:
+        from dask.distributed import as_completed
+
+        submit = self._client.submit
+        futures = [submit(_call_indexed, i, fn, args, pure=False) for i, args in enumerate(tasks)]
+        for fut in as_completed(futures):
+            yield fut.result()
+
+    def close(self) -> None:
+        if getattr(self, "_owned", False):
+            self._client.close()
+
+    def describe(self) -> str:
+        return f"dask ({self.address or f'local cluster, {self.jobs} workers'})"
+
+
+class RayBackend(Backend):
+    """A Ray cluster: an existing one (``address``, e.g. ``"auto"``) or a local one started here."""
+
+    name = "ray"
+
+    def __init__(self, jobs: int = 2, address: str | None = None) -> None:
+        super().__init__(jobs)
+        try:
+            import ray
+        except ImportError as exc:
+            raise BackendUnavailableError(
+                f"the ray backend needs the optional extra: pip install 'framefree[ray]' ({exc})"
+            ) from None
+        self._ray = ray
+        self._owned = not ray.is_initialized()
+        if self._owned:
+            if address:
+                ray.init(address=address)
+            else:
+                ray.init(num_cpus=self.jobs)
+                self.task_threads = max(1, available_cpus() // self.jobs)
+        self.address = address
+        self._remote = ray.remote(_call_indexed)
+
+    def run(self, fn: Callable[..., Any], tasks: Tasks) -> Results:
+        ray = self._ray
+        pending = [self._remote.remote(i, fn, args) for i, args in enumerate(tasks)]
+        while pending:
+            done, pending = ray.wait(pending, num_returns=1)
+            yield ray.get(done[0])
+
+    def close(self) -> None:
+        if self._owned:
+            self._ray.shutdown()
+
+    def describe(self) -> str:
+        return f"ray ({self.address or f'local, {self.jobs} CPUs'})"
+
+
+def make_backend(
+    name: str = "joblib", jobs: int | None = None, address: str | None = None
+) -> Backend:
+    """Create a backend.
+
+    Parameters
+    ----------
+    name : {"joblib", "dask", "ray"}
+    jobs : int, optional
+        Workers; default: all available cores. ``joblib`` with one job runs in this process.
+    address : str, optional
+        Scheduler address of an existing Dask or Ray cluster.
+
+    Raises
+    ------
+    BackendUnavailableError
+        If Dask or Ray is asked for but not installed.
+    ValueError
+        For an unknown backend name.
+    """
+    n = available_cpus() if jobs is None or jobs <= 0 else int(jobs)
+    key = name.lower()
+    if key == "joblib":
+        if address:
+            raise ValueError("--address is only meaningful with --backend dask or ray")
+        return SerialBackend(1) if n == 1 else JoblibBackend(n)
+    if key == "dask":
+        return DaskBackend(n, address)
+    if key == "ray":
+        return RayBackend(n, address)
+    raise ValueError(f"unknown backend {name!r}; choose one of {', '.join(BACKENDS)}")

@@ -1,0 +1,160 @@
+"""``framefree benchmark``: the paper's protocol on a dataset folder, written out as Table I."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import click
+
+__all__ = ["benchmark_command", "register"]
+
+
+@click.command("benchmark")
+@click.option("--data", "data_dir", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Dataset folder <gesture>/<context>/<trial>.csv (default: the HPM replica).")
+@click.option("--model-context", default="original_1", show_default=True,
+              help="Context whose trials are the 1-NN models.")
+@click.option("--methods", default="all", show_default=True,
+              help="'all' (the 17 rows of Table I) or e.g. 'bilts+:screw,dhb:arclength,rrv'.")
+@click.option("--jobs", "-j", type=int, default=0,
+              help="Parallel workers (default: all cores; 1 runs in this process).")
+@click.option("--backend", type=click.Choice(["joblib", "dask", "ray"]), default="joblib",
+              show_default=True,
+              help="Where tasks run; dask and ray need the optional extras.")
+@click.option("--address", default=None,
+              help="Scheduler address of an existing Dask or Ray cluster.")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path),
+              default=Path("benchmark-results"), show_default=True,
+              help="Folder for table1.md, table1.csv, results.json and the figures.")
+@click.option("--json", "json_file", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Also write the JSON results here.")
+@click.option("--round-digits", type=int, default=None,
+              help="Round descriptors to N significant digits, as the reference's CSV storage (5).")
+@click.option("--figures/--no-figures", default=True, show_default=True,
+              help="Write the heat map, confusion matrices and a DTW alignment figure.")
+@click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
+def benchmark_command(
+    data_dir: Path | None,
+    model_context: str,
+    methods: str,
+    jobs: int,
+    backend: str,
+    address: str | None,
+    out_dir: Path,
+    json_file: Path | None,
+    round_digits: int | None,
+    figures: bool,
+    quiet: bool,
+) -> None:
+    """Train and test every method/progress row with the paper's protocol; write Table I.
+
+    \b
+    Models: all trials of the model context. Training: trials whose file name ends in 1 or 2 in
+    every other context; each row's (x, L) grid is searched for the best pooled training
+    recognition ratio (ties: smallest x, then smallest L). Test: the remaining trials.
+    Outputs in --out: table1.md (ours beside the paper's numbers), table1.csv, results.json,
+    heatmap.png, confusion/<row>.png, alignment.png.
+    """
+    from tqdm import tqdm
+
+    from ..benchmark import load_benchmark_data, make_backend, parse_methods, run_benchmark
+    from ..benchmark.results import write_csv, write_json, write_markdown
+    from ..descriptors import available_descriptors
+
+    try:
+        specs = parse_methods(methods, available_descriptors())
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--methods") from None
+    if methods.strip().lower() == "all":
+        from ..benchmark.grids import TABLE1_ROWS
+
+        skipped = [r.key for r in TABLE1_ROWS if r not in specs]
+        if skipped:
+            msg = f"not registered in this installation, skipped: {', '.join(skipped)}"
+            click.secho(msg, fg="yellow", err=True)
+    t0 = time.perf_counter()
+    data = load_benchmark_data(data_dir, model_context)
+    load_s = time.perf_counter() - t0
+    if not quiet:
+        click.echo(f"{data.root}: {data.summary()}", err=True)
+    try:
+        bk = make_backend(backend, jobs or None, address)
+    except ValueError as exc:
+        raise click.BadParameter(str(exc)) from None
+    bar = tqdm(total=0, desc="benchmark", unit="task", disable=quiet, leave=False)
+
+    def grow(n: int) -> None:
+        bar.total = (bar.total or 0) + n
+        bar.refresh()
+
+    with bk:
+        if not quiet:
+            click.echo(f"running {len(specs)} row(s) on {bk.describe()}", err=True)
+        result = run_benchmark(
+            data, specs, bk, progress=bar.update, on_total=grow, round_digits=round_digits
+        )
+    bar.close()
+    result.timing["load"] = load_s
+    result.timing["total"] += load_s
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    written = [
+        write_markdown(result, out_dir / "table1.md"),
+        write_csv(result, out_dir / "table1.csv"),
+        write_json(result, out_dir / "results.json"),
+    ]
+    if json_file is not None:
+        written.append(write_json(result, json_file))
+    if figures:
+        written += _figures(result, data, out_dir)
+    from ..benchmark.results import markdown_table
+
+    click.echo(markdown_table(result))
+    t = result.timing
+    click.echo(
+        f"{len(result.rows)} row(s) in {t['total']:.1f} s wall-clock "
+        f"(compute: descriptors {t['descriptors']:.1f} s, matching {t['matching']:.1f} s)"
+    )
+    for p in written:
+        click.echo(f"wrote {p}", err=True)
+
+
+def _figures(result, data, out_dir: Path) -> list[Path]:  # type: ignore[no-untyped-def]
+    """Heat map, per-row confusion matrices and a DTW alignment of the first row."""
+    from ..benchmark.figures import plot_aligned_signals, plot_confusion, plot_heatmap
+    from ..descriptors import get_descriptor
+    from ..errors import FramefreeError
+    from ..trajectory import Trajectory
+
+    out = [plot_heatmap(result, out_dir / "heatmap.png")]
+    for row in result.rows:
+        name = row.spec.key.replace(":", "_").replace("+", "plus")
+        out.append(plot_confusion(row, result.gestures, out_dir / "confusion" / f"{name}.png"))
+    if result.rows and data.models and data.test:
+        # the first row's best method on a model and a test trial of the same gesture from the
+        # last (usually hardest) context
+        row = max(result.rows, key=lambda r: (r.mean, r.overall))
+        q = data.test[-1]
+        m = next((r for r in data.models if r.gesture == q.gesture), data.models[0])
+        try:
+            out.append(
+                plot_aligned_signals(
+                    get_descriptor(row.spec.method, **row.params),
+                    Trajectory.from_array(m.data, m.source),
+                    Trajectory.from_array(q.data, q.source),
+                    out_dir / "alignment.png",
+                    labels=(
+                        f"{m.gesture}/{m.context}/{m.name}",
+                        f"{q.gesture}/{q.context}/{q.name}",
+                    ),
+                )
+            )
+        except FramefreeError:
+            pass
+    return out
+
+
+def register(group: click.Group) -> None:
+    """Add ``benchmark`` to the ``framefree`` command group."""
+    group.add_command(benchmark_command)
