@@ -1,0 +1,338 @@
+"""The seven hand-palm gestures of the HPM dataset as a person holding a tracker makes them.
+
+Geometry ([P2] §III, ALGORITHMS.md §1.4), in the *user frame* (x forward, y to the user's left,
+z up) for a right hand whose *hand frame* has x along the fingers, y towards the thumb when the
+palm faces down, z out of the back of the hand:
+
+==============  ===========================================================================
+go_left         straight-line translation to the left (≈ 30 cm), pause, back
+go_right        a full circle (radius ≈ 12 cm) in the frontal plane with a slight forearm roll
+                (8–20°); no reverse
+go_up           elbow flexion: rotation of ≈ 50° about a lateral axis through the elbow (≈ 33 cm
+                behind the palm): the hand rises while the forearm rotates; pause, back
+go_down         palm up → palm down: pronation of ≈ 165° about the forearm axis, which passes a few
+                centimetres from the palm centre; pause, back
+open_gripper    from palm down, move forward ≈ 20 cm while supinating ≈ 165° about the forearm axis:
+                a positive-pitch screw; pause, back
+close_gripper   from palm up, move forward while pronating: the same screw with negative pitch
+go_home         pure translation along a circular arc of ≈ 150° (radius ≈ 14 cm) over the top;
+                pause, back
+==============  ===========================================================================
+
+Pairs that differ only in shape: open/close gripper (sign of the pitch), go_left/go_home (line vs
+arc), go_down/go_up (rotation about a near vs a far axis), go_down/close_gripper (with or without
+the advance). Human variation per trial: size, speed, start pose, heading, slight asymmetry of the
+speed profiles, mid-path deviations, pause length, and an imperfect return to the start.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import se3
+from ..trajectory import Trajectory
+from .layout import GESTURES
+from .motion import (
+    Motion,
+    Path,
+    Piece,
+    deviated,
+    hold,
+    make_pose,
+    reversed_path,
+    rot,
+    screw_path,
+    stroke,
+    translation_path,
+)
+from .recording import measure, random_grip, sample_times
+
+__all__ = [
+    "ANTHROPOMETRY",
+    "GESTURE_SHAPES",
+    "PALM_DOWN",
+    "PALM_LEFT",
+    "PALM_UP",
+    "VARIATION",
+    "GesturePlan",
+    "default_world",
+    "gesture_motion",
+    "plan_gesture",
+    "synthesize_gesture",
+]
+
+#: Hand orientations in the user frame.
+PALM_DOWN = np.eye(3)
+PALM_UP = rot([1, 0, 0], math.pi)
+PALM_LEFT = rot([1, 0, 0], math.pi / 2)  # thumb up, palm facing left
+
+#: Body dimensions [m] and joint ranges [rad] (mean, std). Elbow-to-palm distance: forearm
+#: 0.146 H plus half a hand 0.054 H for a body height H ≈ 1.70 m (Drillis & Contini 1966).
+#: Offset of the pronation axis (radius–ulna line) from the palm centre: a few centimetres (the
+#: axis leaves the forearm at the ulnar side of the wrist). Pronation + supination range ≈ 160–180°
+#: (normal forearm range of motion about 80–90° each way).
+ANTHROPOMETRY = {
+    "hand_position": ((0.40, -0.20, 1.15), 0.03),  # palm centre at rest, right hand, in front
+    "elbow_to_palm": (0.33, 0.02),
+    "pronation_axis_offset": (0.03, 0.01),
+    "forearm_rotation": (math.radians(165.0), math.radians(10.0)),
+    "elbow_flexion": (math.radians(50.0), math.radians(7.0)),
+}
+
+#: Nominal sizes and stroke durations of the gestures (deliberate, comfortable gestures: peak hand
+#: speeds 0.5–0.8 m/s and peak forearm rotation speeds below ≈ 4 rad/s, typical of unhurried
+#: pointing and turning movements). ``size`` [m] is the path extent, ``duration`` [s] one stroke.
+GESTURE_SHAPES = {
+    "go_left": {"size": 0.30, "duration": 0.9},
+    "go_right": {"size": 0.12, "duration": 2.0, "roll": (math.radians(8.0), math.radians(20.0))},
+    "go_up": {"size": 0.30, "duration": 1.0},
+    "go_down": {"size": 0.05, "duration": 1.4},
+    "open_gripper": {"size": 0.20, "duration": 1.4},
+    "close_gripper": {"size": 0.20, "duration": 1.4},
+    "go_home": {"size": 0.14, "duration": 1.2, "arc": (math.radians(150.0), math.radians(12.0))},
+}
+
+#: Trial-to-trial variation (standard deviations unless stated). Log-normal size and speed factors;
+#: heading and tilt of the gesture geometry; tilt of the hand; asymmetry of the minimum-jerk profile
+#: (exponent of the time warp); mid-path deviation of the hand path relative to its size (hand
+#: paths are nearly straight with small curvature, Morasso 1981, Atkeson & Hollerbach 1985);
+#: imperfect return to the start; rest and pause durations (uniform ranges) [s].
+VARIATION = {
+    "size": 0.12,
+    "speed": 0.15,
+    "stroke_speed": 0.08,
+    "heading": math.radians(10.0),
+    "tilt": math.radians(8.0),
+    "hand_tilt": math.radians(8.0),
+    "skew": 0.10,
+    "bulge_rel": 0.02,
+    "bulge_abs": 0.003,
+    "bulge_rot": math.radians(3.0),
+    "return_pos": 0.01,
+    "return_rot": math.radians(3.0),
+    "rest": (0.5, 1.0),
+    "pause": (0.1, 0.4),
+}
+
+
+@dataclass(frozen=True)
+class GesturePlan:
+    """One performance of a gesture, before recording.
+
+    Attributes
+    ----------
+    gesture : str
+    start : ndarray, shape (4, 4)
+        Hand pose in the user frame where the gesture starts.
+    strokes : list of Piece
+        The movement (strokes and the pause at the reversal), starting at ``start``.
+    """
+
+    gesture: str
+    start: np.ndarray
+    strokes: list[Piece]
+
+    @property
+    def duration(self) -> float:
+        """Duration of the movement [s] (no rest)."""
+        return float(sum(p.duration for p in self.strokes))
+
+    @property
+    def end(self) -> np.ndarray:
+        """Final hand pose (4, 4)."""
+        return self.strokes[-1].end
+
+
+def _clipped(rng: np.random.Generator, mean: float, std: float, k: float = 2.5) -> float:
+    return float(mean + std * np.clip(rng.standard_normal(), -k, k))
+
+
+def _small_rotation(rng: np.random.Generator, std: float) -> np.ndarray:
+    """A random rotation whose rotation vector has independent N(0, std²) components."""
+    phi = rng.normal(0.0, std, 3)
+    return se3.rotation_from_vector(phi)
+
+
+def _circle_path(start: np.ndarray, center: np.ndarray, axis: np.ndarray, angle: float, roll: float,
+                 roll_axis: np.ndarray, phase: float) -> Path:
+    """Translation around a circle plus a sinusoidal roll of the hand about ``roll_axis``."""
+    R0 = start[:3, :3]
+    p0 = start[:3, 3]
+
+    def path(s: np.ndarray) -> np.ndarray:
+        s = np.asarray(s, dtype=np.float64)
+        Rc = se3.rotation_from_vector(s[:, None] * angle * axis)
+        p = np.einsum("nij,j->ni", Rc, p0 - center) + center
+        r = roll * (np.sin(2 * math.pi * s + phase) - math.sin(phase))
+        Rr = se3.rotation_from_vector(r[:, None] * roll_axis)
+        T = np.zeros((s.shape[0], 4, 4))
+        T[:, :3, :3] = Rr @ R0
+        T[:, :3, 3] = p
+        T[:, 3, 3] = 1.0
+        return T
+
+    return path
+
+
+def _arc_offset(r: float, angle: float, e1: np.ndarray, e2: np.ndarray) -> Callable[[np.ndarray], np.ndarray]:
+    """Offsets (n, 3) along a circular arc over the top, from its right end towards its left end."""
+    a0 = math.pi / 2 + angle / 2
+
+    def offset(s: np.ndarray) -> np.ndarray:
+        a = a0 - angle * np.asarray(s, dtype=np.float64)
+        return r * ((np.cos(a) - math.cos(a0))[:, None] * e1 + (np.sin(a) - math.sin(a0))[:, None] * e2)
+
+    return offset
+
+
+def plan_gesture(gesture: str, rng: np.random.Generator, speed: float = 1.0) -> GesturePlan:
+    """Draw one human performance of ``gesture``: its start pose and its timed strokes.
+
+    Parameters
+    ----------
+    gesture : str
+        One of :data:`~framefree.datasets.GESTURES`.
+    rng : numpy.random.Generator
+    speed : float
+        Extra speed factor (2 = twice as fast as this person would normally move).
+
+    Returns
+    -------
+    GesturePlan
+    """
+    if gesture not in GESTURE_SHAPES:
+        raise ValueError(f"unknown gesture {gesture!r}; expected one of {', '.join(GESTURES)}")
+    if not speed > 0:
+        raise ValueError(f"speed must be positive, got {speed}")
+    V = VARIATION
+    A = ANTHROPOMETRY
+    shape = GESTURE_SHAPES[gesture]
+    scale = math.exp(_clipped(rng, 0.0, V["size"]))
+    tempo = math.exp(_clipped(rng, 0.0, V["speed"])) / speed
+    # geometry frame of this performance: heading about the vertical, small tilt
+    Rg = rot([0, 0, 1], _clipped(rng, 0.0, V["heading"])) @ _small_rotation(rng, V["tilt"])
+    fwd, left, up = Rg[:, 0], Rg[:, 1], Rg[:, 2]
+    mean_p, std_p = A["hand_position"]
+    p0 = np.asarray(mean_p) + std_p * np.clip(rng.standard_normal(3), -2.5, 2.5)
+    size = shape["size"] * scale
+
+    def duration() -> float:
+        return shape["duration"] * tempo * math.exp(_clipped(rng, 0.0, V["stroke_speed"]))
+
+    def skew() -> float:
+        return math.exp(_clipped(rng, 0.0, V["skew"]))
+
+    def bulge() -> tuple[np.ndarray, np.ndarray]:
+        b = V["bulge_rel"] * size + V["bulge_abs"]
+        return rng.normal(0.0, b, 3), rng.normal(0.0, V["bulge_rot"], 3)
+
+    def hand(R_base: np.ndarray) -> np.ndarray:
+        return make_pose(_small_rotation(rng, V["hand_tilt"]) @ Rg @ R_base, p0)
+
+    def forearm_screw(start: np.ndarray, sign: float, advance: float) -> Path:
+        angle = sign * _clipped(rng, *A["forearm_rotation"])
+        angle = float(np.clip(angle, -math.radians(185), math.radians(185)))
+        off_dir = np.cross(fwd, rng.standard_normal(3))
+        off = off_dir / np.linalg.norm(off_dir) * max(0.01, _clipped(rng, *A["pronation_axis_offset"]))
+        return screw_path(start, fwd, start[:3, 3] + off, angle, advance)
+
+    if gesture == "go_left":
+        start = hand(PALM_LEFT)
+        fwd_path = translation_path(start, lambda s: s[:, None] * size * left)
+    elif gesture == "go_up":
+        start = hand(PALM_DOWN)
+        r = _clipped(rng, *A["elbow_to_palm"])
+        elbow = p0 - r * fwd
+        angle = _clipped(rng, *A["elbow_flexion"]) * math.sqrt(scale)
+        fwd_path = screw_path(start, left, elbow, -angle)
+    elif gesture == "go_down":
+        start = hand(PALM_UP)
+        fwd_path = forearm_screw(start, -1.0, 0.0)
+    elif gesture == "open_gripper":
+        start = hand(PALM_DOWN)
+        fwd_path = forearm_screw(start, +1.0, size)
+    elif gesture == "close_gripper":
+        start = hand(PALM_UP)
+        fwd_path = forearm_screw(start, -1.0, size)
+    elif gesture == "go_home":
+        start = hand(PALM_DOWN)
+        arc = _clipped(rng, *shape["arc"])
+        arc = float(np.clip(arc, math.radians(120), math.radians(180)))
+        fwd_path = translation_path(start, _arc_offset(size, arc, left, up))
+    else:  # go_right: one full circle, no reverse
+        start = hand(PALM_DOWN)
+        center = p0 + size * up
+        roll = rng.uniform(*shape["roll"])
+        path = _circle_path(start, center, fwd, -2 * math.pi, roll, fwd, rng.uniform(0, 2 * math.pi))
+        bp, br = bulge()
+        end_p = rng.normal(0.0, V["return_pos"], 3)
+        end_r = rng.normal(0.0, V["return_rot"], 3)
+        return GesturePlan(gesture, start, [stroke(deviated(path, bp, br, end_p, end_r), duration(), skew())])
+
+    bp, br = bulge()
+    there = deviated(fwd_path, bp, br)
+    bp, br = bulge()
+    back = deviated(
+        reversed_path(there), bp, br, rng.normal(0.0, V["return_pos"], 3), rng.normal(0.0, V["return_rot"], 3)
+    )
+    first = stroke(there, duration(), skew())
+    pause = hold(first.end, rng.uniform(*V["pause"]))
+    return GesturePlan(gesture, start, [first, pause, stroke(back, duration(), skew())])
+
+
+def gesture_motion(plan: GesturePlan, rng: np.random.Generator) -> Motion:
+    """The hand motion of a recorded trial: rest, the gesture, rest."""
+    rest = VARIATION["rest"]
+    return Motion([hold(plan.start, rng.uniform(*rest)), *plan.strokes, hold(plan.end, rng.uniform(*rest))])
+
+
+def default_world(rng: np.random.Generator) -> np.ndarray:
+    """Pose (4, 4) of the user frame in the tracker world: SteamVR-style y-up world (the user's z
+    axis maps to world y), random heading, standing within 1 m of the world origin."""
+    R = rot([1, 0, 0], -math.pi / 2) @ rot([0, 0, 1], rng.uniform(-math.pi, math.pi))
+    xy = rng.uniform(-1.0, 1.0, 2)
+    return make_pose(R, np.array([xy[0], 0.0, xy[1]]))
+
+
+def synthesize_gesture(
+    gesture: str,
+    rng: np.random.Generator,
+    speed: float = 1.0,
+    world: np.ndarray | None = None,
+    grip: np.ndarray | None = None,
+    source: str | None = None,
+) -> Trajectory:
+    """One realistic recorded trial of ``gesture`` (the *Original 1* recording of the replica).
+
+    Parameters
+    ----------
+    gesture : str
+        One of :data:`~framefree.datasets.GESTURES`.
+    rng : numpy.random.Generator
+        All randomness comes from here.
+    speed : float
+        Extra speed factor (1: the person's natural pace).
+    world : ndarray, shape (4, 4), optional
+        User frame in the tracker world (default: :func:`default_world`).
+    grip : ndarray, shape (4, 4), optional
+        Tracker in the hand frame (default: :func:`~framefree.datasets.recording.random_grip`).
+    source : str, optional
+        Label for the trajectory.
+
+    Returns
+    -------
+    Trajectory
+        About 3–5 s at 50 Hz (with jitter): rest, the gesture (and its return), rest.
+    """
+    plan = plan_gesture(gesture, rng, speed)
+    motion = gesture_motion(plan, rng)
+    if world is None:
+        world = default_world(rng)
+    if grip is None:
+        grip = random_grip(rng)
+    t = sample_times(motion.duration, rng)
+    return measure(t, motion.at(t), grip, world, rng, source=source or f"synthetic {gesture}")

@@ -1,0 +1,219 @@
+"""Dataset layout ``<root>/<gesture>/<context>/<trial>.csv``: names and the loader (ALGORITHMS §1.3)."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import DatasetError, TrajectoryError
+from ..trajectory import Trajectory
+
+__all__ = [
+    "CONTEXTS",
+    "GESTURES",
+    "MODEL_CONTEXT",
+    "STREAMS_DIR",
+    "Dataset",
+    "Trial",
+    "is_training_trial",
+    "load_dataset",
+]
+
+#: The seven HPM gesture folders, in the paper's order ([P2] §III). A loaded dataset lists its
+#: gestures sorted (the class-label order of the reference).
+GESTURES = ("go_left", "go_right", "go_up", "go_down", "open_gripper", "close_gripper", "go_home")
+#: The twelve HPM contexts, in the paper's order ([P2] §III, ALGORITHMS §1.4).
+CONTEXTS = (
+    "original_1",
+    "original_2",
+    "slower",
+    "faster",
+    "first_half",
+    "body_frame_1",
+    "body_frame_2",
+    "body_frame_3",
+    "world_frame_1",
+    "world_frame_2",
+    "world_frame_3",
+    "combination",
+)
+#: The context whose trials are the 1-NN models.
+MODEL_CONTEXT = "original_1"
+#: A top-level folder of this name holds continuous streams, not a gesture; the loader skips it.
+STREAMS_DIR = "streams"
+
+_SPLITS = ("train", "test", "all")
+
+
+def is_training_trial(name: str) -> bool:
+    """Reference split rule (§1.3): a file stem ending in ``1`` or ``2`` is a training trial."""
+    return name[-1:] in ("1", "2")
+
+
+def _natural_key(name: str) -> list:
+    return [int(part) if part.isdigit() else part for part in re.split(r"(\d+)", name)]
+
+
+@dataclass(frozen=True)
+class Trial:
+    """One recording of a dataset.
+
+    Attributes
+    ----------
+    gesture : str
+        Gesture (class) folder name.
+    context : str
+        Context folder name.
+    name : str
+        File stem, e.g. ``"trial_3"``.
+    path : Path
+        The CSV file.
+    trajectory : Trajectory
+        The loaded poses.
+    """
+
+    gesture: str
+    context: str
+    name: str
+    path: Path
+    trajectory: Trajectory = field(repr=False)
+
+    @property
+    def is_training(self) -> bool:
+        """Whether the trial belongs to the training split (stem ends in 1 or 2)."""
+        return is_training_trial(self.name)
+
+
+@dataclass(frozen=True)
+class Dataset:
+    """A loaded gesture dataset.
+
+    Attributes
+    ----------
+    root : Path
+    gestures : tuple of str
+        Gesture folder names, sorted (class label order).
+    contexts : tuple of str
+        Context folder names: those of :data:`CONTEXTS` in paper order, then any others sorted.
+    model_context : str
+    trials : list of Trial
+        Every trial, by gesture, context and natural trial order.
+    """
+
+    root: Path
+    gestures: tuple[str, ...]
+    contexts: tuple[str, ...]
+    model_context: str
+    trials: list[Trial] = field(repr=False)
+
+    def __len__(self) -> int:
+        return len(self.trials)
+
+    def select(
+        self, gesture: str | Sequence[str] | None = None, context: str | Sequence[str] | None = None
+    ) -> list[Trial]:
+        """Trials of the given gesture(s) and context(s) (``None``: all)."""
+        g = {gesture} if isinstance(gesture, str) else None if gesture is None else set(gesture)
+        c = {context} if isinstance(context, str) else None if context is None else set(context)
+        return [t for t in self.trials if (g is None or t.gesture in g) and (c is None or t.context in c)]
+
+    def models(self) -> list[Trial]:
+        """Trials of the model context (the 1-NN neighbours)."""
+        return self.select(context=self.model_context)
+
+    def queries(self, split: str = "all") -> list[Trial]:
+        """Trials of every other context: ``"train"`` (stem ends in 1 or 2), ``"test"`` or ``"all"``."""
+        if split not in _SPLITS:
+            raise ValueError(f"split must be one of {_SPLITS}, got {split!r}")
+        out = [t for t in self.trials if t.context != self.model_context]
+        if split == "train":
+            out = [t for t in out if t.is_training]
+        elif split == "test":
+            out = [t for t in out if not t.is_training]
+        return out
+
+
+def _entries(folder: Path) -> list[Path]:
+    visible = (p for p in folder.iterdir() if not p.name.startswith("."))
+    return sorted(visible, key=lambda p: _natural_key(p.name))
+
+
+def _subfolders(folder: Path, what: str, skip: tuple[str, ...] = ()) -> list[Path]:
+    entries = [p for p in _entries(folder) if p.name not in skip]
+    stray = [p for p in entries if not p.is_dir()]
+    if stray:
+        raise DatasetError(
+            f"{stray[0]}: unexpected file; {folder} should contain only {what} folders"
+        )
+    if not entries:
+        raise DatasetError(f"{folder}: empty folder, expected {what} folders")
+    return entries
+
+
+def _context_order(names: set[str]) -> tuple[str, ...]:
+    known = [c for c in CONTEXTS if c in names]
+    return (*known, *sorted(names - set(known), key=_natural_key))
+
+
+def load_dataset(root: str | Path, model_context: str = MODEL_CONTEXT, quat_order: str = "wxyz") -> Dataset:
+    """Load a dataset laid out as ``<root>/<gesture>/<context>/<trial>.csv``.
+
+    Names are read from disk; entries starting with ``.`` and a top-level :data:`STREAMS_DIR`
+    folder are skipped. Every trial is loaded.
+
+    Parameters
+    ----------
+    root : str or Path
+    model_context : str
+        Name of the context whose trials are the models; every gesture must have it.
+    quat_order : {"wxyz", "xyzw"}
+        Quaternion column order of the files.
+
+    Returns
+    -------
+    Dataset
+
+    Raises
+    ------
+    DatasetError
+        For a missing or empty folder, a stray file, a gesture without the model context, or a
+        malformed CSV file (the message names the file and row).
+    """
+    root = Path(root).expanduser()
+    if not root.exists():
+        raise DatasetError(f"{root}: no such dataset folder")
+    if not root.is_dir():
+        raise DatasetError(f"{root}: not a folder (expected <root>/<gesture>/<context>/<trial>.csv)")
+    trials: list[Trial] = []
+    contexts: set[str] = set()
+    gestures = _subfolders(root, "gesture", skip=(STREAMS_DIR,))
+    for gdir in gestures:
+        cdirs = _subfolders(gdir, "context")
+        names = {c.name for c in cdirs}
+        if model_context not in names:
+            raise DatasetError(
+                f"{gdir}: no model context folder {model_context!r} (found: {', '.join(sorted(names))})"
+            )
+        contexts |= names
+        for cdir in sorted(cdirs, key=lambda p: _context_order(names).index(p.name)):
+            files = _entries(cdir)
+            if not files:
+                raise DatasetError(f"{cdir}: empty folder, expected trial CSV files")
+            for f in files:
+                if f.is_dir() or f.suffix.lower() != ".csv":
+                    kind = "folder" if f.is_dir() else "file"
+                    raise DatasetError(f"{f}: unexpected {kind}; {cdir} should contain only .csv trials")
+                try:
+                    traj = Trajectory.from_csv(f, quat_order=quat_order)
+                except TrajectoryError as exc:
+                    raise DatasetError(f"bad trial file: {exc}") from exc
+                trials.append(Trial(gdir.name, cdir.name, f.stem, f, traj))
+    return Dataset(
+        root=root,
+        gestures=tuple(sorted(g.name for g in gestures)),
+        contexts=_context_order(contexts),
+        model_context=model_context,
+        trials=trials,
+    )

@@ -1,0 +1,110 @@
+"""The synthetic HPM replica: 7 gestures × 12 contexts × 5 trials, plus labelled streams, written in
+the dataset layout and cached on demand."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from .contexts import apply_context
+from .gestures import default_world, synthesize_gesture
+from .layout import CONTEXTS, GESTURES, STREAMS_DIR
+from .motion import make_pose, rot
+from .recording import write_recording
+from .streams import make_stream, save_stream
+
+__all__ = ["N_TRIALS", "REPLICA_VERSION", "cache_dir", "make_replica", "replica_path"]
+
+#: Bump whenever the generator changes, so that cached replicas are regenerated.
+REPLICA_VERSION = 1
+#: Trials per gesture and context.
+N_TRIALS = 5
+#: Variation of the user's stance between the trials of one session: position [m], heading [rad].
+STANCE_STD = (0.05, np.radians(5.0))
+
+
+def cache_dir() -> Path:
+    """``$FRAMEFREE_CACHE`` if set, else ``~/.cache/framefree``."""
+    env = os.environ.get("FRAMEFREE_CACHE")
+    return Path(env).expanduser() if env else Path.home() / ".cache" / "framefree"
+
+
+def _rng(seed: int, *keys: int) -> np.random.Generator:
+    return np.random.default_rng([int(seed), *keys])
+
+
+def make_replica(out_dir: str | Path, seed: int = 0, n_streams: int = 3) -> Path:
+    """Generate the replica into ``out_dir``.
+
+    Writes ``<out>/<gesture>/<context>/trial_k.csv`` (k = 1..5) and
+    ``<out>/streams/stream_<i>.csv`` with ``stream_<i>_labels.csv`` (i = 1..n_streams).
+
+    Every trial is a separate recording of the same person in one session (same tracker world, small
+    changes of stance, a different grip each time); every context is made from the trial's
+    *Original 1* recording by :func:`~framefree.datasets.apply_context`. Stored quaternions carry
+    SDK-like sign flips. Deterministic given ``seed``.
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Created if missing; existing files are overwritten.
+    seed : int
+    n_streams : int
+        Number of continuous streams.
+
+    Returns
+    -------
+    Path
+        ``out_dir``.
+    """
+    out = Path(out_dir)
+    world = default_world(_rng(seed, 0))
+    for gi, gesture in enumerate(GESTURES):
+        for k in range(1, N_TRIALS + 1):
+            rng = _rng(seed, 1, gi, k)
+            stance = make_pose(rot([0, 0, 1], rng.normal(0.0, STANCE_STD[1])),
+                               [*rng.normal(0.0, STANCE_STD[0], 2), 0.0])
+            orig = synthesize_gesture(gesture, rng, world=world @ stance, source=f"{gesture}/trial_{k}")
+            for ci, context in enumerate(CONTEXTS):
+                traj = apply_context(orig, context, _rng(seed, 2, gi, k, ci))
+                write_recording(out / gesture / context / f"trial_{k}.csv", traj, _rng(seed, 3, gi, k, ci))
+    for i in range(1, n_streams + 1):
+        traj, segments = make_stream(seed * 1000 + i)
+        save_stream(out / STREAMS_DIR / f"stream_{i}.csv", traj, segments, _rng(seed, 4, i))
+    return out
+
+
+def replica_path(seed: int = 0) -> Path:
+    """Path of the cached replica for ``seed``, generating it first if needed (a few seconds).
+
+    The replica lives in :func:`cache_dir` under ``hpm-replica-v<version>-seed<seed>``; it is
+    written to a temporary folder beside it and renamed, so a half-written replica is never used
+    and concurrent callers are safe.
+
+    Examples
+    --------
+    >>> ds = load_dataset(replica_path())          # doctest: +SKIP
+    >>> traj, segments = load_stream(replica_path() / "streams" / "stream_1.csv")  # doctest: +SKIP
+    """
+    base = cache_dir()
+    final = base / f"hpm-replica-v{REPLICA_VERSION}-seed{int(seed)}"
+    if final.is_dir():
+        return final
+    base.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{final.name}-", dir=base))
+    try:
+        make_replica(tmp, seed)
+        try:
+            tmp.rename(final)
+        except OSError:
+            if not final.is_dir():
+                raise
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp, ignore_errors=True)
+    return final
+
