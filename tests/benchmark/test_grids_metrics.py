@@ -63,7 +63,11 @@ def test_table1_rows_and_grids() -> None:
             assert n == 25
     assert [L for _, L in grid["rrv:screw"]] == list(L_VALUES)
     assert MethodSpec("dsrf", "angle").trained(None, 1.0) == {}
-    assert MethodSpec("dhb", "angle").params(10.0, 0.3) == {"progress": "angle", "L": 0.3, "lam": 10.0}
+    assert MethodSpec("dhb", "angle").params(10.0, 0.3) == {
+        "progress": "angle",
+        "L": 0.3,
+        "lam": 10.0,
+    }
 
 
 def test_grid_scan_order_is_x_then_L() -> None:
@@ -73,7 +77,10 @@ def test_grid_scan_order_is_x_then_L() -> None:
 
 def test_parse_methods() -> None:
     assert parse_methods("all") == list(TABLE1_ROWS)
-    assert [s.key for s in parse_methods("bilts+:screw, dhb:arclength")] == ["bilts+:screw", "dhb:arclength"]
+    assert [s.key for s in parse_methods("bilts+:screw, dhb:arclength")] == [
+        "bilts+:screw",
+        "dhb:arclength",
+    ]
     assert [s.key for s in parse_methods("dsrf")] == ["dsrf:arclength", "dsrf:angle", "dsrf:screw"]
     assert [s.key for s in parse_methods("isa:screw path,isa:screw")] == ["isa:screw"]
     assert [s.key for s in parse_methods("all", available=["bilts", "bilts+"])] == [
@@ -137,7 +144,10 @@ def test_mean_std_reproduces_bilts_screw_row() -> None:
     true = ["g"] * 63
     pred = ["g"] * 62 + ["h"]
     ctx = ["body_frame_1"] * 21 + ["body_frame_2"] * 21 + ["body_frame_3"] * 21
-    assert round(pooled_ratio(true, pred, ctx, ["body_frame_1", "body_frame_2", "body_frame_3"]), 1) == 98.4
+    assert (
+        round(pooled_ratio(true, pred, ctx, ["body_frame_1", "body_frame_2", "body_frame_3"]), 1)
+        == 98.4
+    )
 
 
 def test_mean_std_reproduces_dsrf_arclength_row() -> None:

@@ -87,7 +87,9 @@ def test_tasks_match_direct_classification(tiny) -> None:
     (pr,) = evaluate_task("bilts+", [params], inputs[:9], inputs[9:])
     desc = get_descriptor("bilts+", **params)
     direct = [desc.compute(Trajectory.from_array(r.data)) for r in trials]
-    np.testing.assert_allclose(pr.distances, desc.distance_matrix(direct[9:], direct[:9]), rtol=1e-9)
+    np.testing.assert_allclose(
+        pr.distances, desc.distance_matrix(direct[9:], direct[:9]), rtol=1e-9
+    )
     assert pr.distances.shape == (3, 9)
 
 

@@ -49,8 +49,8 @@ X_PARAM: dict[str, str | None] = {
     "dsrf": None,
 }
 
-#: descriptors whose pipeline starts from the time trajectory (arclength normalization, §4.7)
-#: rather than from the standard reparameterization
+#: global descriptors: positions normalized by the arclength of the time trajectory (§4.7); L
+#: is trained only with screw-path progress
 GLOBAL_METHODS: frozenset[str] = frozenset({"rrv", "dsrf"})
 
 #: display names as printed in Table I
@@ -108,11 +108,6 @@ class MethodSpec:
     def x_param(self) -> str | None:
         """Descriptor argument set by ``x`` (``"lam"``, ``"ds_scale"`` or None)."""
         return X_PARAM.get(self.method)
-
-    @property
-    def uses_time_trajectory(self) -> bool:
-        """True for RRV and DSRF, whose pipeline starts from the (normalized) time trajectory."""
-        return self.method in GLOBAL_METHODS
 
     @property
     def trains_L(self) -> bool:

@@ -20,6 +20,7 @@ All three task functions are pure (numpy arrays and small values in, results out
 
 from __future__ import annotations
 
+import inspect
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -32,7 +33,7 @@ import numpy as np
 from ..classifier import round_significant
 from ..descriptors.base import Descriptor, available_descriptors, get_descriptor
 from ..errors import DatasetError, FramefreeError
-from ..progress import reparameterize_poses, uniform_time_poses
+from ..progress import cumulative_progress, reparameterize_poses, uniform_time_poses
 from ..trajectory import Trajectory
 from .backends import Backend, SerialBackend
 from .grids import MethodSpec
@@ -256,8 +257,10 @@ class DescriptorInput:
         ``(N, 4, 4)`` poses at equidistant progress (standard pipeline), or None.
     ds : float
         Progress step of ``poses`` [m or rad].
+    arclength : float
+        Total arclength ℓ [m] of the 50 Hz trajectory (the normalization of RRV and DSRF, §4.7).
     data : ndarray or None
-        ``(M, 8)`` time trajectory (RRV/DSRF, whose arclength normalization starts from it).
+        ``(M, 8)`` time trajectory, for descriptors that can only start from a trajectory.
     error : str or None
         Why no descriptor can be computed (e.g. no progress of this type); then the trial gets no
         class and counts as misrecognized.
@@ -265,6 +268,7 @@ class DescriptorInput:
 
     poses: np.ndarray | None = None
     ds: float = float("nan")
+    arclength: float = float("nan")
     data: np.ndarray | None = None
     error: str | None = None
 
@@ -301,16 +305,18 @@ def reparameterize_task(
     Returns
     -------
     list of DescriptorInput
-        With ``poses`` (n, 4, 4) and ``ds``, or ``error`` for a trial without progress.
+        With ``poses`` (n, 4, 4), ``ds`` and the 50 Hz arclength, or ``error`` for a trial
+        without progress of this type.
     """
     out = []
     for P in poses_list:
+        ell = float(cumulative_progress(P, "arclength")[-1])
         try:
             rep = reparameterize_poses(P, progress, L, n)
         except FramefreeError as exc:
             out.append(DescriptorInput(error=str(exc)))
         else:
-            out.append(DescriptorInput(poses=rep.poses, ds=rep.ds))
+            out.append(DescriptorInput(poses=rep.poses, ds=rep.ds, arclength=ell))
     return out
 
 
@@ -337,12 +343,21 @@ class PointResult:
     failures: list[str] = field(default_factory=list)
 
 
+def _takes_arclength(desc: Descriptor) -> bool:
+    fn = getattr(desc, "from_reparameterized", None)
+    if fn is None:
+        return False
+    return "arclength" in inspect.signature(fn).parameters
+
+
 def _describe(desc: Descriptor, inp: DescriptorInput, round_digits: int | None) -> np.ndarray | str:
     if inp.error is not None:
         return inp.error
     try:
         if inp.data is not None:
             d = desc.compute(Trajectory.from_array(inp.data))
+        elif _takes_arclength(desc):  # RRV, DSRF: normalized by the 50 Hz arclength (§4.7)
+            d = desc.from_reparameterized(inp.poses, inp.ds, inp.arclength)  # type: ignore[attr-defined]
         else:
             d = desc.from_reparameterized(inp.poses, inp.ds)  # type: ignore[attr-defined]
     except (FramefreeError, FloatingPointError, np.linalg.LinAlgError) as exc:
@@ -586,12 +601,18 @@ def _chunks(n: int, size: int) -> list[range]:
 
 
 def _needs_time_trajectory(spec: MethodSpec) -> bool:
-    """True for RRV/DSRF (arclength normalization, §4.7) and descriptors that cannot start from
-    reparameterized poses (no ``from_reparameterized``)."""
-    if spec.uses_time_trajectory:
-        return True
+    """True for descriptors that cannot start from reparameterized poses: no
+    ``from_reparameterized``, or one that needs more than poses, step and arclength."""
     x, L = spec.grid()[0]
-    return not hasattr(get_descriptor(spec.method, **spec.params(x, L)), "from_reparameterized")
+    fn = getattr(get_descriptor(spec.method, **spec.params(x, L)), "from_reparameterized", None)
+    if fn is None:
+        return True
+    required = [
+        p.name
+        for p in inspect.signature(fn).parameters.values()
+        if p.default is inspect.Parameter.empty and p.kind is not p.VAR_KEYWORD
+    ]
+    return not set(required) <= {"poses", "ds", "arclength"}
 
 
 def _rep_key(spec: MethodSpec, L: float) -> tuple[str, float]:
