@@ -1,0 +1,139 @@
+"""Parameters of the real-time recognizer, with every choice the paper leaves open (§8, Ambiguities).
+
+All values are plain data in one frozen dataclass so that a session can be reproduced from its
+JSON dump (:meth:`RecognizerConfig.to_dict`). Each field states which ambiguity of ALGORITHMS.md it
+resolves and why the default was chosen.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Any
+
+__all__ = ["RecognizerConfig"]
+
+
+@dataclass(frozen=True)
+class RecognizerConfig:
+    """Configuration of the streaming preprocessor, the matchers, the decision and the robustness.
+
+    Attributes
+    ----------
+    L : float
+        Scale length [m] of the screw path, of the BILTS+ rotational weight and clamp (§2.10).
+        Ambiguity 8.3: the HPM-trained value is not published; 0.5 m is the middle of the
+        training grid and the default of :class:`framefree.descriptors.bilts.BILTSPlus`.
+    ds_scale : float
+        BILTS+ window scale [m] (§5.7). Window spacing ``m = min(23, max(1, round(ds_scale /
+        resolution)))`` in geometric samples (Ambiguity 8.3).
+    resolution : float or None
+        Screw-path resolution Δs_res [m] of Algorithm 1, also the nominal progress step of the
+        finite differences (Ambiguity 4.8: the nominal step, not the accumulated one). ``None``:
+        the median total screw path of the model recordings divided by ``resolution_samples - 1``,
+        so that a typical gesture yields about as many samples as offline (recommendation of 4.8).
+    resolution_samples : int
+        Target number of geometric samples per model gesture for the automatic resolution (50).
+    window : int
+        Gaussian smoothing window in geometric samples (10 for BILTS+): centred kernel, offsets
+        -5..+4, so a smoothed pose is final 4 samples later (Ambiguity 8.3: central smoothing with
+        its delay, truncated and renormalized at the start of a sequence as offline).
+    latency_fraction : float
+        Largest latency searched, as a fraction of the model length: ``round(0.2 N_j)`` (§8.5).
+    latency_min : int
+        Smallest latency: 1 (literal reading of the paper) or 0 (also test the fully aligned case).
+        Ambiguity 8.5; default 1.
+    threshold : float or None
+        Decision threshold τ on the average pointwise dissimilarity. ``None``: calibrated
+        automatically from the model recordings (:mod:`framefree.online.calibration`).
+    calibration_quantile : float
+        Quantile of the leave-one-out same-class scores that must pass (1.0: all of them).
+    calibration_margin : float
+        When positives and negatives overlap, τ = margin × smallest negative score (favour
+        rejection, as the paper tuned its threshold "strict").
+    stop_threshold : float or None
+        Stop detector threshold on ``|q̇|`` [1/s] (= half the angular speed, §8.7). ``None``:
+        ``stop_margin`` × the largest debounced ``|q̇|`` seen in any model recording, at least
+        ``stop_floor``.
+    stop_margin : float
+        Factor over the fastest model rotation for the automatic stop threshold.
+    stop_floor : float
+        Lower bound of the automatic stop threshold [1/s] (1.5 = 3 rad/s).
+    stop_samples : int
+        Debouncing: consecutive samples above the threshold before a stop fires (Ambiguity 8.7).
+    stop_rearm : float
+        The stop detector re-arms once ``|q̇|`` falls below ``stop_rearm`` × threshold.
+    stop_refractory : float
+        After a stop fires, further stops are ignored for this long [s] (a stop signal is a
+        back-and-forth rotation whose reversals would otherwise re-arm the detector).
+    refractory_reset : bool
+        After every event clear all matcher windows and caches so one gesture yields one event
+        (Ambiguity 8.6).
+    max_gap : float
+        A time step longer than this [s] is a gap: the preprocessor and matchers restart.
+    jump_distance : float
+        A position step longer than this [m] within one sample is a jump (tracker glitch).
+    jump_angle : float
+        A rotation step larger than this [rad] within one sample is a jump.
+    jump_patience : int
+        Jumped samples are skipped; after this many consecutive ones the tracker is assumed to
+        have relocated and the recognizer restarts from the current sample.
+    twist_noise : float
+        Standard deviation of the deterministic perturbation added to every twist entry (1e-12,
+        as the reference, to avoid exact singularities). A fixed table indexed by the twist index,
+        so streaming and offline evaluation agree bit for bit.
+    parallel_models : int
+        Use the multi-threaded matcher kernel from this many models on (numba ``prange``).
+    """
+
+    L: float = 0.5
+    ds_scale: float = 0.09
+    resolution: float | None = None
+    resolution_samples: int = 50
+    window: int = 10
+    latency_fraction: float = 0.2
+    latency_min: int = 1
+    threshold: float | None = None
+    calibration_quantile: float = 1.0
+    calibration_margin: float = 0.8
+    stop_threshold: float | None = None
+    stop_margin: float = 1.5
+    stop_floor: float = 1.5
+    stop_samples: int = 2
+    stop_rearm: float = 0.7
+    stop_refractory: float = 1.5
+    refractory_reset: bool = True
+    max_gap: float = 0.25
+    jump_distance: float = 0.25
+    jump_angle: float = 1.0
+    jump_patience: int = 3
+    twist_noise: float = 1e-12
+    parallel_models: int = 1000
+
+    def __post_init__(self) -> None:
+        if not self.L > 0:
+            raise ValueError(f"L must be positive, got {self.L}")
+        if not self.ds_scale > 0:
+            raise ValueError(f"ds_scale must be positive, got {self.ds_scale}")
+        if self.resolution is not None and not self.resolution > 0:
+            raise ValueError(f"resolution must be positive, got {self.resolution}")
+        if self.window < 1:
+            raise ValueError(f"window must be at least 1, got {self.window}")
+        if not 0 <= self.latency_fraction < 1:
+            raise ValueError(f"latency_fraction must be in [0, 1), got {self.latency_fraction}")
+        if self.latency_min not in (0, 1):
+            raise ValueError(f"latency_min must be 0 or 1, got {self.latency_min}")
+        if self.threshold is not None and not self.threshold > 0:
+            raise ValueError(f"threshold must be positive, got {self.threshold}")
+        if self.stop_samples < 1:
+            raise ValueError(f"stop_samples must be at least 1, got {self.stop_samples}")
+        if not self.max_gap > 0:
+            raise ValueError(f"max_gap must be positive, got {self.max_gap}")
+
+    def replace(self, **changes: Any) -> RecognizerConfig:
+        """A copy with some fields changed."""
+        return dataclasses.replace(self, **changes)
+
+    def to_dict(self) -> dict[str, Any]:
+        """All fields as a JSON-serializable dict."""
+        return dataclasses.asdict(self)

@@ -1,0 +1,252 @@
+"""Event-level evaluation of the recognizer on labelled streams.
+
+Matching rule: an event matches a labelled segment when the labels agree and the event fires between
+the segment's start and ``tolerance`` seconds after its end. The first matching event of a segment is
+a true positive; every other event (a second detection, a wrong label, an event outside any
+segment) is a false positive; a segment without a true positive is a miss (false negative).
+
+Reported: precision, recall, F1, false positives per minute of non-gesture motion (stream time
+outside the tolerance-extended segments), and the detection latency after the gesture's end
+(event time − segment end; negative when the latency search fires before the end).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Protocol
+
+import numpy as np
+
+from ..trajectory import Trajectory
+from .events import Event
+
+__all__ = ["StreamResult", "StreamTrace", "combine", "match_events", "plot_timeline", "run_stream"]
+
+
+class SegmentLike(Protocol):
+    """A labelled stretch: ``label``, ``start_t`` and ``end_t`` [s]."""
+
+    label: str
+    start_t: float
+    end_t: float
+
+
+@dataclass
+class StreamTrace:
+    """What the recognizer saw on a stream, for figures.
+
+    Attributes
+    ----------
+    times : ndarray, shape (K,)
+        Time [s] of each descriptor sample.
+    dissimilarity : ndarray, shape (K, G)
+        Best matcher output per gesture at each descriptor sample (``inf`` while not ready).
+    gestures : list of str, length G
+    """
+
+    times: np.ndarray
+    dissimilarity: np.ndarray
+    gestures: list[str]
+
+
+@dataclass
+class StreamResult:
+    """Matching of the events of one (or several pooled) streams with the labels.
+
+    Attributes
+    ----------
+    tp, fp, fn : int
+    latencies : list of float
+        Event time − segment end [s] of each true positive.
+    nongesture_minutes : float
+        Stream time outside the tolerance-extended segments [min].
+    details : list of dict
+        Per event: time, label, dissimilarity, model, matched segment index or None, verdict.
+    """
+
+    tp: int = 0
+    fp: int = 0
+    fn: int = 0
+    latencies: list[float] = field(default_factory=list)
+    nongesture_minutes: float = 0.0
+    details: list[dict[str, Any]] = field(default_factory=list)
+    missed: list[dict[str, Any]] = field(default_factory=list)
+
+    @property
+    def precision(self) -> float:
+        """TP / (TP + FP) (1 when there is no event)."""
+        return self.tp / (self.tp + self.fp) if self.tp + self.fp else 1.0
+
+    @property
+    def recall(self) -> float:
+        """TP / (TP + FN) (1 when there is no segment)."""
+        return self.tp / (self.tp + self.fn) if self.tp + self.fn else 1.0
+
+    @property
+    def f1(self) -> float:
+        """Harmonic mean of precision and recall."""
+        p, r = self.precision, self.recall
+        return 2 * p * r / (p + r) if p + r else 0.0
+
+    @property
+    def fp_per_minute(self) -> float:
+        """False positives per minute of non-gesture motion."""
+        return self.fp / self.nongesture_minutes if self.nongesture_minutes > 0 else float(self.fp > 0)
+
+    def summary(self) -> dict[str, Any]:
+        """Metrics as a JSON-friendly dict."""
+        lat = np.array(self.latencies)
+        return {
+            "tp": self.tp, "fp": self.fp, "fn": self.fn,
+            "precision": self.precision, "recall": self.recall, "f1": self.f1,
+            "fp_per_minute": self.fp_per_minute,
+            "nongesture_minutes": self.nongesture_minutes,
+            "latency_mean_s": float(lat.mean()) if lat.size else None,
+            "latency_median_s": float(np.median(lat)) if lat.size else None,
+            "latency_max_s": float(lat.max()) if lat.size else None,
+        }
+
+
+def match_events(
+    events: Sequence[Event],
+    segments: Sequence[SegmentLike],
+    duration: float,
+    tolerance: float = 0.5,
+) -> StreamResult:
+    """Match events to labelled segments (see the module docstring).
+
+    Parameters
+    ----------
+    events : sequence of Event
+    segments : sequence of segments (``label``, ``start_t``, ``end_t``)
+    duration : float
+        Stream duration [s] (for the false positives per minute).
+    tolerance : float
+        Seconds after a segment's end during which its detection still counts.
+    """
+    res = StreamResult()
+    detected = [False] * len(segments)
+    for ev in sorted(events, key=lambda e: e.time):
+        match = None
+        for k, seg in enumerate(segments):
+            if seg.label == ev.label and seg.start_t <= ev.time <= seg.end_t + tolerance:
+                match = k
+                break
+        verdict = "fp"
+        if match is not None and not detected[match]:
+            detected[match] = True
+            res.tp += 1
+            res.latencies.append(ev.time - segments[match].end_t)
+            verdict = "tp"
+        else:
+            res.fp += 1
+            if match is not None:
+                verdict = "fp-repeat"
+        res.details.append({"time": ev.time, "label": ev.label, "dissimilarity": ev.dissimilarity,
+                            "model": ev.model, "segment": match, "verdict": verdict})
+    for k, seg in enumerate(segments):
+        if not detected[k]:
+            res.fn += 1
+            res.missed.append({"segment": k, "label": seg.label, "start_t": seg.start_t,
+                               "end_t": seg.end_t})
+    busy = 0.0
+    spans = sorted((s.start_t, min(s.end_t + tolerance, duration)) for s in segments)
+    cur_a, cur_b = None, None
+    for a, b in spans:
+        if cur_b is None or a > cur_b:
+            if cur_b is not None:
+                busy += cur_b - cur_a
+            cur_a, cur_b = a, b
+        else:
+            cur_b = max(cur_b, b)
+    if cur_b is not None:
+        busy += cur_b - cur_a
+    res.nongesture_minutes = max(duration - busy, 0.0) / 60.0
+    return res
+
+
+def combine(results: Sequence[StreamResult]) -> StreamResult:
+    """Pool the counts of several streams."""
+    out = StreamResult()
+    for r in results:
+        out.tp += r.tp
+        out.fp += r.fp
+        out.fn += r.fn
+        out.latencies += r.latencies
+        out.nongesture_minutes += r.nongesture_minutes
+    return out
+
+
+def run_stream(recognizer: Any, traj: Trajectory) -> tuple[list[Event], StreamTrace]:
+    """Reset the recognizer, push a whole stream, return its events and a dissimilarity trace."""
+    recognizer.reset()
+    gestures = list(recognizer.gestures)
+    gidx = np.array([gestures.index(s) for s in recognizer.labels])
+    events: list[Event] = []
+    times: list[float] = []
+    rows: list[np.ndarray] = []
+    for k in range(len(traj)):
+        n_before = recognizer.stats["descriptors"]
+        events.extend(recognizer.push(traj.t[k], traj.p[k], traj.q[k]))
+        if recognizer.stats["descriptors"] != n_before:
+            d = recognizer.last_matched
+            row = np.full(len(gestures), np.inf)
+            np.minimum.at(row, gidx, d)
+            times.append(float(traj.t[k]))
+            rows.append(row)
+    diss = np.array(rows).reshape(-1, len(gestures))
+    return events, StreamTrace(np.array(times), diss, gestures)
+
+
+def plot_timeline(
+    path: str | Path,
+    segments: Sequence[SegmentLike],
+    events: Sequence[Event],
+    trace: StreamTrace,
+    threshold: float,
+    title: str = "",
+) -> Path:
+    """Timeline figure: labelled gestures, events, and per-gesture dissimilarities (PNG/PDF/SVG).
+
+    Returns
+    -------
+    Path
+        The written file.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    labels = list(dict.fromkeys(list(trace.gestures) + [s.label for s in segments]))
+    cmap = plt.get_cmap("tab10")
+    color = {lab: cmap(i % 10) for i, lab in enumerate(labels)}
+    fig, (ax0, ax1) = plt.subplots(2, 1, figsize=(14, 5.5), sharex=True,
+                                   gridspec_kw={"height_ratios": [1, 2.2]})
+    for s in segments:
+        ax0.axvspan(s.start_t, s.end_t, ymin=0.55, ymax=0.95, color=color[s.label], alpha=0.6)
+        ax0.text(0.5 * (s.start_t + s.end_t), 0.78, s.label.replace("_", "\n"), ha="center",
+                 va="center", fontsize=6)
+    for ev in events:
+        ax0.plot([ev.time], [0.3], marker="v", ms=8, color=color.get(ev.label, "k"))
+        ax0.text(ev.time, 0.08, ev.label.replace("_", "\n"), ha="center", va="bottom", fontsize=5)
+    ax0.set_ylim(0, 1)
+    ax0.set_yticks([0.3, 0.78], ["events", "labels"])
+    ax0.set_title(title)
+    if trace.times.size:
+        d = np.where(np.isfinite(trace.dissimilarity), trace.dissimilarity, np.nan)
+        for g, lab in enumerate(trace.gestures):
+            ax1.plot(trace.times, d[:, g], lw=0.9, color=color[lab], label=lab)
+    ax1.axhline(threshold, color="k", ls="--", lw=1, label="threshold")
+    ax1.set_yscale("log")
+    ax1.set_xlabel("time [s]")
+    ax1.set_ylabel("avg. pointwise dissimilarity")
+    ax1.legend(loc="upper right", fontsize=6, ncol=4)
+    fig.tight_layout()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path

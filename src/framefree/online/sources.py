@@ -1,0 +1,320 @@
+"""Pose sources for live sessions: CSV replay, ZeroMQ on loopback, and an optional OpenVR tracker.
+
+Every source is an iterator of ``(t, p, q)``: time [s], position (3,) [m], quaternion (4,)
+``(w, x, y, z)``.
+
+ZeroMQ message format (PUB/SUB, one pose per message, no topic prefix)
+------------------------------------------------------------------------
+* **binary** (default): 64 bytes, 8 little-endian IEEE-754 float64 ``t, x, y, z, qw, qx, qy, qz``
+  (``struct`` format ``"<8d"``);
+* **JSON** (accepted too, for other languages): a UTF-8 object ``{"t": 1.23, "p": [x, y, z],
+  "q": [qw, qx, qy, qz]}``;
+* **end of stream**: an empty message (0 bytes). The subscriber stops when it receives it, or when
+  no message arrives for ``timeout`` seconds.
+
+Only loopback endpoints are accepted (``tcp://127.0.0.1:PORT``, ``tcp://localhost:PORT``,
+``tcp://[::1]:PORT``, or ``ipc://`` / ``inproc://``): nothing here listens on or sends to another
+machine, and nothing broadcasts or multicasts. The publisher binds, the subscriber connects (both
+configurable). PUB/SUB drops messages sent before a subscriber has joined ("slow joiner"), so the
+publisher waits ``join_wait`` seconds after binding before its first message.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import struct
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import FramefreeError
+from ..trajectory import Trajectory
+
+__all__ = [
+    "MESSAGE_FORMAT",
+    "CsvReplay",
+    "OpenVRSource",
+    "ZmqPublisher",
+    "ZmqSource",
+    "check_loopback",
+    "decode_pose",
+    "encode_pose",
+    "open_source",
+]
+
+#: ``struct`` format of a binary pose message.
+MESSAGE_FORMAT = "<8d"
+_LOOPBACK = ("127.0.0.1", "localhost", "[::1]")
+
+Pose = tuple[float, np.ndarray, np.ndarray]
+
+
+def check_loopback(endpoint: str) -> str:
+    """Return ``endpoint`` if it stays on this machine, else raise :class:`FramefreeError`.
+
+    Accepts ``zmq://HOST:PORT`` as an alias of ``tcp://HOST:PORT``.
+    """
+    if endpoint.startswith("zmq://"):
+        endpoint = "tcp://" + endpoint[len("zmq://"):]
+    if endpoint.startswith(("ipc://", "inproc://")):
+        return endpoint
+    if not endpoint.startswith("tcp://"):
+        raise FramefreeError(f"{endpoint}: expected tcp://127.0.0.1:PORT (or ipc://, inproc://)")
+    host, sep, port = endpoint[len("tcp://"):].rpartition(":")
+    if not sep or not port.isdigit():
+        raise FramefreeError(f"{endpoint}: expected tcp://127.0.0.1:PORT")
+    if host not in _LOOPBACK:
+        raise FramefreeError(
+            f"{endpoint}: only loopback endpoints are allowed (127.0.0.1, localhost, [::1])"
+        )
+    return endpoint
+
+
+def encode_pose(t: float, p: np.ndarray, q: np.ndarray) -> bytes:
+    """Binary pose message (64 bytes)."""
+    return struct.pack(MESSAGE_FORMAT, float(t), *map(float, p), *map(float, q))
+
+
+def decode_pose(msg: bytes) -> Pose | None:
+    """Decode a binary or JSON pose message; ``None`` for the end-of-stream message.
+
+    Raises
+    ------
+    FramefreeError
+        If the message is neither format.
+    """
+    if len(msg) == 0:
+        return None
+    if len(msg) == struct.calcsize(MESSAGE_FORMAT):
+        v = struct.unpack(MESSAGE_FORMAT, msg)
+        return v[0], np.array(v[1:4]), np.array(v[4:8])
+    if msg[:1] == b"{":
+        try:
+            d = json.loads(msg.decode("utf-8"))
+            return float(d["t"]), np.asarray(d["p"], dtype=float).reshape(3), np.asarray(
+                d["q"], dtype=float).reshape(4)
+        except (ValueError, KeyError, TypeError) as exc:
+            raise FramefreeError(f"malformed JSON pose message: {exc}") from None
+    raise FramefreeError(f"pose message of {len(msg)} bytes: expected 64 bytes '<8d' or JSON")
+
+
+class CsvReplay:
+    """Replay a recording (8-column CSV or a :class:`Trajectory`).
+
+    Parameters
+    ----------
+    source : str, Path or Trajectory
+    speed : float
+        1.0 replays in real time (following the file's time stamps), 2.0 twice as fast, 0 (or
+        less) as fast as possible.
+    rate : float, optional
+        If given, pace the samples at this many per second instead of following the time stamps.
+    """
+
+    def __init__(self, source: str | Path | Trajectory, speed: float = 1.0, rate: float | None = None):
+        self.traj = source if isinstance(source, Trajectory) else Trajectory.from_csv(source)
+        self.speed = float(speed)
+        self.rate = rate
+
+    def __iter__(self) -> Iterator[Pose]:
+        tr = self.traj
+        start = time.perf_counter()
+        for k in range(len(tr)):
+            if self.rate:
+                due = k / self.rate
+            elif self.speed > 0:
+                due = (tr.t[k] - tr.t[0]) / self.speed
+            else:
+                due = 0.0
+            wait = start + due - time.perf_counter()
+            if wait > 0:
+                time.sleep(wait)
+            yield float(tr.t[k]), tr.p[k].copy(), tr.q[k].copy()
+
+
+class ZmqSource:
+    """Subscribe to pose messages on a loopback endpoint.
+
+    Parameters
+    ----------
+    endpoint : str
+        ``tcp://127.0.0.1:PORT`` (or ``zmq://127.0.0.1:PORT``).
+    bind : bool
+        Bind instead of connecting (when the publisher connects).
+    timeout : float or None
+        Stop after this many seconds without a message (None: wait forever).
+    """
+
+    def __init__(self, endpoint: str, bind: bool = False, timeout: float | None = 5.0) -> None:
+        import zmq
+
+        self.endpoint = check_loopback(endpoint)
+        self.timeout = timeout
+        self._ctx = zmq.Context.instance()
+        self._sock = self._ctx.socket(zmq.SUB)
+        self._sock.setsockopt(zmq.SUBSCRIBE, b"")
+        self._sock.setsockopt(zmq.LINGER, 0)
+        if bind:
+            self._sock.bind(self.endpoint)
+        else:
+            self._sock.connect(self.endpoint)
+        self.received = 0
+
+    def __iter__(self) -> Iterator[Pose]:
+        import zmq
+
+        poller = zmq.Poller()
+        poller.register(self._sock, zmq.POLLIN)
+        wait_ms = None if self.timeout is None else int(1000 * self.timeout)
+        try:
+            while True:
+                if not poller.poll(wait_ms):
+                    return
+                pose = decode_pose(self._sock.recv())
+                if pose is None:
+                    return
+                self.received += 1
+                yield pose
+        finally:
+            self.close()
+
+    def close(self) -> None:
+        """Close the socket."""
+        if not self._sock.closed:
+            self._sock.close(0)
+
+
+class ZmqPublisher:
+    """Publish pose messages on a loopback endpoint (binds by default).
+
+    Parameters
+    ----------
+    endpoint : str
+        ``tcp://127.0.0.1:PORT``.
+    bind : bool
+        Bind (default) or connect.
+    join_wait : float
+        Seconds to wait after binding/connecting before sending (slow-joiner gap).
+    fmt : {"binary", "json"}
+        Message format.
+    """
+
+    def __init__(self, endpoint: str, bind: bool = True, join_wait: float = 0.5,
+                 fmt: str = "binary") -> None:
+        import zmq
+
+        if fmt not in ("binary", "json"):
+            raise ValueError(f"fmt must be 'binary' or 'json', got {fmt!r}")
+        self.endpoint = check_loopback(endpoint)
+        self.fmt = fmt
+        self._sock = zmq.Context.instance().socket(zmq.PUB)
+        self._sock.setsockopt(zmq.LINGER, 1000)
+        if bind:
+            self._sock.bind(self.endpoint)
+        else:
+            self._sock.connect(self.endpoint)
+        time.sleep(join_wait)
+        self.sent = 0
+
+    def send(self, t: float, p: np.ndarray, q: np.ndarray) -> None:
+        """Publish one pose."""
+        if self.fmt == "binary":
+            msg = encode_pose(t, p, q)
+        else:
+            msg = json.dumps({"t": float(t), "p": [float(x) for x in p],
+                              "q": [float(x) for x in q]}).encode()
+        self._sock.send(msg)
+        self.sent += 1
+
+    def end(self) -> None:
+        """Send the end-of-stream message."""
+        self._sock.send(b"")
+
+    def close(self) -> None:
+        """Close the socket (after up to 1 s to flush)."""
+        if not self._sock.closed:
+            self._sock.close()
+
+    def publish(self, source: CsvReplay) -> int:
+        """Send every pose of a source, then the end message; return the count."""
+        for t, p, q in source:
+            self.send(t, p, q)
+        self.end()
+        return self.sent
+
+
+class OpenVRSource:
+    """Poses of an HTC Vive tracker through OpenVR/SteamVR (optional dependency ``openvr``).
+
+    Parameters
+    ----------
+    rate : float
+        Polling rate [Hz].
+    device : int, optional
+        Tracked-device index; default: the first generic tracker (else the first controller).
+
+    Raises
+    ------
+    FramefreeError
+        When the ``openvr`` package or a running SteamVR is not available.
+    """
+
+    def __init__(self, rate: float = 50.0, device: int | None = None) -> None:
+        try:
+            import openvr  # type: ignore[import-not-found]
+        except ImportError:
+            raise FramefreeError(
+                "the OpenVR adapter needs the 'openvr' package (pip install openvr) and a running "
+                "SteamVR with the tracker paired; use --source zmq://127.0.0.1:PORT or a CSV file "
+                "otherwise"
+            ) from None
+        self._openvr = openvr
+        try:
+            self._vr = openvr.init(openvr.VRApplication_Other)
+        except Exception as exc:  # openvr raises its own error types
+            raise FramefreeError(f"SteamVR is not running or no headset/tracker is present ({exc})") from None
+        self.rate = float(rate)
+        self.device = device if device is not None else self._find_device()
+
+    def _find_device(self) -> int:
+        ovr = self._openvr
+        classes = [self._vr.getTrackedDeviceClass(i) for i in range(ovr.k_unMaxTrackedDeviceCount)]
+        for wanted in (ovr.TrackedDeviceClass_GenericTracker, ovr.TrackedDeviceClass_Controller):
+            if wanted in classes:
+                return classes.index(wanted)
+        raise FramefreeError("SteamVR reports no tracker or controller")
+
+    def __iter__(self) -> Iterator[Pose]:
+        ovr = self._openvr
+        t0 = time.perf_counter()
+        period = 1.0 / self.rate
+        try:
+            while True:
+                poses = self._vr.getDeviceToAbsoluteTrackingPose(
+                    ovr.TrackingUniverseStanding, 0, ovr.k_unMaxTrackedDeviceCount)
+                pose = poses[self.device]
+                t = time.perf_counter() - t0
+                if pose.bPoseIsValid:
+                    m = np.array([[pose.mDeviceToAbsoluteTracking[r][c] for c in range(4)]
+                                  for r in range(3)])
+                    from ..se3 import quaternion_from_matrix
+
+                    yield t, m[:, 3].copy(), quaternion_from_matrix(m[:, :3], continuous=False)
+                time.sleep(max(0.0, period - math.fmod(time.perf_counter() - t0, period)))
+        finally:
+            ovr.shutdown()
+
+
+def open_source(spec: str, speed: float = 1.0, timeout: float | None = 5.0):
+    """Source from a command-line spec: ``zmq://127.0.0.1:PORT``, ``tcp://...``, ``openvr`` or a CSV."""
+    if spec.startswith(("zmq://", "tcp://", "ipc://")):
+        return ZmqSource(spec, timeout=timeout)
+    if spec == "openvr":
+        return OpenVRSource()
+    path = Path(spec)
+    if not path.is_file():
+        raise FramefreeError(f"{spec}: not a file, and not zmq://127.0.0.1:PORT or 'openvr'")
+    return CsvReplay(path, speed=speed)
