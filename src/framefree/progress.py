@@ -88,7 +88,14 @@ def _increments_kernel(T, code, L):
             out[k] = math.sqrt(d)
         elif code == 1:
             # rotation angle of R_{k+1} R_k^T
-            Rr = T[k + 1, :3, :3] @ T[k, :3, :3].T
+            Rr = np.empty((3, 3))
+            for i in range(3):
+                for j in range(3):
+                    Rr[i, j] = (
+                        T[k + 1, i, 0] * T[k, j, 0]
+                        + T[k + 1, i, 1] * T[k, j, 1]
+                        + T[k + 1, i, 2] * T[k, j, 2]
+                    )
             phi = se3.vector_from_rotation_one(Rr)
             out[k] = math.sqrt(phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2])
         else:
@@ -152,7 +159,7 @@ class Reparameterized:
 
 def uniform_time_poses(traj: Trajectory, dt: float = DEFAULT_DT) -> np.ndarray:
     """Poses (M, 4, 4) of ``traj`` resampled on the reference's uniform time grid (§1.2)."""
-    return traj.resampled(dt).poses()
+    return traj.uniform_poses(dt)[1]
 
 
 def reparameterize_poses(

@@ -76,6 +76,24 @@ def hat_one(v):
 
 
 @njit(cache=True)
+def _rodrigues(phi, a, b, theta2):
+    """``I + a [φ]x + b [φ]x²`` written out (``[φ]x² = φφᵀ - θ² I``)."""
+    R = np.empty((3, 3))
+    d = 1.0 - b * theta2
+    for i in range(3):
+        for j in range(3):
+            R[i, j] = b * phi[i] * phi[j]
+        R[i, i] += d
+    R[0, 1] -= a * phi[2]
+    R[0, 2] += a * phi[1]
+    R[1, 0] += a * phi[2]
+    R[1, 2] -= a * phi[0]
+    R[2, 0] -= a * phi[1]
+    R[2, 1] += a * phi[0]
+    return R
+
+
+@njit(cache=True)
 def rotation_from_vector_one(phi):
     """SO(3) exponential (Rodrigues) of a rotation vector ``phi`` (3,) [rad]."""
     theta2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2]
@@ -86,9 +104,7 @@ def rotation_from_vector_one(phi):
     else:
         a = math.sin(theta) / theta
         b = (1.0 - math.cos(theta)) / theta2
-    K = hat_one(phi)
-    R = np.eye(3) + a * K + b * (K @ K)
-    return R
+    return _rodrigues(phi, a, b, theta2)
 
 
 @njit(cache=True)
@@ -151,15 +167,16 @@ def pose_from_twist_one(xi):
         a = st / theta
         b = (1.0 - math.cos(theta)) / theta2
         c = (theta - st) / (theta2 * theta)
-    K = hat_one(phi)
-    K2 = K @ K
-    T = np.eye(4)
-    I3 = np.eye(3)
-    R = I3 + a * K + b * K2
-    V = I3 + b * K + c * K2
-    T[:3, :3] = R
+    R = _rodrigues(phi, a, b, theta2)
+    rho = xi[3:]
+    w1 = cross_one(phi, rho)
+    w2 = cross_one(phi, w1)
+    T = np.zeros((4, 4))
     for r in range(3):
-        T[r, 3] = V[r, 0] * xi[3] + V[r, 1] * xi[4] + V[r, 2] * xi[5]
+        for c in range(3):
+            T[r, c] = R[r, c]
+        T[r, 3] = rho[r] + b * w1[r] + c * w2[r]
+    T[3, 3] = 1.0
     return T
 
 
@@ -183,9 +200,8 @@ def twist_from_pose_one(T):
     else:
         half = 0.5 * theta
         beta = (1.0 - half * math.cos(half) / math.sin(half)) / theta2
-    K = hat_one(phi)
-    Kp = K @ p
-    KKp = K @ Kp
+    Kp = cross_one(phi, p)
+    KKp = cross_one(phi, Kp)
     for r in range(3):
         out[3 + r] = p[r] - 0.5 * Kp[r] + beta * KKp[r]
     return out

@@ -263,10 +263,15 @@ class Trajectory:
         stamp inclusive, as the reference does; its step is therefore close to, but in general not
         exactly, ``dt``.
         """
+        tq, T = self.uniform_poses(dt)
+        return self._with_poses(self.t[0] + tq, T)
+
+    def uniform_poses(self, dt: float = 0.02) -> tuple[np.ndarray, np.ndarray]:
+        """Times relative to the first sample (M,) [s] and ScLERP poses (M, 4, 4) on the grid of
+        :meth:`resampled`, without building a new trajectory."""
         if not dt > 0:
             raise ValueError(f"dt must be positive, got {dt}")
         n = math.floor(1.0 + math.floor(self.duration / dt) + 0.5)
-        n = max(n, 2)
         if n < MIN_SAMPLES:
             raise TrajectoryError(
                 f"resampling a {self.duration:.3g} s trajectory at {dt} s leaves {n} samples",
@@ -277,8 +282,7 @@ class Trajectory:
         t_rel = self.t - self.t[0]
         tq = np.linspace(0.0, t_rel[-1], n)
         tq[-1] = t_rel[-1]
-        T = se3.interpolate_poses(t_rel, self.poses(), tq)
-        return self._with_poses(self.t[0] + tq, T)
+        return tq, se3.interpolate_poses_kernel(t_rel, self.poses(), tq)
 
     def head(self, fraction: float) -> Trajectory:
         """The first ``ceil(fraction · N)`` samples (e.g. 0.5 for an unfinished gesture)."""

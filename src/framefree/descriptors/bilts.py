@@ -18,6 +18,7 @@ divided by ``n_query + n_model - 1``.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 
@@ -25,7 +26,13 @@ import numpy as np
 from numba import njit
 
 from .. import se3
-from ..dtw import POINTWISE_KABSCH, POINTWISE_SQUARED, pack_sequences, path_distance_matrix_kernel
+from ..dtw import (
+    POINTWISE_KABSCH,
+    POINTWISE_SQUARED,
+    pack_sequences,
+    path_distance_kernel,
+    path_distance_matrix_kernel,
+)
 from ..progress import DEFAULT_SAMPLES, reparameterize
 from ..smoothing import smooth_poses
 from ..trajectory import Trajectory
@@ -46,6 +53,15 @@ MAX_WINDOW_SPACING = 23
 TWIST_NOISE = 1e-12
 #: Number of columns of a BILTS sample.
 N_FEATURES = 24
+#: Column names: the three window twists in the moving frame, then the ascending singular values.
+_TWIST_NAMES = tuple(
+    f"{part}_{where}_{axis}"
+    for where in ("prev", "centre", "next")
+    for part in ("Lw", "v")
+    for axis in "xyz"
+)
+FEATURE_NAMES = (*_TWIST_NAMES, "sigma_Lw_1", "sigma_Lw_2", "sigma_Lw_3")
+FEATURE_NAMES = (*FEATURE_NAMES, "sigma_v_1", "sigma_v_2", "sigma_v_3")
 
 
 def window_spacing(ds_scale: float, ds: float, cap: int = MAX_WINDOW_SPACING) -> int:
@@ -88,6 +104,17 @@ def _sym3_eigvals_ascending(A):
     ev = np.array([a[0, 0], a[1, 1], a[2, 2]])
     ev.sort()
     return ev
+
+
+@njit(cache=True)
+def _gram(F):
+    """``F Fᵀ`` of a 3×3 matrix, written out."""
+    G = np.empty((3, 3))
+    for i in range(3):
+        for j in range(i, 3):
+            G[i, j] = F[i, 0] * F[j, 0] + F[i, 1] * F[j, 1] + F[i, 2] * F[j, 2]
+            G[j, i] = G[i, j]
+    return G
 
 
 @njit(cache=True)
@@ -171,8 +198,8 @@ def bilts_sample(xm, x0, xp, p_obj, L, regularized):
         for r in range(3):
             out[6 * c + r] = Fw[r, c]
             out[6 * c + 3 + r] = Fv[r, c]
-    ew = _sym3_eigvals_ascending(Fw @ Fw.T)
-    ev = _sym3_eigvals_ascending(Fv @ Fv.T)
+    ew = _sym3_eigvals_ascending(_gram(Fw))
+    ev = _sym3_eigvals_ascending(_gram(Fv))
     for i in range(3):
         out[18 + i] = math.sqrt(max(ew[i], 0.0))
         out[21 + i] = math.sqrt(max(ev[i], 0.0))
@@ -201,11 +228,27 @@ def bilts_windows(twists, positions, m, L, regularized):
     return out
 
 
+@functools.lru_cache(maxsize=64)
+def _seeded_perturbation(seed: int, shape: tuple[int, int]) -> np.ndarray:
+    noise = np.random.default_rng(seed).normal(0.0, TWIST_NOISE, shape)
+    noise.flags.writeable = False
+    return noise
+
+
+def twist_perturbation(seed: int | None, shape: tuple[int, int]) -> np.ndarray:
+    """The 1e-12 twist perturbation of §5.7 step 5: reproducible for an integer seed (cached),
+    fresh for ``None`` (unseeded, as the reference)."""
+    if seed is None:
+        return np.random.default_rng().normal(0.0, TWIST_NOISE, shape)
+    return _seeded_perturbation(int(seed), tuple(shape))
+
+
 class _BILTSBase(Descriptor):
     progress_types = ("screw", "angle")
     param_names = ("progress", "L", "ds_scale", "window", "n_samples", "seed")
     regularized: bool = False
     default_window: int = 20
+    feature_names = FEATURE_NAMES
 
     def __init__(
         self,
@@ -248,12 +291,19 @@ class _BILTSBase(Descriptor):
         m = window_spacing(self.ds_scale, ds, self._max_spacing())
         smoothed = smooth_poses(poses, self.window)
         twists = se3.central_spatial_twists(smoothed, ds)
-        rng = np.random.default_rng(self.seed)
-        twists = twists + rng.normal(0.0, TWIST_NOISE, twists.shape)
+        twists = twists + twist_perturbation(self.seed, twists.shape)
         positions = np.ascontiguousarray(smoothed[:, :3, 3])
         return bilts_windows(np.ascontiguousarray(twists), positions, m, self.L, self.regularized)
 
     _pointwise: int = POINTWISE_SQUARED
+
+    def distance(self, model: np.ndarray, query: np.ndarray) -> float:
+        """Distance between one model and one query sequence (both (K, 24))."""
+        X = np.ascontiguousarray(model, dtype=np.float64)
+        Y = np.ascontiguousarray(query, dtype=np.float64)
+        if X.ndim != 2 or Y.ndim != 2 or X.shape[1] != N_FEATURES or Y.shape[1] != N_FEATURES:
+            raise ValueError(f"BILTS sequences are (K, {N_FEATURES}) arrays")
+        return float(path_distance_kernel(X, Y, 18, 24, self._pointwise))
 
     def distance_matrix(
         self, queries: Sequence[np.ndarray], models: Sequence[np.ndarray]
