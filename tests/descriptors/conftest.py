@@ -1,0 +1,72 @@
+"""Helpers for the descriptor tests: synthetic motions with known geometry, frame changes, data."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from framefree import Trajectory, se3
+
+REFERENCE_SET = Path("/work/shared/data/real_motions/reference_set")
+for _cand in (
+    Path(__file__).resolve().parents[2] / "shared" / "data" / "real_motions" / "reference_set",
+    Path(__file__).resolve().parents[3] / "shared" / "data" / "real_motions" / "reference_set",
+):
+    if _cand.is_dir():
+        REFERENCE_SET = _cand
+        break
+
+#: (descriptor, progress) rows of Table I handled here
+ROWS = [
+    ("dhb", "arclength"),
+    ("dhb", "angle"),
+    ("dhb", "screw"),
+    ("efs", "arclength"),
+    ("efs", "angle"),
+    ("efs", "screw"),
+    ("isa", "angle"),
+    ("isa", "screw"),
+    ("rrv", "arclength"),
+    ("rrv", "angle"),
+    ("rrv", "screw"),
+    ("dsrf", "arclength"),
+    ("dsrf", "angle"),
+    ("dsrf", "screw"),
+]
+
+
+def pose(rotvec, trans) -> np.ndarray:
+    """Homogeneous pose (4, 4) from a rotation vector [rad] and a translation [m]."""
+    T = np.eye(4)
+    T[:3, :3] = se3.rotation_from_vector(np.asarray(rotvec, dtype=float))
+    T[:3, 3] = trans
+    return T
+
+
+def generic_trajectory(duration: float = 4.0, rate: float = 50.0) -> Trajectory:
+    """A smooth, non-singular motion: helical path, orientation turning about a moving axis."""
+    t = np.arange(0.0, duration + 1e-9, 1.0 / rate)
+    p = np.column_stack(
+        [0.3 * np.cos(0.8 * t), 0.3 * np.sin(0.8 * t), 0.05 * t + 0.02 * np.sin(1.3 * t)]
+    )
+    rv = np.column_stack([0.6 * np.sin(0.7 * t), 0.4 * np.cos(0.5 * t) - 0.4, 0.3 * t])
+    T = np.array([pose(r, x) for r, x in zip(rv, p, strict=True)])
+    return Trajectory.from_poses(t, T, source="generic")
+
+
+def screw_trajectory(total_angle: float, total_shift: float, n: int = 151) -> Trajectory:
+    """Constant-rate rotation about z with translation along z (body origin on the axis)."""
+    s = np.linspace(0.0, 1.0, n)
+    T = np.array([pose([0, 0, total_angle * u], [0, 0, total_shift * u]) for u in s])
+    return Trajectory.from_poses(2.0 * s, T, source="screw")
+
+
+def real(name: str) -> Trajectory:
+    """A recording of the reference set, e.g. ``real("ip_pouring_motion__tfworld")``."""
+    return Trajectory.from_csv(REFERENCE_SET / f"{name}.csv")
+
+
+def rel(a: np.ndarray, b: np.ndarray) -> float:
+    """Relative Frobenius difference ``|a - b| / |b|``."""
+    return float(np.linalg.norm(a - b) / np.linalg.norm(b))
