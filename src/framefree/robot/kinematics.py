@@ -25,6 +25,8 @@ from numba import njit
 __all__ = [
     "DH_TABLE",
     "FINGER_BASE",
+    "FINGER_COM_HEIGHT",
+    "FINGER_MASS",
     "FLANGE_LENGTH",
     "GRAVITY",
     "HAND_CENTER_OF_MASS",
@@ -33,14 +35,12 @@ __all__ = [
     "LINK_CENTERS_OF_MASS",
     "LINK_INERTIAS",
     "LINK_MASSES",
+    "QD_MAX",
     "Q_MAX",
     "Q_MIN",
     "Q_READY",
-    "QD_MAX",
     "TAU_MAX",
     "TCP_OFFSET",
-    "FINGER_COM_HEIGHT",
-    "FINGER_MASS",
     "PandaKinematics",
     "rotation_error",
 ]
@@ -255,9 +255,8 @@ class PandaKinematics:
         self._flange_to_hand = self._flange @ self._hand
         # gravity bodies: links 1..7 (own frames), hand + fingers and payload (hand frame)
         m_h = HAND_MASS + 2 * FINGER_MASS
-        self._hand_com = (
-            HAND_MASS * HAND_CENTER_OF_MASS + 2 * FINGER_MASS * np.array([0.0, 0.0, FINGER_BASE + FINGER_COM_HEIGHT])
-        ) / m_h
+        finger_com = np.array([0.0, 0.0, FINGER_BASE + FINGER_COM_HEIGHT])
+        self._hand_com = (HAND_MASS * HAND_CENTER_OF_MASS + 2 * FINGER_MASS * finger_com) / m_h
         self._com_local = np.zeros((9, 3))
         self._com_local[:7] = LINK_CENTERS_OF_MASS
         self._com_local[7] = self._hand_com

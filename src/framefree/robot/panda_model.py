@@ -11,6 +11,7 @@ is the plane z = 0 and the robot stands on it at the origin.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, field
 
@@ -128,7 +129,7 @@ def _link_geoms(i: int, indent: str) -> list[str]:
     if abs(target[0]) > 1e-9 and np.linalg.norm(target[1:]) > 1e-9:
         corners.append(np.array([target[0], 0.0, 0.0]))
     corners.append(target)
-    for p0, p1 in zip(corners[:-1], corners[1:], strict=True):
+    for p0, p1 in itertools.pairwise(corners):
         if np.linalg.norm(p1 - p0) > 1e-9:
             lines.append(
                 f'{indent}<geom class="link" type="capsule" size="{0.8 * radius:.3g}"'
