@@ -173,8 +173,8 @@ def pose_from_twist_one(xi):
     w2 = cross_one(phi, w1)
     T = np.zeros((4, 4))
     for r in range(3):
-        for c in range(3):
-            T[r, c] = R[r, c]
+        for col in range(3):
+            T[r, col] = R[r, col]
         T[r, 3] = rho[r] + b * w1[r] + c * w2[r]
     T[3, 3] = 1.0
     return T
