@@ -70,3 +70,38 @@ def real(name: str) -> Trajectory:
 def rel(a: np.ndarray, b: np.ndarray) -> float:
     """Relative Frobenius difference ``|a - b| / |b|``."""
     return float(np.linalg.norm(a - b) / np.linalg.norm(b))
+
+
+def circle_trajectory(radius: float = 0.2, arc: float = 2.0, rate: float = 50.0) -> Trajectory:
+    """Constant orientation, body origin on a circle of ``radius`` in the xy plane, ``arc`` rad."""
+    t = np.arange(0.0, arc + 1e-9, 1.0 / rate)
+    T = np.array([pose([0.2, -0.1, 0.4], radius * np.array([np.cos(u), np.sin(u), 0])) for u in t])
+    return Trajectory.from_poses(t, T, source="circle")
+
+
+def pure_rotation_trajectory() -> Trajectory:
+    """Rotation about a fixed axis through the body origin (arclength exactly zero)."""
+    t = np.linspace(0.0, 2.0, 101)
+    T = np.array([pose([0.1 * u, 0.0, u], [0.4, -0.2, 1.0]) for u in t])
+    return Trajectory.from_poses(t, T, source="pure rotation")
+
+
+def pure_translation_trajectory() -> Trajectory:
+    """Straight-line translation with constant orientation (angle progress exactly zero)."""
+    t = np.linspace(0.0, 2.0, 101)
+    T = np.array([pose([0.3, 0.2, -0.1], [0.2 * u, 0.1 * u, 0.0]) for u in t])
+    return Trajectory.from_poses(t, T, source="pure translation")
+
+
+def standstill_trajectory() -> Trajectory:
+    t = np.linspace(0.0, 1.0, 51)
+    T = np.array([pose([0.3, 0.2, -0.1], [0.2, 0.1, 0.0]) for _ in t])
+    return Trajectory.from_poses(t, T, source="standstill")
+
+
+def world_changed(traj: Trajectory, world: np.ndarray) -> Trajectory:
+    return traj.transformed(world=world)
+
+
+def body_changed(traj: Trajectory, body: np.ndarray) -> Trajectory:
+    return traj.transformed(body=body)
