@@ -1,0 +1,105 @@
+import socket
+import threading
+
+import numpy as np
+import pytest
+
+from framefree.errors import FramefreeError
+from framefree.online import Event
+from framefree.online.evaluation import match_events
+from framefree.online.sources import (
+    CsvReplay,
+    ZmqPublisher,
+    ZmqSource,
+    check_loopback,
+    decode_pose,
+    encode_pose,
+)
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def test_message_format_roundtrip():
+    p, q = np.array([1.0, -2.0, 3.5]), np.array([0.5, 0.5, -0.5, 0.5])
+    msg = encode_pose(1.25, p, q)
+    assert len(msg) == 64
+    t, p2, q2 = decode_pose(msg)
+    assert t == 1.25 and np.array_equal(p, p2) and np.array_equal(q, q2)
+    t, p3, _ = decode_pose(b'{"t": 2.0, "p": [1, 2, 3], "q": [1, 0, 0, 0]}')
+    assert t == 2.0 and p3.tolist() == [1, 2, 3]
+    assert decode_pose(b"") is None
+    with pytest.raises(FramefreeError):
+        decode_pose(b"garbage")
+
+
+def test_only_loopback_endpoints():
+    assert check_loopback("zmq://127.0.0.1:5556") == "tcp://127.0.0.1:5556"
+    for bad in ("tcp://0.0.0.0:5556", "tcp://192.168.1.2:5556", "tcp://*:5556", "epgm://x", "udp://127.0.0.1:1"):
+        with pytest.raises(FramefreeError):
+            check_loopback(bad)
+
+
+def test_zmq_roundtrip_on_loopback(kettle):
+    port = _free_port()
+    endpoint = f"tcp://127.0.0.1:{port}"
+    n = 200
+    sub = ZmqSource(endpoint, timeout=5.0)
+
+    def publish():
+        pub = ZmqPublisher(endpoint, join_wait=0.5)
+        for k in range(n):
+            pub.send(kettle.t[k], kettle.p[k], kettle.q[k])
+        pub.end()
+        pub.close()
+
+    th = threading.Thread(target=publish, daemon=True)
+    th.start()
+    got = list(sub)  # stops at the end message (or after 5 s of silence)
+    th.join(10)
+    assert not th.is_alive()
+    assert len(got) == n
+    np.testing.assert_array_equal(np.array([g[0] for g in got]), kettle.t[:n])
+    np.testing.assert_array_equal(np.array([g[1] for g in got]), kettle.p[:n])
+
+
+def test_zmq_source_times_out():
+    sub = ZmqSource(f"tcp://127.0.0.1:{_free_port()}", timeout=0.2)
+    assert list(sub) == []
+
+
+def test_csv_replay_paces(kettle):
+    import time
+
+    src = CsvReplay(kettle, rate=200.0)
+    t0 = time.perf_counter()
+    rows = [r for _, r in zip(range(41), src, strict=False)]
+    assert len(rows) == 41
+    assert time.perf_counter() - t0 >= 0.19
+    fast = list(CsvReplay(kettle, speed=0))
+    assert len(fast) == len(kettle)
+
+
+class Seg:
+    def __init__(self, label, a, b):
+        self.label, self.start_t, self.end_t = label, a, b
+
+
+def test_event_matching_rule():
+    segs = [Seg("a", 1.0, 2.0), Seg("b", 5.0, 6.0), Seg("stop", 8.0, 8.5)]
+    events = [
+        Event("a", 1.9, 0.1, 0),  # TP (before the end)
+        Event("a", 2.3, 0.1, 0),  # repeat: FP
+        Event("b", 4.0, 0.1, 1),  # before the start: FP
+        Event("b", 6.4, 0.1, 1),  # within tolerance: TP
+        Event("a", 8.2, 0.1, 0),  # wrong label: FP
+    ]
+    r = match_events(events, segs, duration=60.0, tolerance=0.5)
+    assert (r.tp, r.fp, r.fn) == (2, 3, 1)
+    assert r.precision == pytest.approx(2 / 5)
+    assert r.recall == pytest.approx(2 / 3)
+    assert r.latencies == pytest.approx([-0.1, 0.4])
+    assert r.nongesture_minutes == pytest.approx((60 - 1.5 - 1.5 - 1.0) / 60)
