@@ -105,3 +105,44 @@ def world_changed(traj: Trajectory, world: np.ndarray) -> Trajectory:
 
 def body_changed(traj: Trajectory, body: np.ndarray) -> Trajectory:
     return traj.transformed(body=body)
+
+
+def constant_isa_trajectory(w1=1.2, w2=0.5, v1=0.1, v2=0.05, duration=3.0, dt=1e-3, every=20):
+    """Motion with constant ISA invariants (ω₁, ω₂, 0, v₁, v₂, 0) per unit time.
+
+    The ISA frame screws about its own y axis (rotation ω₂, translation v₂ per unit time); the
+    object turns about the ISA frame's x axis at ω₁ while sliding along it at v₁. Integrated with
+    midpoint exponential steps of ``dt`` and sampled every ``every`` steps.
+    """
+    from framefree import se3
+
+    def adjoint(T):
+        R, p = T[:3, :3], T[:3, 3]
+        A = np.zeros((6, 6))
+        A[:3, :3] = R
+        A[3:, 3:] = R
+        A[3:, :3] = se3.hat(p) @ R
+        return A
+
+    T = pose([0, 0, 0], [0.0, 0.2, 0.1])
+    ts, Ts = [0.0], [T.copy()]
+    body = np.array([w1, 0, 0, v1, 0, 0])
+    for k in range(int(round(duration / dt))):
+        sm = (k + 0.5) * dt
+        F = se3.pose_from_twist(np.array([0, w2 * sm, 0, 0, v2 * sm, 0]))
+        T = se3.pose_from_twist(adjoint(F) @ body * dt) @ T
+        ts.append((k + 1) * dt)
+        Ts.append(T.copy())
+    return Trajectory.from_poses(np.array(ts)[::every], np.array(Ts)[::every], source="const ISA")
+
+
+def finite_or_degenerate(fn):
+    """Call ``fn``; a DegenerateMotionError is fine (returns None), otherwise all must be finite."""
+    from framefree.errors import DegenerateMotionError
+
+    try:
+        out = fn()
+    except DegenerateMotionError:
+        return None
+    assert np.isfinite(out).all()
+    return out
