@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import warnings
 from pathlib import Path
 
@@ -41,7 +42,7 @@ def test_labels_consistent(stream) -> None:
     assert sum(lab != STOP for lab in labels) == 20
     assert 1 <= labels.count(STOP) <= 2
     assert set(labels) - {STOP} <= set(GESTURES)
-    for a, b in zip(segs, segs[1:], strict=False):
+    for a, b in itertools.pairwise(segs):
         assert a.end_t < b.start_t  # ordered, no overlap
     for s in segs:
         assert 0 < s.start_t < s.end_t < traj.t[-1]
