@@ -127,7 +127,7 @@ def constant_isa_trajectory(w1=1.2, w2=0.5, v1=0.1, v2=0.05, duration=3.0, dt=1e
     T = pose([0, 0, 0], [0.0, 0.2, 0.1])
     ts, Ts = [0.0], [T.copy()]
     body = np.array([w1, 0, 0, v1, 0, 0])
-    for k in range(int(round(duration / dt))):
+    for k in range(round(duration / dt)):
         sm = (k + 0.5) * dt
         F = se3.pose_from_twist(np.array([0, w2 * sm, 0, 0, v2 * sm, 0]))
         T = se3.pose_from_twist(adjoint(F) @ body * dt) @ T

@@ -149,6 +149,8 @@ def test_degenerate_motions():
         RRV(progress="angle").compute(pure_rotation_trajectory())
     with pytest.raises(DegenerateMotionError):
         RRV(progress="arclength").compute(pure_rotation_trajectory())
+    with pytest.raises(DegenerateMotionError):  # screw progress exists, ℓ does not
+        RRV(progress="screw").compute(pure_rotation_trajectory())
     with pytest.raises(DegenerateMotionError):
         RRV(progress="screw").compute(standstill_trajectory())
     with pytest.raises(DegenerateMotionError):

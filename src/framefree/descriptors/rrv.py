@@ -151,11 +151,11 @@ def global_rates(
         normalized progress.
     """
     n = poses.shape[0]
+    normalized = normalized_poses(poses, arclength)  # raises first if ℓ is not positive
     step = normalized_step(progress, ds, arclength, n)
     if not (step > 0 and math.isfinite(step)):
-        raise DegenerateMotionError(f"non-positive progress step {step:g}")
-    T = smooth_poses(normalized_poses(poses, arclength), GLOBAL_SMOOTHING_WINDOW)
-    return rates_kernel(T, step)
+        raise DegenerateMotionError(f"the normalized progress step is {step:g}, not positive")
+    return rates_kernel(smooth_poses(normalized, GLOBAL_SMOOTHING_WINDOW), step)
 
 
 @njit(cache=True, error_model="numpy")
