@@ -41,7 +41,11 @@ def test_golden_vector_sequence_by_hand():
     x = np.array([[1.0, 0, 0], [1, 1, 0], [0, 1, 1]])
     out = dhb_representation(np.hstack([x, 2 * x]))
     expected_rot = np.array(
-        [[1, math.pi / 4, math.atan(math.sqrt(2))], [math.sqrt(2), math.pi / 3, 0], [math.sqrt(2), 0, 0]]
+        [
+            [1, math.pi / 4, math.atan(math.sqrt(2))],
+            [math.sqrt(2), math.pi / 3, 0],
+            [math.sqrt(2), 0, 0],
+        ]
     )
     np.testing.assert_allclose(out[:, :3], expected_rot, atol=1e-15)
     # doubling the vectors doubles the magnitudes, leaves both angles unchanged
@@ -145,8 +149,12 @@ def test_degenerate_motion_raises(traj, progress):
 
 @pytest.mark.parametrize(
     ("traj", "progress"),
-    [(pure_rotation_trajectory(), "angle"), (pure_rotation_trajectory(), "screw"),
-     (pure_translation_trajectory(), "arclength"), (pure_translation_trajectory(), "screw")],
+    [
+        (pure_rotation_trajectory(), "angle"),
+        (pure_rotation_trajectory(), "screw"),
+        (pure_translation_trajectory(), "arclength"),
+        (pure_translation_trajectory(), "screw"),
+    ],
 )
 def test_singular_motion_is_finite(traj, progress):
     assert np.isfinite(DHB(progress=progress).compute(traj)).all()

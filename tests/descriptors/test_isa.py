@@ -55,7 +55,9 @@ def test_constant_invariants_with_angle_progress():
     out = d.representation(rep.poses, rep.ds)
     inner = slice(5, -5)
     expected = np.array([1.0, W2 / W1, 0.0, V1 / W1, V2 / W1, 0.0])
-    np.testing.assert_allclose(out[inner, [0, 1, 3, 4]], np.tile(expected[[0, 1, 3, 4]], (40, 1)), atol=3e-3)
+    np.testing.assert_allclose(
+        out[inner, [0, 1, 3, 4]], np.tile(expected[[0, 1, 3, 4]], (40, 1)), atol=3e-3
+    )
     np.testing.assert_allclose(out[inner, [2, 5]], 0.0, atol=3e-2)
 
 

@@ -36,9 +36,7 @@ def batch_map(y: np.ndarray, h: float, sigma: float, q: float = KALMAN_Q):
     (n, 4, 4).
     """
     n = len(y)
-    F = np.array(
-        [[1, h, h * h / 2, h**3 / 6], [0, 1, h, h * h / 2], [0, 0, 1, h], [0, 0, 0, 1.0]]
-    )
+    F = np.array([[1, h, h * h / 2, h**3 / 6], [0, 1, h, h * h / 2], [0, 0, 1, h], [0, 0, 0, 1.0]])
     g = np.array([h**4 / 24, h**3 / 6, h * h / 2, h])
     nt = 4 + n
     A = np.zeros((n, 4, nt))
@@ -73,7 +71,9 @@ def batch_map(y: np.ndarray, h: float, sigma: float, q: float = KALMAN_Q):
     return np.einsum("jat,t->ja", A, theta), np.einsum("jat,ts,jbs->jab", A, cov, A)
 
 
-@pytest.mark.parametrize(("h", "sigma"), [(0.02, SIGMA_POSITION), (0.05, SIGMA_ROTATION), (0.3, 0.002)])
+@pytest.mark.parametrize(
+    ("h", "sigma"), [(0.02, SIGMA_POSITION), (0.05, SIGMA_ROTATION), (0.3, 0.002)]
+)
 def test_rts_equals_batch_least_squares(h, sigma):
     rng = np.random.default_rng(3)
     y = np.cumsum(rng.normal(size=12)) * 0.01 + 0.2

@@ -83,7 +83,9 @@ def test_normalization_equals_the_literal_pipeline(progress):
     if progress == "arclength":
         assert rep.ds == pytest.approx(1 / 49, rel=1e-12)
     w, u = rates_kernel(smooth_poses(rep.poses, 3), rep.ds)
-    np.testing.assert_allclose(RRV(progress=progress).compute(GENERIC), rrv_from_rates(w, u), atol=1e-9)
+    np.testing.assert_allclose(
+        RRV(progress=progress).compute(GENERIC), rrv_from_rates(w, u), atol=1e-9
+    )
 
 
 def test_normalized_step():
@@ -96,7 +98,9 @@ def test_from_reparameterized_reuses_a_cached_reparameterization():
     ell = total_arclength(uniform_time_poses(GENERIC))
     d = RRV(progress="screw", L=0.7)
     rep = reparameterize(GENERIC, "screw", 0.7)
-    np.testing.assert_array_equal(d.from_reparameterized(rep.poses, rep.ds, ell), d.compute(GENERIC))
+    np.testing.assert_array_equal(
+        d.from_reparameterized(rep.poses, rep.ds, ell), d.compute(GENERIC)
+    )
 
 
 def test_svd_sign_rule():

@@ -119,7 +119,9 @@ def rates_kernel(T, ds):
         for i in range(3):
             for j in range(3):
                 Rr[i, j] = (
-                    T[k + 1, i, 0] * T[k, j, 0] + T[k + 1, i, 1] * T[k, j, 1] + T[k + 1, i, 2] * T[k, j, 2]
+                    T[k + 1, i, 0] * T[k, j, 0]
+                    + T[k + 1, i, 1] * T[k, j, 1]
+                    + T[k + 1, i, 2] * T[k, j, 2]
                 )
         phi = se3.vector_from_rotation_one(Rr)
         for r in range(3):
