@@ -378,7 +378,7 @@ class Planner:
             lag = float(self._direction @ (self._p_cmd - pos))
             excess = lag - 0.25 * p.contact_deviation
             if excess > 0:
-                v_des = -self._direction * min(p.speed, p.home_gain * excess)
+                v_des = -self._direction * min(p.speed, p.home_gain * excess + 1e-3)
             elif speed == 0.0:
                 self.contact = False
         elif self.state == "home":
