@@ -69,10 +69,10 @@ def render_frames(
     scene: SceneSpec | None = None,
     width: int = 480,
     height: int = 360,
-    lookat: tuple[float, float, float] = (0.45, 0.0, 0.15),
-    distance: float = 1.5,
+    lookat: tuple[float, float, float] = (0.35, 0.0, 0.3),
+    distance: float = 2.0,
     azimuth: float = 150.0,
-    elevation: float = -25.0,
+    elevation: float = -20.0,
 ) -> list[np.ndarray]:
     """Render the logged configurations of a session.
 
