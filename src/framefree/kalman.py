@@ -369,23 +369,14 @@ def rts_smooth_with_covariance(
 
 
 @njit(cache=True)
-def _qmul_vec(a, b):
-    """Vector part of the Hamilton product ``a ⊗ b`` (scalar-first quaternions)."""
-    out = np.empty(3)
-    out[0] = a[0] * b[1] + b[0] * a[1] + a[2] * b[3] - a[3] * b[2]
-    out[1] = a[0] * b[2] + b[0] * a[2] + a[3] * b[1] - a[1] * b[3]
-    out[2] = a[0] * b[3] + b[0] * a[3] + a[1] * b[2] - a[2] * b[1]
-    return out
-
-
-@njit(cache=True)
-def _conj(q):
-    out = np.empty(4)
-    out[0] = q[0]
-    out[1] = -q[1]
-    out[2] = -q[2]
-    out[3] = -q[3]
-    return out
+def _qmul_vec_acc(a, b, c, out, scale):
+    """``out += scale · vec(a ⊗ b*)`` for quaternions ``a``, ``b`` (scalar first) given as
+    rows ``a`` and ``b`` of ``c`` (n, 4): the vector part of a Hamilton product with a conjugate."""
+    a0, a1, a2, a3 = c[a, 0], c[a, 1], c[a, 2], c[a, 3]
+    b0, b1, b2, b3 = c[b, 0], -c[b, 1], -c[b, 2], -c[b, 3]
+    out[0] += scale * (a0 * b1 + b0 * a1 + a2 * b3 - a3 * b2)
+    out[1] += scale * (a0 * b2 + b0 * a2 + a3 * b1 - a1 * b3)
+    out[2] += scale * (a0 * b3 + b0 * a3 + a1 * b2 - a2 * b1)
 
 
 @njit(cache=True)
@@ -409,27 +400,28 @@ def pose_kinematics_kernel(poses, h, q):
         sig[r] = SIGMA_ROTATION
     xs = rts_smooth_kernel(y, h, sig, q)
     pos = np.empty((n, 3))
-    tw = np.empty((n, 3, 6))
+    tw = np.zeros((n, 3, 6))
+    # rows: 0 = normalized q, 1..3 = raw derivatives q̇, q̈, q⃛
+    c = np.empty((4, 4))
     for k in range(n):
-        q0 = xs[k, 3:, 0].copy()
-        nq = math.sqrt(q0[0] * q0[0] + q0[1] * q0[1] + q0[2] * q0[2] + q0[3] * q0[3])
-        q0 /= nq
-        q1 = xs[k, 3:, 1].copy()
-        q2 = xs[k, 3:, 2].copy()
-        q3 = xs[k, 3:, 3].copy()
-        qc = _conj(q0)
-        w0 = 2.0 * _qmul_vec(q1, qc)
-        w1 = 2.0 * _qmul_vec(q2, qc) + 2.0 * _qmul_vec(q1, _conj(q1))
-        w2 = (
-            2.0 * _qmul_vec(q3, qc)
-            + 4.0 * _qmul_vec(q2, _conj(q1))
-            + 2.0 * _qmul_vec(q1, _conj(q2))
-        )
+        nq = 0.0
+        for r in range(4):
+            nq += xs[k, 3 + r, 0] * xs[k, 3 + r, 0]
+        nq = math.sqrt(nq)
+        for r in range(4):
+            c[0, r] = xs[k, 3 + r, 0] / nq
+            c[1, r] = xs[k, 3 + r, 1]
+            c[2, r] = xs[k, 3 + r, 2]
+            c[3, r] = xs[k, 3 + r, 3]
+        # ω = 2 q̇⊗q*;  ω̇ = 2 q̈⊗q* + 2 q̇⊗q̇*;  ω̈ = 2 q⃛⊗q* + 4 q̈⊗q̇* + 2 q̇⊗q̈*
+        _qmul_vec_acc(1, 0, c, tw[k, 0], 2.0)
+        _qmul_vec_acc(2, 0, c, tw[k, 1], 2.0)
+        _qmul_vec_acc(1, 1, c, tw[k, 1], 2.0)
+        _qmul_vec_acc(3, 0, c, tw[k, 2], 2.0)
+        _qmul_vec_acc(2, 1, c, tw[k, 2], 4.0)
+        _qmul_vec_acc(1, 2, c, tw[k, 2], 2.0)
         for r in range(3):
             pos[k, r] = xs[k, r, 0]
-            tw[k, 0, r] = w0[r]
-            tw[k, 1, r] = w1[r]
-            tw[k, 2, r] = w2[r]
             tw[k, 0, 3 + r] = xs[k, r, 1]
             tw[k, 1, 3 + r] = xs[k, r, 2]
             tw[k, 2, 3 + r] = xs[k, r, 3]
@@ -437,10 +429,18 @@ def pose_kinematics_kernel(poses, h, q):
 
 
 @njit(cache=True)
+def _cross_acc(a, b, out, scale):
+    """``out[3:] += scale · (a × b)`` for 3-vectors."""
+    out[3] += scale * (a[1] * b[2] - a[2] * b[1])
+    out[4] += scale * (a[2] * b[0] - a[0] * b[2])
+    out[5] += scale * (a[0] * b[1] - a[1] * b[0])
+
+
+@njit(cache=True)
 def spatial_twists_kernel(pos, tw):
     """Spatial screw twist and derivatives (n, 3, 6) from pose twists (n, 3, 6) and positions."""
     n = pos.shape[0]
-    out = np.empty((n, 3, 6))
+    out = tw.copy()
     for k in range(n):
         p = pos[k]
         w0 = tw[k, 0, :3]
@@ -448,17 +448,13 @@ def spatial_twists_kernel(pos, tw):
         w2 = tw[k, 2, :3]
         pd = tw[k, 0, 3:]
         pdd = tw[k, 1, 3:]
-        pddd = tw[k, 2, 3:]
-        v0 = pd + se3.cross_one(p, w0)
-        v1 = pdd + se3.cross_one(p, w1) + se3.cross_one(pd, w0)
-        v2 = pddd + se3.cross_one(p, w2) + 2.0 * se3.cross_one(pd, w1) + se3.cross_one(pdd, w0)
-        for r in range(3):
-            out[k, 0, r] = w0[r]
-            out[k, 1, r] = w1[r]
-            out[k, 2, r] = w2[r]
-            out[k, 0, 3 + r] = v0[r]
-            out[k, 1, 3 + r] = v1[r]
-            out[k, 2, 3 + r] = v2[r]
+        # V = ṗ + p×ω;  V̇ = p̈ + p×ω̇ + ṗ×ω;  V̈ = p⃛ + p×ω̈ + 2 ṗ×ω̇ + p̈×ω
+        _cross_acc(p, w0, out[k, 0], 1.0)
+        _cross_acc(p, w1, out[k, 1], 1.0)
+        _cross_acc(pd, w0, out[k, 1], 1.0)
+        _cross_acc(p, w2, out[k, 2], 1.0)
+        _cross_acc(pd, w1, out[k, 2], 2.0)
+        _cross_acc(pdd, w0, out[k, 2], 1.0)
     return out
 
 

@@ -13,6 +13,7 @@ from framefree import get_descriptor
 from framefree.descriptors.dhb import DHB, dhb_representation
 from framefree.dtw import dtw_distance
 from framefree.errors import DegenerateMotionError
+from framefree.kalman import smooth_pose_kinematics
 from framefree.progress import reparameterize
 
 from .conftest import (
@@ -83,6 +84,17 @@ def test_circle_with_arclength_progress():
     np.testing.assert_allclose(out[inner, 4], rep.ds / R, rtol=2e-2)
     np.testing.assert_allclose(out[:-2, 5], 0.0, atol=1e-6)
     assert out[-1, 4] == 0.0 and out[-1, 5] == 0.0 and out[-2, 5] == 0.0
+
+
+def test_kinematics_can_be_shared_between_descriptors():
+    rep = reparameterize(GENERIC, "angle")
+    kin = smooth_pose_kinematics(rep.poses, rep.ds)
+    for name in ("dhb", "efs", "isa"):
+        d = get_descriptor(name, progress="angle", L=0.3, lam=0.5)
+        np.testing.assert_array_equal(d.from_kinematics(kin), d.compute(GENERIC))
+        np.testing.assert_array_equal(
+            d.from_kinematics(kin, weighted=False), d.representation(rep.poses, rep.ds)
+        )
 
 
 def test_row_weights_are_a_final_step():

@@ -142,6 +142,21 @@ class KalmanDescriptor(Descriptor):
         """Weighted descriptor (N, 6) from an unweighted representation (N, 6)."""
         return representation * self.row_weights()
 
+    def from_kinematics(self, kin: PoseKinematics, weighted: bool = True) -> np.ndarray:
+        """Descriptor (N, 6) from Kalman-smoothed kinematics shared with other descriptors.
+
+        DHB, eFS and ISA with the same progress type (and, for screw progress, the same L) smooth
+        the same reparameterized poses: compute ``kin = smooth_pose_kinematics(poses, ds)`` once
+        and pass it to each of them.
+
+        Raises
+        ------
+        DegenerateMotionError
+            If the result is not finite (singular motion).
+        """
+        raw = check_finite(self.representation_from_kinematics(kin), self.name)
+        return self.weight(raw) if weighted else raw
+
     def representation(self, poses: np.ndarray, ds: float) -> np.ndarray:
         """Unweighted descriptor (N, 6) of poses (N, 4, 4) at equidistant progress with step ``ds``.
 
@@ -150,8 +165,7 @@ class KalmanDescriptor(Descriptor):
         DegenerateMotionError
             If ``ds`` is not positive or the result is not finite (singular motion).
         """
-        kin = smooth_pose_kinematics(poses, ds)
-        return check_finite(self.representation_from_kinematics(kin), self.name)
+        return self.from_kinematics(smooth_pose_kinematics(poses, ds), weighted=False)
 
     def from_reparameterized(self, poses: np.ndarray, ds: float) -> np.ndarray:
         """Weighted descriptor (N, 6) of poses (N, 4, 4) at equidistant progress step ``ds``."""
