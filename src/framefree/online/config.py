@@ -22,8 +22,9 @@ class RecognizerConfig:
     ----------
     L : float
         Scale length [m] of the screw path, of the BILTS+ rotational weight and clamp (§2.10).
-        Ambiguity 8.3: the HPM-trained value is not published; 0.5 m is the middle of the
-        training grid and the default of :class:`framefree.descriptors.bilts.BILTSPlus`.
+        Ambiguity 8.3: the HPM-trained value is not published; 0.2 m gave the best
+        calibrated precision/recall on replica models with synthetic streams (0.1, 0.2, 0.3,
+        0.5 tried; 0.5 gave F1 0.44, 0.2 gave 0.80 with no false positive).
     ds_scale : float
         BILTS+ window scale [m] (§5.7). Window spacing ``m = min(23, max(1, round(ds_scale /
         resolution)))`` in geometric samples (Ambiguity 8.3).
@@ -56,7 +57,10 @@ class RecognizerConfig:
         ``stop_margin`` × the largest debounced ``|q̇|`` seen in any model recording, at least
         ``stop_floor``.
     stop_margin : float
-        Factor over the fastest model rotation for the automatic stop threshold.
+        Factor over the fastest model rotation for the automatic stop threshold (1.0: any
+        rotation faster than every model gesture is a stop; on the replica the stop signals,
+        ≥ 5.5 rad/s, and the fastest gesture wrist rotations overlap, so a larger margin misses
+        stops).
     stop_floor : float
         Lower bound of the automatic stop threshold [1/s] (1.5 = 3 rad/s).
     stop_samples : int
@@ -86,7 +90,7 @@ class RecognizerConfig:
         Use the multi-threaded matcher kernel from this many models on (numba ``prange``).
     """
 
-    L: float = 0.5
+    L: float = 0.2
     ds_scale: float = 0.09
     resolution: float | None = None
     resolution_samples: int = 50
@@ -97,7 +101,7 @@ class RecognizerConfig:
     calibration_quantile: float = 1.0
     calibration_margin: float = 0.8
     stop_threshold: float | None = None
-    stop_margin: float = 1.5
+    stop_margin: float = 1.0
     stop_floor: float = 1.5
     stop_samples: int = 2
     stop_rearm: float = 0.7
