@@ -162,3 +162,15 @@ def test_same_task_functions_run_on_a_cluster_api(tiny, serial_result, monkeypat
     assert fake.calls > 0 and not fake.started
     assert res.rows[0].grid == serial_result.rows[0].grid
     assert res.rows[0].per_context == serial_result.rows[0].per_context
+
+
+def test_builtin_layout_scanner_agrees_with_dataset_loader(tiny_root: Path, tiny) -> None:
+    from framefree.benchmark.protocol import _records_from_layout, build_benchmark_data
+
+    own = build_benchmark_data(_records_from_layout(tiny_root), "original_1", str(tiny_root))
+    for a, b in ((own.models, tiny.models), (own.train, tiny.train), (own.test, tiny.test)):
+        assert [(r.gesture, r.context, r.name) for r in a] == [
+            (r.gesture, r.context, r.name) for r in b
+        ]
+        np.testing.assert_array_equal(a[0].data, b[0].data)
+    assert own.contexts == tiny.contexts

@@ -147,6 +147,7 @@ def _records_from_layout(root: Path) -> list[TrialRecord]:
     """Scan ``<root>/<gesture>/<context>/<trial>.csv`` (names starting with '.' skipped)."""
     out = []
     for g in sorted(p for p in root.iterdir() if p.is_dir() and not p.name.startswith(".")):
+        # folders without context subfolders (e.g. ``streams/``) are not gestures
         for c in sorted(p for p in g.iterdir() if p.is_dir() and not p.name.startswith(".")):
             files = sorted(p for p in c.iterdir() if p.suffix.lower() == ".csv")
             for f in files:
