@@ -27,6 +27,7 @@ from numba import njit
 
 from . import se3
 from .errors import DegenerateMotionError
+from .smoothing import smooth_poses
 from .trajectory import Trajectory
 
 __all__ = [
@@ -157,9 +158,21 @@ class Reparameterized:
     total: float
 
 
-def uniform_time_poses(traj: Trajectory, dt: float = DEFAULT_DT) -> np.ndarray:
-    """Poses (M, 4, 4) of ``traj`` resampled on the reference's uniform time grid (§1.2)."""
-    return traj.uniform_poses(dt)[1]
+def uniform_time_poses(
+    traj: Trajectory, dt: float = DEFAULT_DT, presmooth: int | None = None
+) -> np.ndarray:
+    """Poses (M, 4, 4) of ``traj`` resampled on the reference's uniform time grid (§1.2).
+
+    Parameters
+    ----------
+    presmooth : int, optional
+        framefree extension (not in the reference): Gaussian-smooth the uniform poses with this
+        window [samples] before any progress is computed. See :func:`reparameterize`.
+    """
+    poses = traj.uniform_poses(dt)[1]
+    if presmooth:
+        poses = smooth_poses(poses, presmooth)
+    return poses
 
 
 def reparameterize_poses(
@@ -200,9 +213,31 @@ def reparameterize(
     L: float = 0.3,
     n: int = DEFAULT_SAMPLES,
     dt: float = DEFAULT_DT,
+    presmooth: int | None = None,
 ) -> Reparameterized:
-    """Resample ``traj`` at 50 Hz (ScLERP), then at ``n`` equidistant progress values (§4.5)."""
-    return reparameterize_poses(uniform_time_poses(traj, dt), progress, L, n, traj.source)
+    """Resample ``traj`` at 50 Hz (ScLERP), then at ``n`` equidistant progress values (§4.5).
+
+    Parameters
+    ----------
+    traj : Trajectory
+    progress : {"arclength", "angle", "screw"}
+    L : float
+        Scale length [m] of the screw path.
+    n : int
+        Number of progress samples (50 in the reference).
+    dt : float
+        Step of the uniform time grid [s].
+    presmooth : int, optional
+        **framefree extension, off by default.** The reference computes progress from the raw
+        50 Hz poses, so sensor noise adds progress in proportion to the number of samples (1° of
+        orientation noise per sample adds about L·0.04 m of screw path per sample) and can outweigh
+        the gesture itself. With ``presmooth=w`` the uniform poses are first smoothed with the
+        Gaussian of :func:`~framefree.smoothing.smooth_poses` (window ``w`` samples; ``w = 10`` at
+        50 Hz passes voluntary hand motion below about 3 Hz and removes tremor and jitter). Exactly
+        invariant to world-frame changes, like every other step.
+    """
+    poses = uniform_time_poses(traj, dt, presmooth)
+    return reparameterize_poses(poses, progress, L, n, traj.source)
 
 
 class StreamingReparameterizer:

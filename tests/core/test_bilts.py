@@ -194,3 +194,24 @@ def test_descriptor_registry_and_parameters():
         ff.get_descriptor("nope")
     with pytest.raises(ValueError, match="progress"):
         ff.get_descriptor("bilts+", progress="arclength")
+
+
+def test_presmoothed_progress_tames_sensor_noise_and_keeps_world_invariance():
+    traj = _generic_motion(4)
+    rng = np.random.default_rng(11)
+    n = len(traj)
+    noise_rot = se3.rotation_from_vector(rng.normal(0, np.pi / 180, (n, 3)))
+    R = traj.rotations() @ noise_rot
+    noisy = ff.Trajectory(
+        traj.t, traj.p + rng.normal(0, 0.001, (n, 3)), se3.quaternion_from_matrix(R)
+    )
+    change = {}
+    for pre in (None, 10):
+        desc = ff.get_descriptor("bilts+", L=0.5, ds_scale=0.09, presmooth=pre)
+        a, b = desc.compute(traj), desc.compute(noisy)
+        change[pre] = desc.distance(a, b)
+        Tw = se3.pose_from_twist(np.array([0.3, -1.0, 2.0, 1.0, -2.0, 0.5]))
+        np.testing.assert_allclose(desc.compute(traj.transformed(world=Tw)), a, atol=1e-9)
+    assert change[10] < 0.5 * change[None]
+    with pytest.raises(ValueError, match="presmooth"):
+        ff.get_descriptor("bilts+", presmooth=0)

@@ -245,7 +245,7 @@ def twist_perturbation(seed: int | None, shape: tuple[int, int]) -> np.ndarray:
 
 class _BILTSBase(Descriptor):
     progress_types = ("screw", "angle")
-    param_names = ("progress", "L", "ds_scale", "window", "n_samples", "seed")
+    param_names = ("progress", "L", "ds_scale", "window", "n_samples", "seed", "presmooth")
     regularized: bool = False
     default_window: int = 20
     feature_names = FEATURE_NAMES
@@ -258,6 +258,7 @@ class _BILTSBase(Descriptor):
         window: int | None = None,
         n_samples: int = DEFAULT_SAMPLES,
         seed: int | None = 0,
+        presmooth: int | None = None,
     ) -> None:
         self.progress = self._check_progress(progress)
         if not L > 0:
@@ -271,6 +272,9 @@ class _BILTSBase(Descriptor):
         self.window = self.default_window if window is None else int(window)
         self.n_samples = int(n_samples)
         self.seed = seed
+        if presmooth is not None and presmooth < 1:
+            raise ValueError(f"presmooth must be a window of at least 1 sample, got {presmooth}")
+        self.presmooth = presmooth
 
     def _max_spacing(self) -> int:
         return min(MAX_WINDOW_SPACING, (self.n_samples - 1) // 2)
@@ -283,7 +287,7 @@ class _BILTSBase(Descriptor):
         DegenerateMotionError
             If the trajectory has no progress (motionless).
         """
-        rep = reparameterize(traj, self.progress, self.L, self.n_samples)
+        rep = reparameterize(traj, self.progress, self.L, self.n_samples, presmooth=self.presmooth)
         return self.from_reparameterized(rep.poses, rep.ds)
 
     def from_reparameterized(self, poses: np.ndarray, ds: float) -> np.ndarray:
@@ -339,6 +343,10 @@ class BILTS(_BILTSBase):
         Progress samples (50 in the reference).
     seed : int or None
         Seed of the 1e-12 twist perturbation (None: unseeded, as the reference).
+    presmooth : int, optional
+        framefree extension, off by default (reference behaviour): smooth the 50 Hz poses with a
+        Gaussian window of this many samples before computing progress, which makes the
+        reparameterization robust to sensor noise. See :func:`framefree.progress.reparameterize`.
     """
 
     name = "bilts"
