@@ -146,3 +146,12 @@ def finite_or_degenerate(fn):
         return None
     assert np.isfinite(out).all()
     return out
+
+
+def time_rescaling_change(name: str, progress: str, factor: float = 2.0) -> float:
+    """Relative change of a descriptor when the generic motion is executed ``factor`` × slower."""
+    from framefree import get_descriptor
+
+    traj = generic_trajectory()
+    d = get_descriptor(name, progress=progress, L=0.5)
+    return rel(d.compute(traj.time_scaled(factor)), d.compute(traj))

@@ -26,6 +26,7 @@ from .conftest import (
     real,
     rel,
     standstill_trajectory,
+    time_rescaling_change,
     world_changed,
 )
 
@@ -191,3 +192,9 @@ def test_parameters():
         DHB(progress="time")
     with pytest.raises(ValueError):
         DHB(L=0.0)
+
+
+@pytest.mark.parametrize("progress", ["arclength", "angle", "screw"])
+@pytest.mark.parametrize("factor", [0.5, 2.0])
+def test_time_rescaling_changes_only_through_resampling(progress, factor):
+    assert time_rescaling_change("dhb", progress, factor) < 2e-3

@@ -26,6 +26,7 @@ from .conftest import (
     rel,
     screw_trajectory,
     standstill_trajectory,
+    time_rescaling_change,
     world_changed,
 )
 
@@ -135,3 +136,9 @@ def test_degenerate_motions():
                 assert np.isfinite(DSRF(progress=progress).compute(real(name))).all()
             except DegenerateMotionError:
                 pass
+
+
+@pytest.mark.parametrize("progress", ["arclength", "angle", "screw"])
+@pytest.mark.parametrize("factor", [0.5, 2.0])
+def test_time_rescaling_changes_only_through_resampling(progress, factor):
+    assert time_rescaling_change("dsrf", progress, factor) < 2e-3

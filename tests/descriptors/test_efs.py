@@ -24,6 +24,7 @@ from .conftest import (
     real,
     rel,
     standstill_trajectory,
+    time_rescaling_change,
     world_changed,
 )
 
@@ -130,3 +131,9 @@ def test_distance_matrix_shape_and_zero_diagonal():
     assert D.shape == (2, 2)
     np.testing.assert_allclose(np.diag(D), 0.0, atol=1e-15)
     assert D[0, 1] > 0 and D[0, 1] == pytest.approx(D[1, 0])
+
+
+@pytest.mark.parametrize("progress", ["arclength", "angle", "screw"])
+@pytest.mark.parametrize("factor", [0.5, 2.0])
+def test_time_rescaling_changes_only_through_resampling(progress, factor):
+    assert time_rescaling_change("efs", progress, factor) < 2e-3

@@ -25,6 +25,7 @@ from .conftest import (
     rel,
     screw_trajectory,
     standstill_trajectory,
+    time_rescaling_change,
     world_changed,
 )
 
@@ -147,3 +148,9 @@ def test_real_recordings():
 @pytest.mark.parametrize("progress", ["angle", "screw"])
 def test_singular_motion_raises_or_is_finite(traj, progress):
     finite_or_degenerate(lambda: ISA(progress=progress).compute(traj))
+
+
+@pytest.mark.parametrize("progress", ["angle", "screw"])
+@pytest.mark.parametrize("factor", [0.5, 2.0])
+def test_time_rescaling_changes_only_through_resampling(progress, factor):
+    assert time_rescaling_change("isa", progress, factor) < 2e-3

@@ -33,6 +33,7 @@ from .conftest import (
     rel,
     screw_trajectory,
     standstill_trajectory,
+    time_rescaling_change,
     world_changed,
 )
 
@@ -173,3 +174,9 @@ def test_distance_is_generic_dtw_over_seven_columns():
     D = d.distance_matrix([a, b], [b])
     np.testing.assert_allclose(D[:, 0], [dtw_distance(b, a) / 97, 0.0], atol=1e-14)
     assert d.params == {"progress": "angle", "L": 0.5, "n_samples": 50}
+
+
+@pytest.mark.parametrize("progress", ["arclength", "angle", "screw"])
+@pytest.mark.parametrize("factor", [0.5, 2.0])
+def test_time_rescaling_changes_only_through_resampling(progress, factor):
+    assert time_rescaling_change("rrv", progress, factor) < 2e-3
