@@ -6,13 +6,19 @@ from pathlib import Path
 
 import numpy as np
 
-from framefree.datasets import REPLICA_VERSION, load_dataset, make_replica, replica_path
+from framefree.datasets import (
+    REPLICA_VERSION,
+    generator_fingerprint,
+    load_dataset,
+    make_replica,
+    replica_path,
+)
 
 
 def test_replica_path_generates_once_and_reuses(tmp_path: Path, monkeypatch) -> None:
     monkeypatch.setenv("FRAMEFREE_CACHE", str(tmp_path / "cache"))
     p = replica_path(seed=3)
-    assert p.name == f"hpm-replica-v{REPLICA_VERSION}-seed3"
+    assert p.name == f"hpm-replica-v{REPLICA_VERSION}-{generator_fingerprint()}-seed3"
     assert p.parent == tmp_path / "cache"
     assert len(list(p.glob("*/*/trial_*.csv"))) == 420
     assert len(list((p / "streams").glob("stream_*_labels.csv"))) == 3

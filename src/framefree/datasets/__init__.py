@@ -18,7 +18,7 @@ from .contexts import (
 )
 from .gestures import plan_gesture, synthesize_gesture
 from .layout import CONTEXTS, GESTURES, MODEL_CONTEXT, STREAMS_DIR, Dataset, Trial, load_dataset
-from .replica import REPLICA_VERSION, cache_dir, make_replica, replica_path
+from .replica import REPLICA_VERSION, cache_dir, generator_fingerprint, make_replica, replica_path
 from .streams import STOP, Segment, StreamItem, labels_path, load_stream, make_stream, save_stream
 
 __all__ = [
@@ -40,6 +40,7 @@ __all__ = [
     "add_noise",
     "apply_context",
     "cache_dir",
+    "generator_fingerprint",
     "labels_path",
     "load_dataset",
     "load_stream",

@@ -3,6 +3,7 @@ the dataset layout and cached on demand."""
 
 from __future__ import annotations
 
+import hashlib
 import os
 import shutil
 import tempfile
@@ -19,8 +20,11 @@ from .streams import make_stream, save_stream
 
 __all__ = ["N_TRIALS", "REPLICA_VERSION", "cache_dir", "make_replica", "replica_path"]
 
-#: Bump whenever the generator changes, so that cached replicas are regenerated.
+#: Format version of the replica; the cache key also holds a hash of the generator's source
+#: (:func:`generator_fingerprint`), so a cached replica is never reused after the code changed.
 REPLICA_VERSION = 1
+#: Modules whose source defines the replica's content.
+_GENERATOR_MODULES = ("contexts", "gestures", "motion", "recording", "replica", "streams")
 #: Trials per gesture and context.
 N_TRIALS = 5
 #: Variation of the user's stance between the trials of one session: position [m], heading [rad].
@@ -31,6 +35,15 @@ def cache_dir() -> Path:
     """``$FRAMEFREE_CACHE`` if set, else ``~/.cache/framefree``."""
     env = os.environ.get("FRAMEFREE_CACHE")
     return Path(env).expanduser() if env else Path.home() / ".cache" / "framefree"
+
+
+def generator_fingerprint() -> str:
+    """Eight hex digits of a hash of the generator's source files (part of the cache key)."""
+    h = hashlib.sha256()
+    here = Path(__file__).resolve().parent
+    for name in _GENERATOR_MODULES:
+        h.update((here / f"{name}.py").read_bytes())
+    return h.hexdigest()[:8]
 
 
 def _rng(seed: int, *keys: int) -> np.random.Generator:
@@ -81,7 +94,9 @@ def make_replica(out_dir: str | Path, seed: int = 0, n_streams: int = 3) -> Path
 def replica_path(seed: int = 0) -> Path:
     """Path of the cached replica for ``seed``, generating it first if needed (a few seconds).
 
-    The replica lives in :func:`cache_dir` under ``hpm-replica-v<version>-seed<seed>``; it is
+    The replica lives in :func:`cache_dir` under ``hpm-replica-v<version>-<fingerprint>-seed<seed>``
+    (the fingerprint hashes the generator's source, so a replica made by other code is never
+    reused); it is
     written to a temporary folder beside it and renamed, so a half-written replica is never used
     and concurrent callers are safe.
 
@@ -91,7 +106,7 @@ def replica_path(seed: int = 0) -> Path:
     >>> traj, segments = load_stream(replica_path() / "streams" / "stream_1.csv")  # doctest: +SKIP
     """
     base = cache_dir()
-    final = base / f"hpm-replica-v{REPLICA_VERSION}-seed{int(seed)}"
+    final = base / f"hpm-replica-v{REPLICA_VERSION}-{generator_fingerprint()}-seed{int(seed)}"
     if final.is_dir():
         return final
     base.mkdir(parents=True, exist_ok=True)
