@@ -174,3 +174,28 @@ def test_builtin_layout_scanner_agrees_with_dataset_loader(tiny_root: Path, tiny
         ]
         np.testing.assert_array_equal(a[0].data, b[0].data)
     assert own.contexts == tiny.contexts
+
+
+@pytest.mark.parametrize(
+    ("method", "progress", "extra"),
+    [
+        ("dhb", "angle", "lam"),
+        ("isa", "screw", "lam"),
+        ("dsrf", "arclength", None),
+        ("bilts", "angle", "ds_scale"),
+    ],
+)
+def test_cached_pipeline_equals_compute_for_every_family(tiny, method, progress, extra) -> None:
+    """Shared representations (DHB/eFS/ISA), arclength-normalized RRV/DSRF and BILTS all match
+    ``compute`` on the trajectory at several parameter points of one task."""
+    trials = tiny.models[::3] + tiny.test[:2]
+    inputs = reparameterize_task(resample_task([r.data for r in trials]), progress, 0.3)
+    xs = {"lam": [0.01, 10.0], "ds_scale": [0.05, 0.3], None: [None]}[extra]
+    points = [{"progress": progress, "L": 0.3, **({extra: x} if extra else {})} for x in xs]
+    results = evaluate_task(method, points, inputs[:3], inputs[3:])
+    for params, pr in zip(points, results, strict=True):
+        desc = get_descriptor(method, **params)
+        direct = [desc.compute(Trajectory.from_array(r.data)) for r in trials]
+        np.testing.assert_allclose(
+            pr.distances, desc.distance_matrix(direct[3:], direct[:3]), rtol=1e-9
+        )

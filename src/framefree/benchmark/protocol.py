@@ -351,12 +351,42 @@ def _takes_arclength(desc: Descriptor) -> bool:
     return "arclength" in inspect.signature(fn).parameters
 
 
-def _describe(desc: Descriptor, inp: DescriptorInput, round_digits: int | None) -> np.ndarray | str:
+def _shares_representation(desc: Descriptor) -> bool:
+    """Whether the descriptor splits into a parameter-free ``representation(poses, ds)`` and a
+    cheap ``weight(representation)`` (DHB, eFS, ISA: L and λ only weight the rows)."""
+    return callable(getattr(desc, "representation", None)) and callable(
+        getattr(desc, "weight", None)
+    )
+
+
+def _describe(
+    desc: Descriptor,
+    inp: DescriptorInput,
+    round_digits: int | None,
+    cache: dict[int, np.ndarray | str] | None = None,
+    key: int = 0,
+) -> np.ndarray | str:
+    """Descriptor (K, F) of one input, or the reason it cannot be computed.
+
+    With ``cache``, descriptors that share a representation between parameter points compute it
+    once per input (``key``) and only re-weight it.
+    """
     if inp.error is not None:
         return inp.error
     try:
         if inp.data is not None:
             d = desc.compute(Trajectory.from_array(inp.data))
+        elif cache is not None and _shares_representation(desc):
+            raw = cache.get(key)
+            if raw is None:
+                try:
+                    raw = desc.representation(inp.poses, inp.ds)  # type: ignore[attr-defined]
+                except (FramefreeError, FloatingPointError, np.linalg.LinAlgError) as exc:
+                    raw = str(exc)
+                cache[key] = raw
+            if isinstance(raw, str):
+                return raw
+            d = desc.weight(raw)  # type: ignore[attr-defined]
         elif _takes_arclength(desc):  # RRV, DSRF: normalized by the 50 Hz arclength (§4.7)
             d = desc.from_reparameterized(inp.poses, inp.ds, inp.arclength)  # type: ignore[attr-defined]
         else:
@@ -387,7 +417,9 @@ def evaluate_task(
         Registered descriptor name.
     points : sequence of dict
         Descriptor constructor arguments (``progress``, ``L``, ``lam`` / ``ds_scale``); all points
-        of one call must share the inputs (same progress, and same L for screw-path progress).
+        of one call share the inputs (same progress, and same L for screw-path progress), so
+        descriptors whose parameters only weight a shared representation (DHB, eFS, ISA) compute
+        that representation once per trial.
     models, queries : sequence of DescriptorInput
         Inputs of the model and query trials.
     threads : int, optional
@@ -405,11 +437,13 @@ def evaluate_task(
 
         numba.set_num_threads(max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))
     out = []
+    cache: dict[int, np.ndarray | str] = {}  # representations shared by the points of this task
+    nm = len(models)
     for params in points:
         desc = get_descriptor(method, **params)
         t0 = time.perf_counter()
-        md = [_describe(desc, m, round_digits) for m in models]
-        qd = [_describe(desc, q, round_digits) for q in queries]
+        md = [_describe(desc, m, round_digits, cache, i) for i, m in enumerate(models)]
+        qd = [_describe(desc, q, round_digits, cache, nm + i) for i, q in enumerate(queries)]
         t1 = time.perf_counter()
         mi = [i for i, d in enumerate(md) if not isinstance(d, str)]
         qi = [i for i, d in enumerate(qd) if not isinstance(d, str)]
