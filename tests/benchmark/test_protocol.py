@@ -199,3 +199,16 @@ def test_cached_pipeline_equals_compute_for_every_family(tiny, method, progress,
         np.testing.assert_allclose(
             pr.distances, desc.distance_matrix(direct[3:], direct[:3]), rtol=1e-9
         )
+
+
+def test_dsrf_prealign_undoes_a_world_rotation(tiny) -> None:
+    from framefree.benchmark.figures import prealign
+
+    m = next(r for r in tiny.models if r.gesture == "pour")
+    q = next(r for r in tiny.test if r.gesture == "pour" and r.context == "world_frame_1")
+    desc = get_descriptor("dsrf", progress="angle")
+    A = desc.compute(Trajectory.from_array(m.data))
+    B = desc.compute(Trajectory.from_array(q.data))
+    assert np.linalg.norm(prealign(desc, A, B) - B) < 0.5 * np.linalg.norm(A - B)
+    bp = get_descriptor("bilts+")
+    assert prealign(bp, A, B) is A

@@ -24,7 +24,13 @@ from ..dtw import warping_path
 from ..trajectory import Trajectory
 from .protocol import BenchmarkResult, RowResult
 
-__all__ = ["alignment_columns", "plot_aligned_signals", "plot_confusion", "plot_heatmap"]
+__all__ = [
+    "alignment_columns",
+    "plot_aligned_signals",
+    "plot_confusion",
+    "plot_heatmap",
+    "prealign",
+]
 
 
 def plot_heatmap(result: BenchmarkResult, path: str | Path) -> Path:
@@ -112,6 +118,28 @@ def alignment_columns(descriptor: Descriptor, n_features: int) -> slice:
     return slice(0, n_features)
 
 
+def prealign(descriptor: Descriptor, model: np.ndarray, query: np.ndarray) -> np.ndarray:
+    """The model sequence as the classifier compares it with the query.
+
+    DSRF rotates the model by one global Kabsch rotation before DTW (§6.4); every other descriptor
+    compares the sequences as they are.
+
+    Parameters
+    ----------
+    model, query : ndarray, shape (K, F)
+
+    Returns
+    -------
+    ndarray, shape (K, F)
+    """
+    if descriptor.name == "dsrf" and model.shape == query.shape and model.shape[1] == 6:
+        from ..descriptors.dsrf import dsrf_alignment
+
+        R = dsrf_alignment(model, query)
+        return np.hstack([model[:, :3] @ R.T, model[:, 3:] @ R.T])
+    return model
+
+
 def plot_aligned_signals(
     descriptor: Descriptor,
     model: Trajectory,
@@ -125,7 +153,8 @@ def plot_aligned_signals(
     Top: the model's alignment signals (solid) and the query's (dashed) against their own sample
     index, with grey lines joining the samples that the warping path pairs. Bottom: the query
     warped onto the model's index (each path pair plotted at its model index), which shows what
-    the classifier compares.
+    the classifier compares. BILTS and BILTS+ are aligned on their singular values (the signals
+    shown); DSRF's model is first rotated onto the query (:func:`prealign`).
 
     Parameters
     ----------
@@ -143,6 +172,7 @@ def plot_aligned_signals(
     path.parent.mkdir(parents=True, exist_ok=True)
     A = np.asarray(descriptor.compute(model))
     B = np.asarray(descriptor.compute(query))
+    A = prealign(descriptor, A, B)
     cols = alignment_columns(descriptor, A.shape[1])
     Xa, Xb = A[:, cols], B[:, cols]
     wp = warping_path(Xa, Xb)
