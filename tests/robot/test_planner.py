@@ -155,6 +155,26 @@ def test_repeated_direction_does_not_extend_the_motion():
     assert planner.handle(ev("go_left")).reason == "started"
 
 
+def test_repeat_window_ignores_a_re_performed_gesture_after_its_motion_ended():
+    params = PlannerParams(repeat_window=8.0)
+    planner = Planner(params)
+    arm = FollowingArm(planner)
+    p0 = arm.p.copy()
+    planner.handle(ev("go_left"))
+    arm.run(4.0)  # the motion has ended
+    assert planner.state != "move"
+    assert planner.handle(ev("go_left")).reason == "repeated"
+    arm.run(2.0)
+    assert abs(arm.p[1] - p0[1] - params.travel["go_left"]) < 2e-4
+    # another accepted command in between: the same gesture is a new command again
+    planner.handle(ev("go_up"))
+    arm.run(3.0)
+    assert planner.handle(ev("go_left")).reason == "started"
+    # and past the window it is a new command too
+    arm.run(9.0)
+    assert planner.handle(ev("go_left")).reason == "started"
+
+
 def test_repeated_gripper_home_and_unknown_events():
     planner = Planner()
     arm = FollowingArm(planner)

@@ -112,6 +112,13 @@ class PlannerParams:
     contact_deviation : float
         Lag of the measured TCP behind the commanded position, along the motion, that ends a
         directional motion [m]; 0 disables contact detection.
+    repeat_window : float
+        A directional or go-home command equal to the last accepted one, arriving within this
+        many seconds of it, is a repeat and ignored even if that motion has already ended [s].
+        People re-perform a gesture when the robot seems not to react (the paper's user did so
+        twice); when the recognizer caught the first attempt, the second must not move the
+        robot again. 0 (default) disables the rule: then only a repeat during the motion is
+        ignored.
     """
 
     directions: Mapping[str, tuple[float, float, float]] = field(
@@ -146,6 +153,7 @@ class PlannerParams:
     workspace_min: tuple[float, float, float] = (0.25, -0.45, 0.0)
     workspace_max: tuple[float, float, float] = (0.75, 0.45, 0.65)
     contact_deviation: float = 0.008
+    repeat_window: float = 0.0
 
     def __post_init__(self):
         for name in ("speed", "acceleration", "stop_deceleration", "home_speed", "gripper_speed"):
@@ -286,6 +294,8 @@ class Planner:
             return self._decide(event, True, "stopping")
         if self.state == "stop":
             return self._decide(event, False, "ignored while stopping")
+        if self._recent_repeat(label):
+            return self._decide(event, False, "repeated")
         if label in p.directions:
             if self.state == "move" and self.label == label:
                 return self._decide(event, False, "repeated")
@@ -332,6 +342,18 @@ class Planner:
         """
         ordered = sorted(events, key=lambda e: (e.time, not e.is_stop))
         return [self.handle(e) for e in ordered]
+
+    def _recent_repeat(self, label: str) -> bool:
+        """True for a motion command equal to the last accepted one within ``repeat_window``."""
+        p = self.params
+        if p.repeat_window <= 0 or not (label in p.directions or label == p.home_label):
+            return False
+        last = next((d for d in reversed(self.decisions) if d.accepted), None)
+        return (
+            last is not None
+            and last.event.label == label
+            and self.time - last.time <= p.repeat_window
+        )
 
     def _decide(self, event: Event, accepted: bool, reason: str) -> Decision:
         d = Decision(event, accepted, reason, self.time)

@@ -10,7 +10,10 @@ Scene (robot base frame, table top z = 0, blocks are 4 cm cubes of 50 g):
 Planner (:data:`STACKING_PLANNER`): home TCP at (0.50, 0, 0.20) m pointing down; go_left/right
 move 0.15 m along ±y, go_up 0.10 m, go_down 0.14 m, all at 0.06 m/s with 0.25 m/s²; the
 workspace floor is z = 0.02 m (the TCP never goes below the centre of a block on the table) and
-go_down ends on contact (measured TCP 8 mm behind the commanded one).
+go_down ends on contact (measured TCP 8 mm behind the commanded one). A motion command equal to
+the last accepted one within 8 s (``repeat_window``) is a repeat: the paper's user re-performed
+go_right and go_down when the robot seemed not to react, and a recognizer that caught the first
+attempt must not move the robot twice.
 
 Why these distances make the paper's gesture timeline stack a block: the timeline (detected
 events only) moves the TCP between y = 0 and y = +0.15 and performs four pick/place descents.
@@ -105,7 +108,7 @@ STACKING_SCENE = SceneSpec(
     )
 )
 #: Planner parameters of the stacking task.
-STACKING_PLANNER = PlannerParams(workspace_min=(0.25, -0.45, 0.02))
+STACKING_PLANNER = PlannerParams(workspace_min=(0.25, -0.45, 0.02), repeat_window=8.0)
 #: Initial joint angles [rad] (Franka's ready pose).
 STACKING_START = Q_READY.copy()
 
