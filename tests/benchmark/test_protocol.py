@@ -212,3 +212,16 @@ def test_dsrf_prealign_undoes_a_world_rotation(tiny) -> None:
     assert np.linalg.norm(prealign(desc, A, B) - B) < 0.5 * np.linalg.norm(A - B)
     bp = get_descriptor("bilts+")
     assert prealign(bp, A, B) is A
+
+
+def test_presmooth_extension_is_applied_before_progress(tiny) -> None:
+    from framefree.progress import uniform_time_poses
+
+    data = tiny.models[0].data
+    raw, smooth = resample_task([data])[0], resample_task([data], presmooth=10)[0]
+    np.testing.assert_allclose(
+        smooth, uniform_time_poses(Trajectory.from_array(data), presmooth=10)
+    )
+    assert np.abs(raw - smooth).max() > 1e-4
+    res = run_benchmark(tiny, [MethodSpec("dsrf", "angle")], SerialBackend(), presmooth=10)
+    assert res.rows[0].per_context["original_2"] == 100.0

@@ -274,19 +274,23 @@ class DescriptorInput:
     error: str | None = None
 
 
-def resample_task(arrays: Sequence[np.ndarray]) -> list[np.ndarray]:
+def resample_task(arrays: Sequence[np.ndarray], presmooth: int | None = None) -> list[np.ndarray]:
     """Resample trials at 50 Hz with ScLERP (§1.2).
 
     Parameters
     ----------
     arrays : sequence of ndarray, each (N_i, 8)
         Trials ``t, x, y, z, qw, qx, qy, qz``.
+    presmooth : int, optional
+        framefree extension, off by default: Gaussian-smooth the 50 Hz poses with this window
+        [samples] before any progress is computed
+        (:func:`~framefree.progress.uniform_time_poses`).
 
     Returns
     -------
     list of ndarray, each (M_i, 4, 4)
     """
-    return [uniform_time_poses(Trajectory.from_array(a)) for a in arrays]
+    return [uniform_time_poses(Trajectory.from_array(a), presmooth=presmooth) for a in arrays]
 
 
 def reparameterize_task(
@@ -662,6 +666,7 @@ def run_benchmark(
     on_total: Callable[[int], None] | None = None,
     round_digits: int | None = None,
     n_samples: int = 50,
+    presmooth: int | None = None,
 ) -> BenchmarkResult:
     """Run the protocol for each method/progress row.
 
@@ -681,6 +686,9 @@ def run_benchmark(
         Round descriptors to this many significant digits (§6.8); default full precision.
     n_samples : int
         Progress samples per trajectory (50).
+    presmooth : int, optional
+        framefree extension, off by default (not the paper's protocol): Gaussian-smooth the 50 Hz
+        poses with this window [samples] before progress and descriptors are computed.
 
     Returns
     -------
@@ -704,6 +712,9 @@ def run_benchmark(
     model_labels = [r.gesture for r in data.models]
 
     from_time = [_needs_time_trajectory(spec) for spec in methods]
+    if presmooth and any(from_time):
+        names = ", ".join(m.key for m, f in zip(methods, from_time, strict=True) if f)
+        raise ValueError(f"presmoothing needs descriptors with from_reparameterized; not: {names}")
 
     # the full tally of tasks, so a progress bar knows its length up front
     rep_keys: list[tuple[str, float]] = []
@@ -723,7 +734,7 @@ def run_benchmark(
     t = time.perf_counter()
     poses50: list[np.ndarray | None] = [None] * len(trials)
     if needs_poses:
-        tasks = [([trials[i].data for i in ch],) for ch in chunks]
+        tasks = [([trials[i].data for i in ch], presmooth) for ch in chunks]
         for k, res in backend.run(resample_task, tasks):
             for i, P in zip(chunks[k], res, strict=True):
                 poses50[i] = P

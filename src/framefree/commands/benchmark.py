@@ -69,6 +69,14 @@ __all__ = ["benchmark_command", "register"]
     help="Round descriptors to N significant digits, as the reference's CSV storage (5).",
 )
 @click.option(
+    "--presmooth",
+    type=int,
+    default=None,
+    metavar="W",
+    help="framefree extension (not the paper's protocol): Gaussian-smooth the 50 Hz poses with "
+    "a W-sample window before progress and descriptors.",
+)
+@click.option(
     "--figures/--no-figures",
     default=True,
     show_default=True,
@@ -85,6 +93,7 @@ def benchmark_command(
     out_dir: Path,
     json_file: Path | None,
     round_digits: int | None,
+    presmooth: int | None,
     figures: bool,
     quiet: bool,
 ) -> None:
@@ -133,7 +142,13 @@ def benchmark_command(
         if not quiet:
             click.echo(f"running {len(specs)} row(s) on {bk.describe()}", err=True)
         result = run_benchmark(
-            data, specs, bk, progress=bar.update, on_total=grow, round_digits=round_digits
+            data,
+            specs,
+            bk,
+            progress=bar.update,
+            on_total=grow,
+            round_digits=round_digits,
+            presmooth=presmooth,
         )
     bar.close()
     result.timing["load"] = load_s
