@@ -225,3 +225,4 @@ def test_presmooth_extension_is_applied_before_progress(tiny) -> None:
     assert np.abs(raw - smooth).max() > 1e-4
     res = run_benchmark(tiny, [MethodSpec("dsrf", "angle")], SerialBackend(), presmooth=10)
     assert res.rows[0].per_context["original_2"] == 100.0
+    assert res.settings["presmooth"] == 10

@@ -583,6 +583,8 @@ class BenchmarkResult:
     backend : str
     test_labels, test_contexts, test_names : list of str
         The test queries, in the order of each row's predictions.
+    settings : dict
+        Options that change the numbers: ``round_digits``, ``presmooth``, ``n_samples``.
     """
 
     rows: list[RowResult]
@@ -596,6 +598,7 @@ class BenchmarkResult:
     test_labels: list[str] = field(default_factory=list)
     test_contexts: list[str] = field(default_factory=list)
     test_names: list[str] = field(default_factory=list)
+    settings: dict[str, Any] = field(default_factory=dict)
 
 
 def score_row(
@@ -860,4 +863,5 @@ def run_benchmark(
         test_labels=[r.gesture for r in data.test],
         test_contexts=[r.context for r in data.test],
         test_names=[r.name for r in data.test],
+        settings={"round_digits": round_digits, "presmooth": presmooth, "n_samples": n_samples},
     )

@@ -131,6 +131,21 @@ def markdown_table(result: BenchmarkResult, with_paper: bool = True) -> str:
     return out
 
 
+def _settings_lines(result: BenchmarkResult) -> list[str]:
+    st = result.settings
+    notes = []
+    if st.get("presmooth"):
+        notes.append(
+            f"**framefree extension, not the paper's protocol:** the 50 Hz poses were "
+            f"Gaussian-smoothed (window {st['presmooth']} samples) before progress and descriptors."
+        )
+    if st.get("round_digits"):
+        notes.append(f"Descriptors rounded to {st['round_digits']} significant digits (§6.8).")
+    if st.get("n_samples", 50) != 50:
+        notes.append(f"{st['n_samples']} progress samples per trajectory (the paper: 50).")
+    return [*(n + "\n" for n in notes)]
+
+
 def write_markdown(result: BenchmarkResult, path: str | Path, title: str | None = None) -> Path:
     """Write :func:`markdown_table` with a short header (dataset, counts, timing) to ``path``."""
     path = Path(path)
@@ -146,6 +161,7 @@ def write_markdown(result: BenchmarkResult, path: str | Path, title: str | None 
         "Δ{b}, Δ{w}: pooled over the body-/world-frame contexts; mean ± σ over the individual "
         "contexts (sample σ of per-context ratios rounded to 0.1).",
         "",
+        *_settings_lines(result),
         f"Run: {result.backend}; {t.get('total', float('nan')):.1f} s wall-clock "
         f"(descriptors {t.get('descriptors', float('nan')):.1f} s, matching "
         f"{t.get('matching', float('nan')):.1f} s of compute).",
@@ -206,6 +222,7 @@ def result_to_dict(result: BenchmarkResult) -> dict[str, Any]:
             "contexts": result.contexts,
             "counts": result.counts,
             "backend": result.backend,
+            "settings": result.settings,
             "timing_seconds": result.timing,
             "rows": [row_to_dict(r, result.gestures) for r in result.rows],
         }
