@@ -166,6 +166,7 @@ def write_markdown(result: BenchmarkResult, path: str | Path, title: str | None 
         f"(descriptors {t.get('descriptors', float('nan')):.1f} s, matching "
         f"{t.get('matching', float('nan')):.1f} s of compute).",
         "",
+        "",
     ]
     path.write_text("\n".join(header) + markdown_table(result), encoding="utf-8")
     return path
