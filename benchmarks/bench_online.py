@@ -3,13 +3,15 @@
 Models: the 35 *original_1* recordings of the HPM replica (``framefree.datasets.replica_path``) when
 available, else synthetic gestures; replicated ×10 and ×100 for 350 and 3 500 models. The live stream
 is a concatenation of other-context recordings (so matchers see realistic descriptors). The
-decision threshold is set to 0 so that no event (and no refractory reset) interrupts the matchers:
-every descriptor sample pays the full matcher cost.
+thresholds are the automatic per-gesture calibration (pruning depends on them) but the refractory
+reset is off, so no event interrupts the matchers: every descriptor sample pays the full matcher
+cost. ``--prune-factor none`` measures the unpruned matchers. The 350/3 500 banks are copies of
+the 35 models (the same descriptors; pruning acts on copies as on the originals).
 
 Usage::
 
     .venv/bin/python benchmarks/bench_online.py [--json benchmarks/results/online.json]
-        [--threads N] [--repeat 3]
+        [--threads N] [--repeat 3] [--prune-factor 2|none]
 
 ``--threads`` limits numba's threads (the multi-threaded kernel is used from 1 000 models on);
 the 35-model target (< 1 ms per pose sample) is measured with one thread.
@@ -94,17 +96,21 @@ def main() -> None:
     ap.add_argument("--threads", type=int, default=None, help="numba threads for the large banks")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--counts", default="35,350,3500")
+    ap.add_argument("--prune-factor", default="default",
+                    help="matcher pruning cutoff factor (a number, 'none', or the config default)")
     args = ap.parse_args()
 
     import numba
 
     from framefree.online import Recognizer, RecognizerConfig
-    from framefree.online.models import build_models
 
     trajs, labels, t, p, q, origin = _models_and_stream()
     cfg = RecognizerConfig()
-    models = build_models(trajs, labels, cfg)
-    cfg = cfg.replace(resolution=models.resolution, threshold=1e-300, stop_threshold=1e9)
+    if args.prune_factor != "default":
+        cfg = cfg.replace(prune_factor=None if args.prune_factor == "none" else float(args.prune_factor))
+    calibrated = Recognizer.from_trajectories(trajs, labels, cfg)
+    models = calibrated.models
+    cfg = calibrated.config.replace(stop_threshold=1e9, refractory_reset=False)
     threads = args.threads or numba.config.NUMBA_NUM_THREADS
     results = []
     for count in [int(c) for c in args.counts.split(",")]:
@@ -113,7 +119,7 @@ def main() -> None:
 
         many = GestureModels((models.labels * reps)[:count], (models.descriptors * reps)[:count],
                              models.resolution)
-        rec = Recognizer(many, cfg)
+        rec = Recognizer(many, cfg, gesture_thresholds=calibrated.gesture_thresholds)
         numba.set_num_threads(1 if not rec.bank.parallel else threads)
         rec.warmup()
         r = _measure(rec, t, p, q, args.repeat)
@@ -131,6 +137,7 @@ def main() -> None:
         "stream_pose_samples": len(t),
         "resolution_m": models.resolution,
         "config": cfg.to_dict(),
+        "gesture_thresholds": calibrated.gesture_thresholds,
         "machine": {"platform": platform.platform(), "processor": platform.processor(),
                     "cpu_count": os.cpu_count(), "numba_threads_available": threads},
         "results": results,

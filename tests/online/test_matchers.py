@@ -75,3 +75,24 @@ def test_bank_rejects_bad_models():
         MatcherBank([np.zeros((1, 18))])
     with pytest.raises(ValueError):
         MatcherBank([np.zeros((5, 12))])
+
+
+@pytest.mark.parametrize("parallel", [False, True])
+def test_pruning_is_exact_below_cutoff(parallel):
+    """With cutoffs, every d_j below its cutoff is the exact value; above it reads >= cutoff."""
+    rng = np.random.default_rng(5)
+    models = [rng.normal(size=(int(rng.integers(6, 30)), 18)) for _ in range(9)]
+    live = rng.normal(size=(120, 18))
+    for j in (1, 4):
+        s = 10 + 50 * (j == 4)
+        live[s : s + len(models[j])] = models[j] + 0.05 * rng.normal(size=models[j].shape)
+    exact = MatcherBank(models, parallel_models=1 if parallel else 10**9)
+    ref = np.array([exact.update(b).copy() for b in live])
+    cut = np.quantile(ref[np.isfinite(ref)], 0.1) * np.linspace(0.5, 2.0, len(models))
+    pruned = MatcherBank(models, parallel_models=1 if parallel else 10**9, cutoffs=cut)
+    got = np.array([pruned.update(b).copy() for b in live])
+    below = ref < cut[None]
+    assert below.sum() > 5
+    np.testing.assert_allclose(got[below], ref[below], rtol=1e-12)
+    assert np.all(~(got < cut[None]) | below)  # nothing spuriously below the cutoff
+    assert np.all(got[~below] >= cut[None].repeat(len(live), 0)[~below])

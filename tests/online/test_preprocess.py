@@ -49,3 +49,13 @@ def test_world_frame_invariance(kettle):
     B = b.reshape(-1, 6, 3).transpose(0, 2, 1)
     assert a.shape == b.shape
     assert kabsch_residual(A, B).max() < 1e-8
+
+
+def test_presmoothed_streaming_equals_offline_path(kettle):
+    res, L, ds_scale = 0.03, 0.5, 0.09
+    live, _ = replay(kettle, res, L, ds_scale, presmooth=5)
+    offline = descriptor_from_samples(geometric_samples(kettle, res, L, presmooth=5), res, L, ds_scale)
+    assert live.shape == offline.shape and live.shape[0] > 20
+    np.testing.assert_allclose(live, offline, rtol=0, atol=1e-12)
+    raw, _ = replay(kettle, res, L, ds_scale)
+    assert not np.array_equal(raw[: min(len(raw), len(live))], live[: min(len(raw), len(live))])

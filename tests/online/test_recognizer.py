@@ -175,11 +175,21 @@ def test_automatic_calibration(model_set, session):
     rec = Recognizer.from_trajectories(trajs, labels, resolution=0.04)
     cal = rec.calibration
     assert cal is not None and rec.threshold > 0
-    assert cal.negatives.size >= len(trajs) * 3
-    assert set(cal.negative_kinds) <= {"head", "middle", "tail", "splice"}
+    assert cal.negatives.size >= len(trajs)
+    assert set(cal.negative_kinds) <= {"rest", "moves", "cross"}
     assert rec.stop_threshold >= rec.config.stop_floor
     d = rec.describe()
     assert d["calibration"]["threshold"] == rec.threshold
+    # per-gesture thresholds (default), each from its own positives and negatives
+    assert set(rec.gesture_thresholds) == set(labels)
+    assert all(v > 0 for v in rec.gesture_thresholds.values())
+    for j, lab in enumerate(rec.labels):
+        assert rec.model_thresholds[j] == rec.gesture_thresholds[lab]
+    # the cut pieces of the recordings remain available; global mode gives one τ
+    rec3 = Recognizer.from_trajectories(trajs, labels, resolution=0.04, threshold_mode="global",
+                                        calibration_negatives=("head", "middle", "tail", "splice"))
+    assert set(rec3.calibration.negative_kinds) <= {"head", "middle", "tail", "splice"}
+    assert len(set(rec3.gesture_thresholds.values())) == 1
     # the user can override both
     rec2 = Recognizer.from_trajectories(trajs, labels, resolution=0.04, threshold=0.123,
                                         stop_threshold=9.0)
@@ -207,3 +217,23 @@ def test_models_are_the_streaming_replay(rec, model_set):
 
 def test_trajectory_is_not_modified(session):
     assert isinstance(session, Trajectory)
+
+
+def test_decision_rules_and_pruning(model_set, config, session):
+    """``minimum`` fires at most as often as ``first``, never before it, with a label of the dip's
+    minimum; pruning (any factor >= 1) changes no decision."""
+    trajs, labels = model_set
+    base = config.replace(prune_factor=None)
+    first = Recognizer.from_trajectories(trajs, labels, base.replace(decision="first"))
+    ev_first, _ = _run(first, _rows(session))
+    mini = Recognizer.from_trajectories(trajs, labels, base.replace(decision="minimum"))
+    ev_min, _ = _run(mini, _rows(session))
+    assert 0 < len(ev_min) <= len(ev_first)
+    assert ev_min[0].time >= ev_first[0].time
+    assert ev_min[0].dissimilarity <= ev_first[0].dissimilarity + 1e-12
+    for factor in (1.0, 3.0):
+        pr = Recognizer.from_trajectories(trajs, labels, base.replace(prune_factor=factor))
+        ev_pr, _ = _run(pr, _rows(session))
+        assert [(e.label, e.time, e.model) for e in ev_pr] == [(e.label, e.time, e.model) for e in ev_min]
+        np.testing.assert_allclose([e.dissimilarity for e in ev_pr], [e.dissimilarity for e in ev_min],
+                                   rtol=1e-12)

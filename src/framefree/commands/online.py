@@ -106,13 +106,25 @@ def stream_cmd(file: str, port: int, rate: float | None, speed: float, fmt: str,
               help="Stop after this many seconds without a pose (ZeroMQ).")
 @click.option("--view/--no-view", default=True, show_default=True,
               help="Show a one-line live view of the per-gesture dissimilarities.")
+@click.option("--robot", type=click.Choice(["none", "sim"]), default="none", show_default=True,
+              help="sim: drive the simulated Panda (MuJoCo, block stacking) with the events.")
+@click.option("--robot-plot", type=click.Path(dir_okay=False), default=None,
+              help="With --robot sim: write the session figure (PNG) at the end.")
+@click.option("--robot-settle", type=float, default=3.0, show_default=True,
+              help="With --robot sim: simulated seconds after the last pose.")
 def live_cmd(models: str, model_context: str, source: str, speed: float, timeout: float,
-             view: bool, **kw: Any):
-    """Recognize gestures live from a pose source and print events as they happen."""
+             view: bool, robot: str, robot_plot: str | None, robot_settle: float, **kw: Any):
+    """Recognize gestures live from a pose source and print events as they happen.
+
+    With ``--robot sim`` the events drive the simulated robot (issue 6): the simulation clock
+    follows the stream's time stamps (time 0 = first pose) and every event acts at its time.
+    """
     from ..online.sources import open_source
 
+    sim = _robot_sim() if robot == "sim" else None
     rec = _recognizer(models, model_context, **kw)
     src = open_source(source, speed=speed, timeout=timeout)
+    t0: float | None = None
     tty = view and sys.stdout.isatty()
     short = {g: g.replace("go_", "").replace("_gripper", "")[:6] for g in rec.gestures}
     n = 0
@@ -120,12 +132,19 @@ def live_cmd(models: str, model_context: str, source: str, speed: float, timeout
     try:
         for t, p, q in src:
             n += 1
+            if sim is not None and t0 is None:
+                t0 = float(t)
+                sim = sim(t0)
             for ev in rec.push(t, p, q):
                 if tty:
                     click.echo("\r\033[K", nl=False)
                 d = "" if ev.is_stop else f"  d={ev.dissimilarity:.4g}  model {ev.model}"
                 click.secho(f"{ev.time:9.2f} s  {ev.label.upper():<14}{d}", bold=True,
                             fg="red" if ev.is_stop else "green")
+                if sim is not None:
+                    sim.handle(ev)
+            if sim is not None:
+                sim.advance_to(float(t) - t0)
             now = time.perf_counter()
             if view and now - last_view > 0.1:
                 last_view = now
@@ -139,6 +158,45 @@ def live_cmd(models: str, model_context: str, source: str, speed: float, timeout
         click.echo()
     skipped = {k: v for k, v in rec.stats.items() if v and k not in ("samples", "accepted")}
     click.echo(f"{n} poses; {json.dumps(skipped)}", err=True)
+    if sim is not None and t0 is not None:
+        sim.advance_to(sim.time + robot_settle)
+        log = sim.log()
+        acted = sum(1 for d in log.decisions if d.accepted)
+        click.echo(f"robot: {len(log.decisions)} events handled, {acted} changed the plan, "
+                   f"{sim.time:.1f} s simulated", err=True)
+        if robot_plot:
+            from ..robot.render import plot_session
+
+            click.echo(f"robot session figure: {plot_session(log, robot_plot)}", err=True)
+
+
+def _robot_sim():
+    """Factory ``time_offset -> RobotSim`` for ``--robot sim``; a clear error without MuJoCo.
+
+    :mod:`framefree.robot.sim` is imported first: it chooses MuJoCo's GL backend (EGL without a
+    display), which MuJoCo fixes at its first import.
+    """
+    try:
+        from ..robot import sim as _sim
+    except ImportError as exc:
+        raise click.ClickException(f"--robot sim is not available: {exc}") from None
+    try:
+        _sim.import_mujoco()
+    except _sim.SimulatorMissing as exc:
+        raise click.ClickException(f"--robot sim: {exc}") from None
+    from ..robot.scenario import STACKING_PLANNER, STACKING_SCENE, STACKING_START
+    from ..robot.session import RobotSim
+
+    def on_event(decision) -> None:
+        ev = decision.event
+        verdict = "->" if decision.accepted else "(ignored)"
+        click.echo(f"{ev.time:9.2f} s  robot {verdict} {ev.label} [{decision.reason}]", err=True)
+
+    def make(time_offset: float) -> RobotSim:
+        return RobotSim(planner=STACKING_PLANNER, scene=STACKING_SCENE, q0=STACKING_START,
+                        time_offset=time_offset, on_event=on_event)
+
+    return make
 
 
 @click.command("evaluate-stream")

@@ -124,12 +124,29 @@ def residual18(a, a2, b, b2):
 
 
 @njit(cache=True)
-def _update_model(j, A, A2, offsets, b, b2, S, count, lat_lo, lat_hi, out_d, out_l):
+def _update_model(j, A, A2, An, offsets, b, b2, bn, S, count, lat_lo, lat_hi, cut, out_d, out_l):
     o = offsets[j]
     n = offsets[j + 1] - o
-    for i in range(n - 1, 0, -1):
-        S[o + i] = S[o + i - 1] + residual18(A[o + i], A2[o + i], b, b2)
-    S[o] = residual18(A[o], A2[o], b, b2)
+    # a diagonal whose partial sum reaches bound can never give d_j < cut[j] (later terms are
+    # >= 0 and the divisor is at most n - lat_lo): it is marked dead (inf) and not computed further
+    bound = cut[j] * (n - lat_lo[j])
+    prune = bound < np.inf
+    for i in range(n - 1, -1, -1):
+        prev = S[o + i - 1] if i > 0 else 0.0
+        if prune:
+            if prev >= bound:
+                S[o + i] = np.inf
+                continue
+            # Kabsch residual >= sum over the 6 columns of (|a_c| - |b_c|)^2 (rotations keep norms)
+            lb = prev
+            for c in range(6):
+                e = An[o + i, c] - bn[c]
+                lb += e * e
+            if lb >= bound:
+                S[o + i] = np.inf
+                continue
+        v = prev + residual18(A[o + i], A2[o + i], b, b2)
+        S[o + i] = v if not (prune and v >= bound) else np.inf
     best = np.inf
     best_l = -1
     for lat in range(lat_lo[j], lat_hi[j] + 1):
@@ -145,21 +162,28 @@ def _update_model(j, A, A2, offsets, b, b2, S, count, lat_lo, lat_hi, out_d, out
 
 
 @njit(cache=True)
-def _update_serial(A, A2, offsets, b, S, count, lat_lo, lat_hi, out_d, out_l):
+def _column_norms(b):
+    bn = np.empty(6)
     b2 = 0.0
-    for c in range(b.shape[0]):
-        b2 += b[c] * b[c]
+    for c in range(6):
+        x = b[3 * c] * b[3 * c] + b[3 * c + 1] * b[3 * c + 1] + b[3 * c + 2] * b[3 * c + 2]
+        b2 += x
+        bn[c] = math.sqrt(x)
+    return b2, bn
+
+
+@njit(cache=True)
+def _update_serial(A, A2, An, offsets, b, S, count, lat_lo, lat_hi, cut, out_d, out_l):
+    b2, bn = _column_norms(b)
     for j in range(offsets.shape[0] - 1):
-        _update_model(j, A, A2, offsets, b, b2, S, count, lat_lo, lat_hi, out_d, out_l)
+        _update_model(j, A, A2, An, offsets, b, b2, bn, S, count, lat_lo, lat_hi, cut, out_d, out_l)
 
 
 @njit(cache=True, parallel=True)
-def _update_parallel(A, A2, offsets, b, S, count, lat_lo, lat_hi, out_d, out_l):
-    b2 = 0.0
-    for c in range(b.shape[0]):
-        b2 += b[c] * b[c]
+def _update_parallel(A, A2, An, offsets, b, S, count, lat_lo, lat_hi, cut, out_d, out_l):
+    b2, bn = _column_norms(b)
     for j in prange(offsets.shape[0] - 1):
-        _update_model(j, A, A2, offsets, b, b2, S, count, lat_lo, lat_hi, out_d, out_l)
+        _update_model(j, A, A2, An, offsets, b, b2, bn, S, count, lat_lo, lat_hi, cut, out_d, out_l)
 
 
 def latency_bounds(length: int, fraction: float = 0.2, latency_min: int = 1) -> tuple[int, int]:
@@ -186,6 +210,11 @@ class MatcherBank:
         Smallest latency (1, or 0 to include the fully aligned case).
     parallel_models : int
         Use the multi-threaded kernel when there are at least this many models.
+    cutoffs : array_like, shape (M,), optional
+        Exact pruning: model ``j`` only needs ``d_j`` exactly when it is below ``cutoffs[j]``;
+        running sums that can no longer get below it are dropped (reported ``d_j`` is then
+        ``inf``), and Kabsch residuals whose column-norm lower bound already exceeds it are not
+        computed. Default ``inf``: every ``d_j`` exact.
 
     Attributes
     ----------
@@ -200,6 +229,7 @@ class MatcherBank:
         latency_fraction: float = 0.2,
         latency_min: int = 1,
         parallel_models: int = 1000,
+        cutoffs: np.ndarray | Sequence[float] | None = None,
     ) -> None:
         if len(descriptors) == 0:
             raise ValueError("at least one model is needed")
@@ -211,6 +241,10 @@ class MatcherBank:
         self.offsets = np.concatenate([[0], np.cumsum(self.lengths)]).astype(np.int64)
         self.A = np.ascontiguousarray(np.concatenate(seqs))
         self.A2 = np.einsum("ij,ij->i", self.A, self.A)
+        self.An = np.ascontiguousarray(np.linalg.norm(self.A.reshape(-1, 6, 3), axis=2))
+        self.cutoffs = np.full(len(seqs), np.inf)
+        if cutoffs is not None:
+            self.set_cutoffs(cutoffs)
         bounds = [latency_bounds(int(n), latency_fraction, latency_min) for n in self.lengths]
         self.lat_lo = np.array([b[0] for b in bounds], dtype=np.int64)
         self.lat_hi = np.array([b[1] for b in bounds], dtype=np.int64)
@@ -224,6 +258,13 @@ class MatcherBank:
     def n_models(self) -> int:
         """Number of models M."""
         return int(self.lengths.shape[0])
+
+    def set_cutoffs(self, cutoffs: np.ndarray | Sequence[float]) -> None:
+        """Per-model pruning cutoffs (M,) (``inf``: exact); takes effect for new live samples."""
+        c = np.asarray(cutoffs, dtype=np.float64).reshape(-1)
+        if c.shape[0] != self.n_models:
+            raise ValueError(f"{c.shape[0]} cutoffs for {self.n_models} models")
+        self.cutoffs = np.ascontiguousarray(c)
 
     def reset(self) -> None:
         """Clear all live windows and cached dissimilarities (refractory reset)."""
@@ -241,8 +282,8 @@ class MatcherBank:
         b = np.ascontiguousarray(b, dtype=np.float64)
         self.count += 1
         kern = _update_parallel if self.parallel else _update_serial
-        kern(self.A, self.A2, self.offsets, b, self.S, self.count, self.lat_lo, self.lat_hi,
-             self.d, self.latency)
+        kern(self.A, self.A2, self.An, self.offsets, b, self.S, self.count, self.lat_lo, self.lat_hi,
+             self.cutoffs, self.d, self.latency)
         return self.d
 
 

@@ -9,11 +9,12 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import se3
 from ..errors import DatasetError, FramefreeError
 from ..progress import StreamingReparameterizer, cumulative_progress
 from ..trajectory import Trajectory
 from .config import RecognizerConfig
-from .preprocess import replay
+from .preprocess import filtered_poses, replay
 
 __all__ = ["GestureModels", "auto_resolution", "build_models", "load_model_recordings"]
 
@@ -48,16 +49,20 @@ class GestureModels:
         return len(self.labels)
 
 
-def auto_resolution(trajectories: Sequence[Trajectory], L: float, samples: int = 50) -> float:
+def auto_resolution(
+    trajectories: Sequence[Trajectory], L: float, samples: int = 50, presmooth: int = 1
+) -> float:
     """Resolution Δs_res [m] at which Algorithm 1 keeps a median of ``samples`` geometric samples.
 
     Ambiguity 4.8 suggests the median total screw path divided by ``samples - 1``; but the total
     screw path of a real recording also integrates the sensor noise of its rests, whereas
     Algorithm 1 (displacement from the last kept sample) does not accumulate noise. So the
     resolution is found by bisection (in log space) on the median number of kept samples, starting
-    from that suggestion.
+    from that suggestion. ``presmooth``: the causal pre-filter of the streaming routine is applied
+    first.
     """
-    poses = [tr.poses() for tr in trajectories]
+    poses = [tr.poses() if presmooth <= 1 else se3.poses_from_pq(*filtered_poses(tr, presmooth))
+             for tr in trajectories]
     totals = [cumulative_progress(T, "screw", L)[-1] for T in poses]
     guess = float(np.median(totals)) / (samples - 1)
     if not guess > 0:
@@ -94,10 +99,11 @@ def build_models(
         raise FramefreeError("no model recordings")
     res = config.resolution
     if res is None:
-        res = auto_resolution(trajectories, config.L, config.resolution_samples)
+        res = auto_resolution(trajectories, config.L, config.resolution_samples, config.presmooth)
     descs = []
     for tr in trajectories:
-        d, _ = replay(tr, res, config.L, config.ds_scale, config.window, config.twist_noise)
+        d, _ = replay(tr, res, config.L, config.ds_scale, config.window, config.twist_noise,
+                      config.presmooth)
         if d.shape[0] < 2:
             raise FramefreeError(
                 f"{tr.source or 'a model recording'}: only {d.shape[0]} descriptor samples at "

@@ -35,6 +35,7 @@ from ..trajectory import Trajectory
 
 __all__ = [
     "N_DESCRIPTOR",
+    "CausalPoseFilter",
     "StreamingBILTSPlus",
     "descriptor_from_samples",
     "geometric_samples",
@@ -108,14 +109,54 @@ def _offline_kernel(y, g, before, after, ds, m, L, noise):
     return out
 
 
-def geometric_samples(traj: Trajectory, resolution: float, L: float) -> np.ndarray:
+class CausalPoseFilter:
+    """Causal moving average of the last ``n`` raw poses (position mean, normalized quaternion mean).
+
+    Parameters
+    ----------
+    n : int
+        Window length in pose samples (1: pass through). The output lags the input by
+        ``(n - 1) / 2`` sample periods (40 ms for n = 5 at 50 Hz).
+    """
+
+    def __init__(self, n: int = 1) -> None:
+        self.n = int(n)
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the past samples (a new sequence starts)."""
+        self._buf: deque[np.ndarray] = deque(maxlen=self.n)
+
+    def push(self, p: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Add a sample (position (3,) [m], unit quaternion (4,)); return the filtered (p, q)."""
+        if self.n <= 1:
+            return p, q
+        if self._buf and float(np.dot(q, self._buf[-1][3:])) < 0.0:
+            q = -q
+        self._buf.append(np.concatenate([p, q]))
+        m = np.mean(np.array(self._buf), axis=0)
+        return m[:3], m[3:] / np.linalg.norm(m[3:])
+
+
+def filtered_poses(traj: Trajectory, presmooth: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    """Positions (N, 3) and quaternions (N, 4) of a recording after :class:`CausalPoseFilter`."""
+    if presmooth <= 1:
+        return traj.p, traj.q
+    f = CausalPoseFilter(presmooth)
+    out = [f.push(traj.p[k], traj.q[k]) for k in range(len(traj))]
+    return np.array([o[0] for o in out]), np.array([o[1] for o in out])
+
+
+def geometric_samples(traj: Trajectory, resolution: float, L: float, presmooth: int = 1) -> np.ndarray:
     """Algorithm 1 on a whole recording: the kept samples as rows ``x, y, z, qw, qx, qy, qz`` (n, 7).
 
-    Quaternions are made sign-continuous along the kept samples.
+    Quaternions are made sign-continuous along the kept samples. ``presmooth`` applies
+    :class:`CausalPoseFilter` first (as the streaming path does).
     """
     rep = StreamingReparameterizer(resolution, L)
-    idx = rep.run(traj.poses())
-    y = np.column_stack([traj.p[idx], traj.q[idx]])
+    P, Q = filtered_poses(traj, presmooth)
+    idx = rep.run(traj.poses() if presmooth <= 1 else se3.poses_from_pq(P, Q))
+    y = np.column_stack([P[idx], Q[idx]])
     for r in range(1, y.shape[0]):
         if np.dot(y[r, 3:], y[r - 1, 3:]) < 0.0:
             y[r, 3:] *= -1.0
@@ -174,6 +215,8 @@ class StreamingBILTSPlus:
         Gaussian smoothing window in geometric samples (10).
     twist_noise : float
         Standard deviation of the deterministic twist perturbation (1e-12).
+    presmooth : int
+        Causal moving average over this many raw poses before Algorithm 1 (1: off).
 
     Attributes
     ----------
@@ -199,8 +242,10 @@ class StreamingBILTSPlus:
         ds_scale: float,
         window: int = 10,
         twist_noise: float = 1e-12,
+        presmooth: int = 1,
     ) -> None:
         self.resolution = float(resolution)
+        self._filter = CausalPoseFilter(presmooth)
         self.L = float(L)
         self.ds_scale = float(ds_scale)
         self.window = int(window)
@@ -215,6 +260,7 @@ class StreamingBILTSPlus:
     def reset(self) -> None:
         """Start a new geometric sequence (after a gap or a jump)."""
         self._rep.reset()
+        self._filter.reset()
         self._raw: deque[np.ndarray] = deque(maxlen=self._before + self._after + 1)
         self._smoothed: deque[np.ndarray] = deque(maxlen=self.m + 2)
         self._twists: deque[np.ndarray] = deque(maxlen=2 * self.m + 1)
@@ -236,6 +282,7 @@ class StreamingBILTSPlus:
         """
         p = np.asarray(p, dtype=np.float64)
         q = np.asarray(q, dtype=np.float64)
+        p, q = self._filter.push(p, q)
         if not self._rep.push(pose_from_pq(p, q)):
             return None
         return self._accept(p, q)
@@ -277,6 +324,7 @@ def replay(
     ds_scale: float,
     window: int = 10,
     twist_noise: float = 1e-12,
+    presmooth: int = 1,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Push a recording through :class:`StreamingBILTSPlus` as if it were live.
 
@@ -286,7 +334,7 @@ def replay(
     times : ndarray, shape (K,)
         Time stamp [s] of the pose sample at which each descriptor sample was emitted.
     """
-    calc = StreamingBILTSPlus(resolution, L, ds_scale, window, twist_noise)
+    calc = StreamingBILTSPlus(resolution, L, ds_scale, window, twist_noise, presmooth)
     out: list[np.ndarray] = []
     times: list[float] = []
     for k in range(len(traj)):

@@ -68,11 +68,18 @@ class Recognizer:
         :meth:`from_trajectories` / :meth:`from_dataset` for automatic calibration).
     calibration : Calibration, optional
         Kept for reporting.
+    gesture_thresholds : dict of str to float, optional
+        τ_g per gesture (``threshold_mode="per_gesture"``); default: ``config.threshold`` for all.
 
     Attributes
     ----------
     threshold : float
-        Decision threshold τ on the average pointwise dissimilarity.
+        Decision threshold τ on the average pointwise dissimilarity (with per-gesture thresholds:
+        their median, for reporting).
+    gesture_thresholds : dict of str to float
+        τ_g of each gesture.
+    model_thresholds : ndarray, shape (M,)
+        τ of each model's gesture; a model is a candidate when ``d_j < model_thresholds[j]``.
     stop_threshold : float
         Stop detector threshold on ``|q̇|`` [1/s].
     stats : dict of str to int
@@ -96,6 +103,7 @@ class Recognizer:
         models: GestureModels,
         config: RecognizerConfig,
         calibration: Calibration | None = None,
+        gesture_thresholds: dict[str, float] | None = None,
     ) -> None:
         if config.threshold is None or config.stop_threshold is None:
             raise ValueError("config.threshold and config.stop_threshold must be set")
@@ -107,11 +115,22 @@ class Recognizer:
         self.labels = list(models.labels)
         self.gestures = models.gestures
         self._label_index = np.array([self.gestures.index(s) for s in self.labels])
+        gt = dict.fromkeys(self.gestures, self.threshold)
+        if gesture_thresholds:
+            missing = set(self.gestures) - set(gesture_thresholds)
+            if missing:
+                raise ValueError(f"gesture_thresholds lacks {sorted(missing)}")
+            gt = {g: float(gesture_thresholds[g]) for g in self.gestures}
+        self.gesture_thresholds = gt
+        self.model_thresholds = np.array([gt[s] for s in self.labels])
+        self._pending: tuple[int, float, float, float, int] | None = None  # j, ratio, d, t, stale
         c = self.config
         self.preprocessor = StreamingBILTSPlus(models.resolution, c.L, c.ds_scale, c.window,
-                                               c.twist_noise)
+                                               c.twist_noise, c.presmooth)
         self.bank = MatcherBank(models.descriptors, c.latency_fraction, c.latency_min,
                                 c.parallel_models)
+        if c.prune_factor is not None:
+            self.bank.set_cutoffs(c.prune_factor * self.model_thresholds)
         self.stop = StopDetector(self.stop_threshold, c.stop_samples, c.stop_rearm, c.stop_refractory)
         self.stats: dict[str, int] = dict.fromkeys(STAT_KEYS, 0)
         self.dissimilarities = self.bank.d
@@ -146,13 +165,16 @@ class Recognizer:
         models = build_models(trajectories, labels, config)
         config = config.replace(resolution=models.resolution)
         calibration = None
+        gesture_thresholds = None
         if config.threshold is None:
             calibration = calibrate_threshold(models, trajectories, config)
             config = config.replace(threshold=calibration.threshold)
+            if config.threshold_mode == "per_gesture":
+                gesture_thresholds = calibration.gesture_thresholds
         if config.stop_threshold is None:
             peak = max(debounced_peak_rate(tr, config.stop_samples) for tr in trajectories)
             config = config.replace(stop_threshold=max(config.stop_floor, config.stop_margin * peak))
-        return cls(models, config, calibration)
+        return cls(models, config, calibration, gesture_thresholds)
 
     @classmethod
     def from_dataset(
@@ -191,6 +213,7 @@ class Recognizer:
         self.stats = dict.fromkeys(STAT_KEYS, 0)
 
     def _restart(self) -> None:
+        self._pending = None
         self.preprocessor.reset()
         self.bank.reset()
         self.stop.reset()
@@ -273,10 +296,14 @@ class Recognizer:
             st["geometric"] += 1
         if stop:
             st["stops"] += 1
+            self._pending = None
             if c.refractory_reset:
                 self.bank.reset()
             return [Event(STOP, t, -1.0, -1)]
         if d is None:
+            pend = self._pending
+            if pend is not None and t - pend[3] >= c.decision_wait and not self.stop.active:
+                return self._fire(t)
             return []
         if not np.isfinite(d).all():
             st["bad_descriptors"] += 1
@@ -286,15 +313,37 @@ class Recognizer:
         self.last_matched = dj.copy()
         st["descriptors"] += 1
         if self.stop.active:
+            self._pending = None
             return []
-        j = int(np.argmin(dj))
-        if dj[j] < self.threshold:
-            ev = Event(self.labels[j], t, float(dj[j]), j)
-            st["events"] += 1
-            if c.refractory_reset:
-                self.bank.reset()
-            return [ev]
+        ratio = dj / self.model_thresholds
+        j = int(np.argmin(ratio))
+        r = float(ratio[j])
+        if c.decision == "first":
+            if r < 1.0:
+                self._pending = (j, r, float(dj[j]), t, 0)
+                return self._fire(t)
+            return []
+        pend = self._pending
+        if r < 1.0 and (pend is None or r < pend[1]):
+            self._pending = (j, r, float(dj[j]), t, 0)
+            return []
+        if pend is None:
+            return []
+        stale = pend[4] + 1
+        self._pending = (*pend[:4], stale)
+        if r >= 1.0 or stale >= c.decision_patience or t - pend[3] >= c.decision_wait:
+            return self._fire(t)
         return []
+
+    def _fire(self, t: float) -> list[Event]:
+        """Emit the pending candidate at time ``t`` [s] and apply the refractory reset."""
+        assert self._pending is not None
+        j, _, d, _, _ = self._pending
+        self._pending = None
+        self.stats["events"] += 1
+        if self.config.refractory_reset:
+            self.bank.reset()
+        return [Event(self.labels[j], t, d, j)]
 
     def run(self, traj: Trajectory) -> list[Event]:
         """Push a whole recording; return all events (the recognizer is not reset)."""
@@ -308,6 +357,7 @@ class Recognizer:
         return {
             "config": self.config.to_dict(),
             "threshold": self.threshold,
+            "gesture_thresholds": dict(self.gesture_thresholds),
             "stop_threshold": self.stop_threshold,
             "n_models": len(self.labels),
             "gestures": self.gestures,

@@ -1,0 +1,100 @@
+"""Command-line tests: ``framefree stream``, ``live`` (ZeroMQ on 127.0.0.1) and ``evaluate-stream``.
+
+A tiny dataset (2 gestures × 3 synthetic recordings) and a short labelled stream are written to a
+temporary folder; every ZeroMQ command stops by itself (end message or timeout).
+"""
+
+from __future__ import annotations
+
+import json
+import socket
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from framefree.cli import cli
+from framefree.datasets import make_stream, save_stream, synthesize_gesture
+
+GESTURES = ("go_left", "open_gripper")
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@pytest.fixture(scope="module")
+def tiny(tmp_path_factory) -> tuple[Path, Path]:
+    """``(dataset folder, stream CSV)``: 3 recordings per gesture, a stream of both gestures."""
+    root = tmp_path_factory.mktemp("tiny")
+    rng = np.random.default_rng(7)
+    for g in GESTURES:
+        d = root / g / "original_1"
+        d.mkdir(parents=True)
+        for k in range(3):
+            synthesize_gesture(g, rng).to_csv(d / f"trial_{k + 1}.csv")
+    traj, segs = make_stream(101, sequence=list(GESTURES))
+    (root / "streams").mkdir()
+    stream = save_stream(root / "streams" / "stream.csv", traj, segs)
+    return root, stream
+
+
+def test_evaluate_stream(tiny, tmp_path):
+    root, stream = tiny
+    out = tmp_path / "eval.json"
+    res = CliRunner().invoke(cli, ["evaluate-stream", "--models", str(root), "--stream", str(stream),
+                                   "--json", str(out), "--figures", str(tmp_path / "figs")])
+    assert res.exit_code == 0, res.output
+    assert "precision" in res.output and "F1" in res.output
+    data = json.loads(out.read_text())
+    tot = data["total"]
+    assert tot["tp"] + tot["fn"] == len(GESTURES)
+    assert 0.0 <= tot["f1"] <= 1.0
+    assert set(data["recognizer"]["gesture_thresholds"]) == set(GESTURES)
+    assert (tmp_path / "figs" / "stream_timeline.png").is_file()
+
+
+def test_live_from_csv_file(tiny):
+    root, stream = tiny
+    res = CliRunner().invoke(cli, ["live", "--models", str(root), "--source", str(stream),
+                                   "--speed", "0", "--no-view"])
+    assert res.exit_code == 0, res.output
+    assert "poses" in res.output
+
+
+def test_stream_and_live_over_zmq(tiny):
+    """``stream`` publishes on 127.0.0.1 while ``live`` subscribes; both end by themselves."""
+    root, stream = tiny
+    port = _free_port()
+    out: dict[str, object] = {}
+
+    def publish():
+        time.sleep(1.0)  # let the subscriber build its models first (slow joiner on top)
+        out["stream"] = CliRunner().invoke(cli, ["stream", str(stream), "--port", str(port),
+                                                 "--speed", "0", "--join-wait", "1.0"])
+
+    th = threading.Thread(target=publish, daemon=True)
+    th.start()
+    res = CliRunner().invoke(cli, ["live", "--models", str(root), "--source",
+                                   f"zmq://127.0.0.1:{port}", "--timeout", "8", "--no-view"])
+    th.join(30)
+    assert not th.is_alive()
+    pub = out["stream"]
+    assert pub.exit_code == 0, pub.output
+    assert "sent" in pub.output
+    assert res.exit_code == 0, res.output
+    n_sent = int(pub.output.split("sent ")[-1].split()[0])
+    n_got = int(res.output.strip().splitlines()[-1].split()[0])
+    assert n_got > 0 and n_got <= n_sent
+
+
+def test_live_rejects_non_loopback(tiny):
+    root, _ = tiny
+    res = CliRunner().invoke(cli, ["live", "--models", str(root), "--source", "zmq://192.168.1.2:5556",
+                                   "--timeout", "0.2", "--no-view"])
+    assert res.exit_code != 0
