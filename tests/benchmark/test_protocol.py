@@ -226,3 +226,45 @@ def test_presmooth_extension_is_applied_before_progress(tiny) -> None:
     res = run_benchmark(tiny, [MethodSpec("dsrf", "angle")], SerialBackend(), presmooth=10)
     assert res.rows[0].per_context["original_2"] == 100.0
     assert res.settings["presmooth"] == 10
+
+
+class _FakeFuture:
+    def __init__(self, value) -> None:
+        self.value = value
+
+    def result(self):
+        return self.value
+
+
+def _fake_dask(submitted: list) -> tuple[types.ModuleType, types.ModuleType]:
+    """Just enough of ``dask.distributed`` (Client.submit, as_completed) to run tasks here."""
+
+    class Client:
+        def __init__(self, address=None, **kwargs) -> None:
+            self.closed = False
+
+        def submit(self, fn, *args, pure=True):
+            submitted.append(fn)
+            return _FakeFuture(fn(*args))
+
+        def close(self) -> None:
+            self.closed = True
+
+    dist = types.ModuleType("dask.distributed")
+    dist.Client = Client
+    dist.as_completed = lambda futures: reversed(list(futures))  # any completion order
+    dask = types.ModuleType("dask")
+    dask.distributed = dist
+    return dask, dist
+
+
+def test_same_task_functions_run_on_dask_api(tiny, serial_result, monkeypatch) -> None:
+    submitted: list = []
+    dask, dist = _fake_dask(submitted)
+    monkeypatch.setitem(sys.modules, "dask", dask)
+    monkeypatch.setitem(sys.modules, "dask.distributed", dist)
+    with make_backend("dask", jobs=2) as bk:
+        res = run_benchmark(tiny, ROWS[:1], bk)
+    assert submitted and res.backend.startswith("dask")
+    assert res.rows[0].grid == serial_result.rows[0].grid
+    assert res.rows[0].per_context == serial_result.rows[0].per_context

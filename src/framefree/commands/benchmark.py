@@ -123,15 +123,19 @@ def benchmark_command(
         if skipped:
             msg = f"not registered in this installation, skipped: {', '.join(skipped)}"
             click.secho(msg, fg="yellow", err=True)
-    t0 = time.perf_counter()
-    data = load_benchmark_data(data_dir, model_context)
-    load_s = time.perf_counter() - t0
-    if not quiet:
-        click.echo(f"{data.root}: {data.summary()}", err=True)
     try:
         bk = make_backend(backend, jobs or None, address)
     except ValueError as exc:
-        raise click.BadParameter(str(exc)) from None
+        raise click.BadParameter(str(exc), param_hint="--backend") from None
+    t0 = time.perf_counter()
+    try:
+        data = load_benchmark_data(data_dir, model_context)
+    except BaseException:
+        bk.close()
+        raise
+    load_s = time.perf_counter() - t0
+    if not quiet:
+        click.echo(f"{data.root}: {data.summary()}", err=True)
     bar = tqdm(total=0, desc="benchmark", unit="task", disable=quiet, leave=False)
 
     def grow(n: int) -> None:
