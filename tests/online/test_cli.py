@@ -98,3 +98,15 @@ def test_live_rejects_non_loopback(tiny):
     res = CliRunner().invoke(cli, ["live", "--models", str(root), "--source", "zmq://192.168.1.2:5556",
                                    "--timeout", "0.2", "--no-view"])
     assert res.exit_code != 0
+
+
+def test_live_drives_the_simulated_robot(tiny, tmp_path):
+    pytest.importorskip("mujoco")
+    root, stream = tiny
+    fig = tmp_path / "robot.png"
+    res = CliRunner().invoke(cli, ["live", "--models", str(root), "--source", str(stream), "--speed", "0",
+                                   "--no-view", "--robot", "sim", "--robot-plot", str(fig),
+                                   "--robot-settle", "0.5"])
+    assert res.exit_code == 0, res.output
+    assert "robot:" in res.output and "simulated" in res.output
+    assert fig.is_file()
