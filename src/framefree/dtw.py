@@ -60,6 +60,21 @@ def accumulated_cost_kernel(X, Y, lo, hi):
 
 
 @njit(cache=True)
+def traceback_step(C, i, j):
+    """One step back from cell (i, j) of the accumulated cost ``C`` with the reference tie rule."""
+    if j == 0:
+        return i - 1, j
+    if i == 0:
+        return i, j - 1
+    cd = C[i - 1, j - 1]
+    ci = C[i - 1, j]
+    cj = C[i, j - 1]
+    step_i = ci <= cj or cd <= cj
+    step_j = cj < ci or cd <= ci
+    return (i - 1 if step_i else i), (j - 1 if step_j else j)
+
+
+@njit(cache=True)
 def warping_path_kernel(C):
     """Traceback of an accumulated cost matrix with the reference tie rule; (L, 2) from start to end."""
     n, m = C.shape
@@ -70,20 +85,7 @@ def warping_path_kernel(C):
     path[k, 0] = i
     path[k, 1] = j
     while i > 0 or j > 0:
-        if j == 0:
-            i -= 1
-        elif i == 0:
-            j -= 1
-        else:
-            cd = C[i - 1, j - 1]
-            ci = C[i - 1, j]
-            cj = C[i, j - 1]
-            step_i = ci <= cj or cd <= cj
-            step_j = cj < ci or cd <= ci
-            if step_i:
-                i -= 1
-            if step_j:
-                j -= 1
+        i, j = traceback_step(C, i, j)
         k += 1
         path[k, 0] = i
         path[k, 1] = j
@@ -154,20 +156,7 @@ def path_distance_kernel(X, Y, align_lo, align_hi, mode):
             total += residual_columns(X[i], Y[j], 6)
         if i == 0 and j == 0:
             break
-        if j == 0:
-            i -= 1
-        elif i == 0:
-            j -= 1
-        else:
-            cd = C[i - 1, j - 1]
-            ci = C[i - 1, j]
-            cj = C[i, j - 1]
-            step_i = ci <= cj or cd <= cj
-            step_j = cj < ci or cd <= ci
-            if step_i:
-                i -= 1
-            if step_j:
-                j -= 1
+        i, j = traceback_step(C, i, j)
     return total / (n + m - 1)
 
 

@@ -88,16 +88,7 @@ def _increments_kernel(T, code, L):
                 d += diff * diff
             out[k] = math.sqrt(d)
         elif code == 1:
-            # rotation angle of R_{k+1} R_k^T
-            Rr = np.empty((3, 3))
-            for i in range(3):
-                for j in range(3):
-                    Rr[i, j] = (
-                        T[k + 1, i, 0] * T[k, j, 0]
-                        + T[k + 1, i, 1] * T[k, j, 1]
-                        + T[k + 1, i, 2] * T[k, j, 2]
-                    )
-            phi = se3.vector_from_rotation_one(Rr)
+            phi = se3.rotation_increment_one(T[k], T[k + 1])  # rotation of R_{k+1} R_kᵀ
             out[k] = math.sqrt(phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2])
         else:
             out[k] = screw_path_increment(T[k], T[k + 1], L)

@@ -208,6 +208,16 @@ def twist_from_pose_one(T):
 
 
 @njit(cache=True)
+def rotation_increment_one(A, B):
+    """Rotation vector (3,) of ``R_B R_Aᵀ``: the rotation from pose A to pose B in world axes."""
+    Rr = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            Rr[i, j] = B[i, 0] * A[j, 0] + B[i, 1] * A[j, 1] + B[i, 2] * A[j, 2]
+    return vector_from_rotation_one(Rr)
+
+
+@njit(cache=True)
 def compose_one(A, B):
     """Product of two 4×4 poses (rigid transforms), written out for speed."""
     C = np.zeros((4, 4))

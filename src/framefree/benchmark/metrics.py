@@ -14,6 +14,8 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from ..datasets.layout import CONTEXTS, MODEL_CONTEXT
+
 __all__ = [
     "CONTEXT_ORDER",
     "GROUP_PATTERNS",
@@ -26,19 +28,7 @@ __all__ = [
 ]
 
 #: Table I's order of the HPM test contexts; others follow in sorted order
-CONTEXT_ORDER: tuple[str, ...] = (
-    "original_2",
-    "slower",
-    "faster",
-    "first_half",
-    "body_frame_1",
-    "body_frame_2",
-    "body_frame_3",
-    "world_frame_1",
-    "world_frame_2",
-    "world_frame_3",
-    "combination",
-)
+CONTEXT_ORDER: tuple[str, ...] = tuple(c for c in CONTEXTS if c != MODEL_CONTEXT)
 
 #: pooled columns of Table I: column name -> context-name pattern
 GROUP_PATTERNS: dict[str, re.Pattern[str]] = {

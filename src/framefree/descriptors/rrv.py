@@ -114,16 +114,8 @@ def rates_kernel(T, ds):
     n = T.shape[0]
     w = np.empty((n - 1, 3))
     u = np.empty((n - 1, 3))
-    Rr = np.empty((3, 3))
     for k in range(n - 1):
-        for i in range(3):
-            for j in range(3):
-                Rr[i, j] = (
-                    T[k + 1, i, 0] * T[k, j, 0]
-                    + T[k + 1, i, 1] * T[k, j, 1]
-                    + T[k + 1, i, 2] * T[k, j, 2]
-                )
-        phi = se3.vector_from_rotation_one(Rr)
+        phi = se3.rotation_increment_one(T[k], T[k + 1])
         for r in range(3):
             w[k, r] = phi[r] / ds
             u[k, r] = (T[k + 1, r, 3] - T[k, r, 3]) / ds
