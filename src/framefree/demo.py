@@ -86,6 +86,7 @@ def run_demo(
     render: bool = True,
     echo: Callable[[str], None] | None = print,
     progress: bool = True,
+    script: list | None = None,
 ) -> DemoResult:
     """Run the whole pipeline and write figures and a JSON summary into ``out_dir``.
 
@@ -102,6 +103,8 @@ def run_demo(
         Where progress messages and events go (``None``: silent).
     progress : bool
         Show progress bars.
+    script : list of framefree.datasets.StreamItem, optional
+        What the person performs (default: :func:`demo_script`, the paper's 21 gestures).
     """
     # the robot module chooses MuJoCo's GL backend, which is fixed at mujoco's first import
     from tqdm import tqdm
@@ -136,10 +139,11 @@ def run_demo(
     )
 
     tic = time.perf_counter()
-    _say(echo, "2/4  a person performs the paper's 21-gesture session (walking, re-gripping) ...")
+    script = demo_script() if script is None else list(script)
+    _say(echo, f"2/4  a person performs a {len(script)}-gesture session (walking, re-gripping) ...")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # onsets the person cannot meet are moved, as in reality
-        traj, segments = make_stream(seed + 2026, sequence=demo_script())
+        traj, segments = make_stream(seed + 2026, sequence=script)
     seconds["person"] = time.perf_counter() - tic
     _say(
         echo, f"     {len(traj)} pose samples over {traj.duration:.0f} s, {len(segments)} gestures"
