@@ -7,9 +7,12 @@ rotations is the largest eigenvalue λ of a symmetric, traceless 4×4 matrix bui
 
     δ = ||A||² + ||B||² − 2 λ.
 
-λ is found by Newton's method on the characteristic quartic, started from the upper bound
-``(||A||² + ||B||²)/2`` (Theobald's QCP method). This equals the SVD solution with the determinant fix
-(``σ₁ + σ₂ + sign(det M) σ₃``) and costs a few dozen flops.
+λ is found by Newton's method on the characteristic quartic, started from the smaller of the upper
+bounds ``(||A||² + ||B||²)/2`` (Theobald's QCP method) and ``√3 ||M||_F``. This equals the SVD
+solution with the determinant fix (``σ₁ + σ₂ + sign(det M) σ₃``) and costs a few dozen flops; a
+near-double root (rank-deficient M) falls back to a one-sided Jacobi SVD. This module is the only
+implementation: the offline DTW and the online matchers (:func:`residual_with_norms`, with the
+model norms precomputed) both call it.
 """
 
 from __future__ import annotations
@@ -19,7 +22,13 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["kabsch_residual", "kabsch_rotation", "max_rotation_trace"]
+__all__ = [
+    "kabsch_residual",
+    "kabsch_rotation",
+    "max_rotation_trace",
+    "residual_columns",
+    "residual_with_norms",
+]
 
 
 @njit(cache=True)
@@ -33,6 +42,8 @@ def _det3(a00, a01, a02, a10, a11, a12, a20, a21, a22):
 
 #: Relative size of P'(λ) below which λ is treated as a (near-)double root of the quartic.
 _DOUBLE_ROOT = 1e-3
+#: Newton stops once a step changes λ by less than this relative amount.
+_NEWTON_TOL = 1e-14
 
 
 @njit(cache=True)
@@ -68,6 +79,11 @@ def _signed_singular_value_sum(M):
     return sv[2] + sv[1] + (sv[0] if det >= 0.0 else -sv[0])
 
 
+@njit(cache=True, inline="always")
+def _det2(a, b, c, d):
+    return a * d - b * c
+
+
 @njit(cache=True)
 def _max_trace(sxx, sxy, sxz, syx, syy, syz, szx, szy, szz, e0):
     """``max_R tr(R M)`` for ``M = [[sxx, sxy, sxz], [syx, ...], ...]``; ``e0/2`` bounds it from above."""
@@ -83,27 +99,25 @@ def _max_trace(sxx, sxy, sxz, syx, syy, syz, szx, szy, szz, e0):
     n23 = syz + szy
     n33 = -sxx - syy + szz
     # characteristic polynomial λ⁴ + c2 λ² + c1 λ + c0
-    c2 = -2.0 * (
-        sxx * sxx
-        + sxy * sxy
-        + sxz * sxz
-        + syx * syx
-        + syy * syy
-        + syz * syz
-        + szx * szx
-        + szy * szy
-        + szz * szz
+    m_norm2 = (
+        sxx * sxx + sxy * sxy + sxz * sxz + syx * syx + syy * syy + syz * syz
+        + szx * szx + szy * szy + szz * szz
     )
+    c2 = -2.0 * m_norm2
     c1 = -8.0 * _det3(sxx, sxy, sxz, syx, syy, syz, szx, szy, szz)
+    # det N by Laplace expansion along rows (0, 1) / (2, 3): six products of 2x2 minors
     c0 = (
-        n00 * _det3(n11, n12, n13, n12, n22, n23, n13, n23, n33)
-        - n01 * _det3(n01, n12, n13, n02, n22, n23, n03, n23, n33)
-        + n02 * _det3(n01, n11, n13, n02, n12, n23, n03, n13, n33)
-        - n03 * _det3(n01, n11, n12, n02, n12, n22, n03, n13, n23)
+        _det2(n00, n01, n01, n11) * _det2(n22, n23, n23, n33)
+        - _det2(n00, n02, n01, n12) * _det2(n12, n23, n13, n33)
+        + _det2(n00, n03, n01, n13) * _det2(n12, n22, n13, n23)
+        + _det2(n01, n02, n11, n12) * _det2(n02, n23, n03, n33)
+        - _det2(n01, n03, n11, n13) * _det2(n02, n22, n03, n23)
+        + _det2(n02, n03, n12, n13) * _det2(n02, n12, n03, n13)
     )
-    # two upper bounds of λ_max: e0/2 (Cauchy-Schwarz) and ||N||_F = 2 ||M||_F
-    m_norm = math.sqrt(-0.5 * c2)
-    lam = min(0.5 * e0, 2.0 * m_norm)
+    # two upper bounds of λ_max = σ₁ + σ₂ ± σ₃: e0/2 (Cauchy-Schwarz) and √3 ||M||_F; Newton from
+    # above the largest root of a real-rooted polynomial decreases monotonically onto it
+    m_norm = math.sqrt(m_norm2)
+    lam = min(0.5 * e0, math.sqrt(3.0) * m_norm)
     if lam <= 0.0:
         return 0.0
     df = 0.0
@@ -114,13 +128,13 @@ def _max_trace(sxx, sxy, sxz, syx, syy, syz, szx, szy, szz, e0):
         if df <= 0.0:
             break
         lam_new = lam - f / df
-        if not lam_new < lam:  # Newton decreases monotonically from above; stop when it stalls
+        if not lam_new < lam:  # stop when it stalls
             break
-        done = lam - lam_new <= 1e-15 * abs(lam_new)
+        done = lam - lam_new <= _NEWTON_TOL * abs(lam_new)
         lam = lam_new
         if done:
             break
-    if not df > _DOUBLE_ROOT * 4.0 * m_norm * m_norm * m_norm:
+    if not df > _DOUBLE_ROOT * 4.0 * m_norm2 * m_norm:
         # λ is a (near-)double root (rank-deficient M, non-unique rotation), where the quartic
         # resolves it only to ~sqrt(eps): take the singular values instead (rare, exact singularities)
         M = np.empty((3, 3))
@@ -139,11 +153,10 @@ def max_rotation_trace_from_m(M, e0):
     )
 
 
-@njit(cache=True)
-def residual_columns(a, b, ncols):
-    """δ for two flat vectors holding ``ncols`` consecutive 3-vectors each (column-major 3×ncols)."""
+@njit(cache=True, inline="always")
+def _cross(a, b, ncols):
+    """Entries of ``M = A Bᵀ`` for flat column-major 3×ncols ``a``, ``b`` (a 9-tuple, row-major)."""
     sxx = sxy = sxz = syx = syy = syz = szx = szy = szz = 0.0
-    e0 = 0.0
     for c in range(ncols):
         ax = a[3 * c]
         ay = a[3 * c + 1]
@@ -151,7 +164,6 @@ def residual_columns(a, b, ncols):
         bx = b[3 * c]
         by = b[3 * c + 1]
         bz = b[3 * c + 2]
-        e0 += ax * ax + ay * ay + az * az + bx * bx + by * by + bz * bz
         sxx += ax * bx
         sxy += ax * by
         sxz += ax * bz
@@ -161,9 +173,29 @@ def residual_columns(a, b, ncols):
         szx += az * bx
         szy += az * by
         szz += az * bz
+    return sxx, sxy, sxz, syx, syy, syz, szx, szy, szz
+
+
+@njit(cache=True)
+def residual_with_norms(a, a2, b, b2, ncols):
+    """δ for flat column-major 3×ncols ``a``, ``b`` whose squared norms ``a2 = ||a||²``, ``b2 = ||b||²``
+    are already known (the online matchers precompute the model side)."""
+    sxx, sxy, sxz, syx, syy, syz, szx, szy, szz = _cross(a, b, ncols)
+    e0 = a2 + b2
     lam = _max_trace(sxx, sxy, sxz, syx, syy, syz, szx, szy, szz, e0)
     res = e0 - 2.0 * lam
     return res if res > 0.0 else 0.0
+
+
+@njit(cache=True)
+def residual_columns(a, b, ncols):
+    """δ for two flat vectors holding ``ncols`` consecutive 3-vectors each (column-major 3×ncols)."""
+    a2 = 0.0
+    b2 = 0.0
+    for r in range(3 * ncols):
+        a2 += a[r] * a[r]
+        b2 += b[r] * b[r]
+    return residual_with_norms(a, a2, b, b2, ncols)
 
 
 @njit(cache=True)

@@ -237,3 +237,20 @@ def test_decision_rules_and_pruning(model_set, config, session):
         assert [(e.label, e.time, e.model) for e in ev_pr] == [(e.label, e.time, e.model) for e in ev_min]
         np.testing.assert_allclose([e.dissimilarity for e in ev_pr], [e.dissimilarity for e in ev_min],
                                    rtol=1e-12)
+
+
+def test_second_best_margin(model_set, config, session):
+    """``decision_margin`` only suppresses events (counted as ambiguous); 1.0 changes nothing, and
+    an impossible margin suppresses every gesture event whose runner-up is finite."""
+    trajs, labels = model_set
+    base = config.replace(prune_factor=None)
+    plain = Recognizer.from_trajectories(trajs, labels, base)
+    ev_plain, st_plain = _run(plain, _rows(session))
+    assert st_plain["ambiguous"] == 0
+    strict = Recognizer.from_trajectories(trajs, labels, base.replace(decision_margin=1e6))
+    ev_strict, st_strict = _run(strict, _rows(session))
+    gestures = [e for e in ev_plain if e.label != STOP]
+    assert len([e for e in ev_strict if e.label != STOP]) + st_strict["ambiguous"] == len(gestures)
+    assert st_strict["ambiguous"] >= 1
+    with pytest.raises(ValueError):
+        base.replace(decision_margin=0.5)

@@ -103,3 +103,37 @@ def test_event_matching_rule():
     assert r.recall == pytest.approx(2 / 3)
     assert r.latencies == pytest.approx([-0.1, 0.4])
     assert r.nongesture_minutes == pytest.approx((60 - 1.5 - 1.5 - 1.0) / 60)
+
+
+def test_timeline_draws_per_gesture_thresholds(tmp_path):
+    """Each gesture's curve gets its own dashed τ_g line in its colour (a float still works)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib import pyplot as plt
+
+    from framefree.datasets import Segment
+    from framefree.online.evaluation import StreamTrace, plot_timeline
+
+    t = np.linspace(0.0, 10.0, 50)
+    d = np.column_stack([1.0 + np.sin(t) ** 2, 3.0 + np.cos(t) ** 2])
+    trace = StreamTrace(t, d, ["a", "b"], {"a": 0.8, "b": 2.5})
+    seen = {}
+    real_savefig = plt.Figure.savefig
+
+    def spy(fig, *args, **kwargs):
+        ax = fig.axes[1]
+        seen["lines"] = {round(float(ln.get_ydata()[0]), 6) for ln in ax.get_lines()
+                         if ln.get_linestyle() == "--" and len(ln.get_ydata())}
+        return real_savefig(fig, *args, **kwargs)
+
+    plt.Figure.savefig = spy
+    try:
+        out = plot_timeline(tmp_path / "t.png", [Segment("a", 1.0, 2.0)], [], trace)
+        assert out.is_file() and seen["lines"] == {0.8, 2.5}
+        plot_timeline(tmp_path / "t2.png", [], [], trace, {"a": 0.5, "b": 1.5})
+        assert seen["lines"] == {0.5, 1.5}
+        plot_timeline(tmp_path / "t3.png", [], [], StreamTrace(t, d, ["a", "b"]), 1.2)
+        assert seen["lines"] == {1.2}
+    finally:
+        plt.Figure.savefig = real_savefig

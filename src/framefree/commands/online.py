@@ -236,7 +236,7 @@ def evaluate_stream_cmd(models: str, model_context: str, streams: tuple[str, ...
                                  "stats": dict(rec.stats), "wall_s": wall}
         if figures:
             fig = plot_timeline(Path(figures) / f"{Path(path).stem}_timeline.png", segs, events,
-                                trace, rec.threshold, title=Path(path).name)
+                                trace, rec.gesture_thresholds, title=Path(path).name)
             per_stream[str(path)]["figure"] = str(fig)
     total = combine(results).summary()
     click.echo(

@@ -117,6 +117,11 @@ class RecognizerConfig:
         dip, not the first to cross.
     decision_patience : int
         Descriptor samples without a new minimum before a ``minimum`` decision fires.
+    decision_margin : float
+        Second-best margin (1.0: off). A ``minimum`` or ``first`` decision only fires when the best
+        other gesture's ratio ``d/τ`` at that moment is at least ``decision_margin`` times the
+        winner's; otherwise the dip is ambiguous: no event, and the refractory reset still applies
+        (counted in ``stats["ambiguous"]``). Exact with pruning for values ≤ ``prune_factor``.
     decision_wait : float
         Seconds [s] without a new minimum before a ``minimum`` decision fires (descriptor samples
         stop coming while the hand rests, because Algorithm 1 keeps no sample).
@@ -160,6 +165,7 @@ class RecognizerConfig:
     decision: str = "minimum"
     decision_patience: int = 3
     decision_wait: float = 0.15
+    decision_margin: float = 1.0
     presmooth: int = 1
     prune_factor: float | None = 2.0
 
@@ -187,6 +193,8 @@ class RecognizerConfig:
             raise ValueError(f"decision must be 'minimum' or 'first', got {self.decision!r}")
         if self.prune_factor is not None and not self.prune_factor >= 1.0:
             raise ValueError(f"prune_factor must be >= 1 or None, got {self.prune_factor}")
+        if not self.decision_margin >= 1.0:
+            raise ValueError(f"decision_margin must be >= 1, got {self.decision_margin}")
         if self.presmooth < 1:
             raise ValueError(f"presmooth must be at least 1, got {self.presmooth}")
         bad = set(self.calibration_negatives) - set(NEGATIVE_KINDS)

@@ -12,7 +12,7 @@ outside the tolerance-extended segments), and the detection latency after the ge
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
@@ -44,11 +44,14 @@ class StreamTrace:
     dissimilarity : ndarray, shape (K, G)
         Best matcher output per gesture at each descriptor sample (``inf`` while not ready).
     gestures : list of str, length G
+    thresholds : dict of str to float
+        τ_g of each gesture (the recognizer's ``gesture_thresholds``; empty if unknown).
     """
 
     times: np.ndarray
     dissimilarity: np.ndarray
     gestures: list[str]
+    thresholds: dict[str, float] = field(default_factory=dict)
 
 
 @dataclass
@@ -197,7 +200,8 @@ def run_stream(recognizer: Any, traj: Trajectory) -> tuple[list[Event], StreamTr
             times.append(float(traj.t[k]))
             rows.append(row)
     diss = np.array(rows).reshape(-1, len(gestures))
-    return events, StreamTrace(np.array(times), diss, gestures)
+    thresholds = {g: float(v) for g, v in getattr(recognizer, "gesture_thresholds", {}).items()}
+    return events, StreamTrace(np.array(times), diss, gestures, thresholds)
 
 
 def plot_timeline(
@@ -205,10 +209,28 @@ def plot_timeline(
     segments: Sequence[SegmentLike],
     events: Sequence[Event],
     trace: StreamTrace,
-    threshold: float,
+    threshold: float | Mapping[str, float] | None = None,
     title: str = "",
 ) -> Path:
     """Timeline figure: labelled gestures, events, and per-gesture dissimilarities (PNG/PDF/SVG).
+
+    Each gesture's dissimilarity curve is drawn with its own threshold τ_g as a dashed line of the
+    same colour (a gesture fires when its curve dips below its own line).
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file.
+    segments : sequence
+        Labelled gestures (``label``, ``start_t``, ``end_t``).
+    events : sequence of Event
+    trace : StreamTrace
+        Per-gesture dissimilarities (and, from :func:`run_stream`, the per-gesture thresholds).
+    threshold : float or mapping of str to float, optional
+        Per-gesture thresholds, or one τ for all gestures. Default: ``trace.thresholds``. A single
+        float is ignored when the trace carries per-gesture thresholds (recognizers built with
+        ``threshold_mode="per_gesture"`` report their median as ``threshold``).
+    title : str
 
     Returns
     -------
@@ -235,11 +257,24 @@ def plot_timeline(
     ax0.set_ylim(0, 1)
     ax0.set_yticks([0.3, 0.78], ["events", "labels"])
     ax0.set_title(title)
+    if isinstance(threshold, Mapping):
+        taus = {g: float(v) for g, v in threshold.items()}
+    elif trace.thresholds:
+        taus = dict(trace.thresholds)
+    elif threshold is not None:
+        taus = dict.fromkeys(trace.gestures, float(threshold))
+    else:
+        taus = {}
     if trace.times.size:
         d = np.where(np.isfinite(trace.dissimilarity), trace.dissimilarity, np.nan)
         for g, lab in enumerate(trace.gestures):
             ax1.plot(trace.times, d[:, g], lw=0.9, color=color[lab], label=lab)
-    ax1.axhline(threshold, color="k", ls="--", lw=1, label="threshold")
+    if len(set(taus.values())) == 1:
+        ax1.axhline(next(iter(taus.values())), color="k", ls="--", lw=1, label="threshold")
+    else:
+        for lab, tau in taus.items():
+            ax1.axhline(tau, color=color.get(lab, "k"), ls="--", lw=1)
+        ax1.plot([], [], color="k", ls="--", lw=1, label="τ per gesture (same colour)")
     ax1.set_yscale("log")
     ax1.set_xlabel("time [s]")
     ax1.set_ylabel("avg. pointwise dissimilarity")

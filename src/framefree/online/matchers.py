@@ -18,9 +18,8 @@ and ``d_{j,ℓ}(t) = S[N-ℓ-1] / (N-ℓ)``, valid once ``t + 1 ≥ N - ℓ`` li
 sample is stored: the state is ``Σ_j N_j`` numbers. All models are packed into one array and updated
 by one numba kernel (optionally multi-threaded over models).
 
-The Kabsch residual is :func:`framefree.kabsch.residual_columns` (Horn/Theobald QCP) rewritten with
-scalars only and with the model norms precomputed; it is ~6× faster, which is what makes thousands of
-models real-time. ``tests/online`` checks that both agree.
+The Kabsch residual is :func:`framefree.kabsch.residual_with_norms` (Horn/Theobald QCP, the one
+implementation in the package) with the model norms precomputed once per model sample.
 """
 
 from __future__ import annotations
@@ -31,7 +30,7 @@ from collections.abc import Sequence
 import numpy as np
 from numba import njit, prange
 
-from ..kabsch import residual_columns
+from ..kabsch import residual_columns, residual_with_norms
 
 __all__ = [
     "MatcherBank",
@@ -41,14 +40,11 @@ __all__ = [
 ]
 
 
-@njit(cache=True, inline="always")
-def _det2x2(a, b, c, d):
-    return a * d - b * c
-
-
 @njit(cache=True)
 def residual18(a, a2, b, b2):
     """``min_{R∈SO(3)} ||R A - B||_F²`` for six 3-vectors stored flat in ``a``, ``b`` (18,).
+
+    A thin wrapper of :func:`framefree.kabsch.residual_with_norms` (the one Kabsch implementation).
 
     Parameters
     ----------
@@ -57,70 +53,7 @@ def residual18(a, a2, b, b2):
     a2, b2 : float
         ``||a||²`` and ``||b||²``.
     """
-    sxx = sxy = sxz = syx = syy = syz = szx = szy = szz = 0.0
-    for c in range(6):
-        ax = a[3 * c]
-        ay = a[3 * c + 1]
-        az = a[3 * c + 2]
-        bx = b[3 * c]
-        by = b[3 * c + 1]
-        bz = b[3 * c + 2]
-        sxx += ax * bx
-        sxy += ax * by
-        sxz += ax * bz
-        syx += ay * bx
-        syy += ay * by
-        syz += ay * bz
-        szx += az * bx
-        szy += az * by
-        szz += az * bz
-    e0 = a2 + b2
-    if e0 <= 0.0:
-        return 0.0
-    n00 = sxx + syy + szz
-    n01 = syz - szy
-    n02 = szx - sxz
-    n03 = sxy - syx
-    n11 = sxx - syy - szz
-    n12 = sxy + syx
-    n13 = szx + sxz
-    n22 = -sxx + syy - szz
-    n23 = syz + szy
-    n33 = -sxx - syy + szz
-    # characteristic polynomial λ⁴ + c2 λ² + c1 λ + c0 of the traceless symmetric 4×4 matrix N
-    c2 = -2.0 * (
-        sxx * sxx + sxy * sxy + sxz * sxz + syx * syx + syy * syy + syz * syz
-        + szx * szx + szy * szy + szz * szz
-    )
-    detm = sxx * (syy * szz - syz * szy) - sxy * (syx * szz - syz * szx) + sxz * (syx * szy - syy * szx)
-    c1 = -8.0 * detm
-    c0 = (
-        _det2x2(n00, n01, n01, n11) * _det2x2(n22, n23, n23, n33)
-        - _det2x2(n00, n02, n01, n12) * _det2x2(n12, n23, n13, n33)
-        + _det2x2(n00, n03, n01, n13) * _det2x2(n12, n22, n13, n23)
-        + _det2x2(n01, n02, n11, n12) * _det2x2(n02, n23, n03, n33)
-        - _det2x2(n01, n03, n11, n13) * _det2x2(n02, n22, n03, n23)
-        + _det2x2(n02, n03, n12, n13) * _det2x2(n02, n12, n03, n13)
-    )
-    # start Newton above the largest root: λ ≤ σ1+σ2+σ3 ≤ √3 ||M||_F and λ ≤ (||A||²+||B||²)/2
-    lam = min(0.5 * e0, math.sqrt(-1.5 * c2))
-    if lam <= 0.0:
-        return e0
-    for _ in range(60):
-        lam2 = lam * lam
-        f = (lam2 + c2) * lam2 + c1 * lam + c0
-        df = 4.0 * lam2 * lam + 2.0 * c2 * lam + c1
-        if df <= 0.0:
-            break
-        lam_new = lam - f / df
-        if not lam_new < lam:
-            break
-        done = lam - lam_new <= 1e-14 * abs(lam_new)
-        lam = lam_new
-        if done:
-            break
-    res = e0 - 2.0 * lam
-    return res if res > 0.0 else 0.0
+    return residual_with_norms(a, a2, b, b2, 6)
 
 
 @njit(cache=True)
@@ -145,7 +78,7 @@ def _update_model(j, A, A2, An, offsets, b, b2, bn, S, count, lat_lo, lat_hi, cu
             if lb >= bound:
                 S[o + i] = np.inf
                 continue
-        v = prev + residual18(A[o + i], A2[o + i], b, b2)
+        v = prev + residual_with_norms(A[o + i], A2[o + i], b, b2, 6)
         S[o + i] = v if not (prune and v >= bound) else np.inf
     best = np.inf
     best_l = -1

@@ -53,6 +53,7 @@ STAT_KEYS = (
     "bad_descriptors",  # non-finite descriptor samples (preprocessor restarted)
     "events",  # gesture events
     "stops",  # stop events
+    "ambiguous",  # gesture decisions suppressed by decision_margin
 )
 
 
@@ -115,6 +116,7 @@ class Recognizer:
         self.labels = list(models.labels)
         self.gestures = models.gestures
         self._label_index = np.array([self.gestures.index(s) for s in self.labels])
+        self._other = [self._label_index != g for g in range(len(self.gestures))]
         gt = dict.fromkeys(self.gestures, self.threshold)
         if gesture_thresholds:
             missing = set(self.gestures) - set(gesture_thresholds)
@@ -123,7 +125,7 @@ class Recognizer:
             gt = {g: float(gesture_thresholds[g]) for g in self.gestures}
         self.gesture_thresholds = gt
         self.model_thresholds = np.array([gt[s] for s in self.labels])
-        self._pending: tuple[int, float, float, float, int] | None = None  # j, ratio, d, t, stale
+        self._pending: tuple[int, float, float, float, int, float] | None = None  # j, ratio, d, t, stale, r2
         c = self.config
         self.preprocessor = StreamingBILTSPlus(models.resolution, c.L, c.ds_scale, c.window,
                                                c.twist_noise, c.presmooth)
@@ -320,17 +322,17 @@ class Recognizer:
         r = float(ratio[j])
         if c.decision == "first":
             if r < 1.0:
-                self._pending = (j, r, float(dj[j]), t, 0)
+                self._pending = (j, r, float(dj[j]), t, 0, self._second(ratio, j))
                 return self._fire(t)
             return []
         pend = self._pending
         if r < 1.0 and (pend is None or r < pend[1]):
-            self._pending = (j, r, float(dj[j]), t, 0)
+            self._pending = (j, r, float(dj[j]), t, 0, self._second(ratio, j))
             return []
         if pend is None:
             return []
         stale = pend[4] + 1
-        self._pending = (*pend[:4], stale)
+        self._pending = (*pend[:4], stale, pend[5])
         if r >= 1.0 or stale >= c.decision_patience or t - pend[3] >= c.decision_wait:
             return self._fire(t)
         return []
@@ -338,12 +340,22 @@ class Recognizer:
     def _fire(self, t: float) -> list[Event]:
         """Emit the pending candidate at time ``t`` [s] and apply the refractory reset."""
         assert self._pending is not None
-        j, _, d, _, _ = self._pending
+        j, r, d, _, _, r2 = self._pending
         self._pending = None
-        self.stats["events"] += 1
         if self.config.refractory_reset:
             self.bank.reset()
+        if r2 < self.config.decision_margin * r:
+            self.stats["ambiguous"] += 1
+            return []
+        self.stats["events"] += 1
         return [Event(self.labels[j], t, d, j)]
+
+    def _second(self, ratio: np.ndarray, j: int) -> float:
+        """Lowest ratio ``d/τ`` among the models of gestures other than model ``j``'s."""
+        if self.config.decision_margin <= 1.0:
+            return math.inf
+        other = ratio[self._other[self._label_index[j]]]
+        return float(other.min()) if other.size else math.inf
 
     def run(self, traj: Trajectory) -> list[Event]:
         """Push a whole recording; return all events (the recognizer is not reset)."""
