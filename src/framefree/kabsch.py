@@ -84,7 +84,7 @@ def _det2(a, b, c, d):
     return a * d - b * c
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _max_trace(sxx, sxy, sxz, syx, syy, syz, szx, szy, szz, e0):
     """``max_R tr(R M)`` for ``M = [[sxx, sxy, sxz], [syx, ...], ...]``; ``e0/2`` bounds it from above."""
     # Horn's symmetric, traceless 4x4 matrix N; its largest eigenvalue is the maximum
@@ -176,7 +176,7 @@ def _cross(a, b, ncols):
     return sxx, sxy, sxz, syx, syy, syz, szx, szy, szz
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def residual_with_norms(a, a2, b, b2, ncols):
     """δ for flat column-major 3×ncols ``a``, ``b`` whose squared norms ``a2 = ||a||²``, ``b2 = ||b||²``
     are already known (the online matchers precompute the model side)."""
@@ -190,12 +190,13 @@ def residual_with_norms(a, a2, b, b2, ncols):
 @njit(cache=True)
 def residual_columns(a, b, ncols):
     """δ for two flat vectors holding ``ncols`` consecutive 3-vectors each (column-major 3×ncols)."""
-    a2 = 0.0
-    b2 = 0.0
+    sxx, sxy, sxz, syx, syy, syz, szx, szy, szz = _cross(a, b, ncols)
+    e0 = 0.0
     for r in range(3 * ncols):
-        a2 += a[r] * a[r]
-        b2 += b[r] * b[r]
-    return residual_with_norms(a, a2, b, b2, ncols)
+        e0 += a[r] * a[r] + b[r] * b[r]
+    lam = _max_trace(sxx, sxy, sxz, syx, syy, syz, szx, szy, szz, e0)
+    res = e0 - 2.0 * lam
+    return res if res > 0.0 else 0.0
 
 
 @njit(cache=True)
