@@ -42,12 +42,15 @@ def demo(out, seed, no_render):
     click.echo(f"  false positives    {rec['fp']:9d}    {0:9d}")
     if rec["latency_median_s"] is not None:
         click.echo(f"  median latency     {rec['latency_median_s']:9.2f} s after the gesture ends")
+    task = result.task
+    where = (
+        f"offset {1000 * task['horizontal_offset_m']:.1f} mm, "
+        f"height difference {1000 * task['height_difference_m']:.1f} mm"
+    )
     verdict = (
-        "SUCCESS: green block stacked on red" if result.stacked else "FAILED: blocks not stacked"
+        "SUCCESS: green block stacked on red" if result.stacked else "FAILED: green not on red"
     )
-    click.echo(
-        f"  task               {verdict} (offset {1000 * result.task['horizontal_offset_m']:.1f} mm)"
-    )
+    click.echo(f"  task               {verdict} ({where})")
     click.echo("")
     for name, path in result.files.items():
         click.echo(f"  {name:<22} {path}")
