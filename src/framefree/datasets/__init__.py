@@ -19,7 +19,16 @@ from .contexts import (
 from .gestures import plan_gesture, synthesize_gesture
 from .layout import CONTEXTS, GESTURES, MODEL_CONTEXT, STREAMS_DIR, Dataset, Trial, load_dataset
 from .replica import REPLICA_VERSION, cache_dir, generator_fingerprint, make_replica, replica_path
-from .streams import STOP, Segment, StreamItem, labels_path, load_stream, make_stream, save_stream
+from .streams import (
+    STOP,
+    LivePerson,
+    Segment,
+    StreamItem,
+    labels_path,
+    load_stream,
+    make_stream,
+    save_stream,
+)
 
 __all__ = [
     "BODY_FRAMES",
@@ -34,6 +43,7 @@ __all__ = [
     "STREAMS_DIR",
     "WORLD_FRAMES",
     "Dataset",
+    "LivePerson",
     "Segment",
     "StreamItem",
     "Trial",

@@ -16,6 +16,7 @@ The chain for one sample at time ``t``::
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -38,12 +39,15 @@ __all__ = [
     "TREMOR_ACCEL_RANGE",
     "TREMOR_FREQ_RANGE",
     "TREMOR_LEVER",
+    "MeasurementNoise",
     "measure",
+    "measurement_noise",
     "random_grip",
     "random_rotation",
     "sample_times",
     "stored_quaternions",
     "tracker_error",
+    "tracker_poses",
     "tremor",
     "write_recording",
 ]
@@ -118,7 +122,9 @@ def sample_times(duration: float, rng: np.random.Generator) -> np.ndarray:
     first stamp 0."""
     n = math.floor(duration / SAMPLE_PERIOD) + 1
     t = np.arange(n) * SAMPLE_PERIOD
-    jitter = np.clip(rng.normal(0.0, TIMESTAMP_JITTER, n), -4 * TIMESTAMP_JITTER, 4 * TIMESTAMP_JITTER)
+    jitter = np.clip(
+        rng.normal(0.0, TIMESTAMP_JITTER, n), -4 * TIMESTAMP_JITTER, 4 * TIMESTAMP_JITTER
+    )
     t = t + jitter
     keep = rng.random(n) >= DROP_RATE
     keep[[0, -1]] = True
@@ -176,9 +182,68 @@ def tracker_error(t: np.ndarray, rng: np.random.Generator) -> tuple[np.ndarray, 
         Orientation error [rad], rotation vector in tracker coordinates (right-multiplied).
     """
     n = t.shape[0]
-    e_p = _ou(t, TRACKER_DRIFT_POS, TRACKER_DRIFT_TIME, rng) + rng.normal(0, TRACKER_JITTER_POS, (n, 3))
-    e_r = _ou(t, TRACKER_DRIFT_ROT, TRACKER_DRIFT_TIME, rng) + rng.normal(0, TRACKER_JITTER_ROT, (n, 3))
+    e_p = _ou(t, TRACKER_DRIFT_POS, TRACKER_DRIFT_TIME, rng) + rng.normal(
+        0, TRACKER_JITTER_POS, (n, 3)
+    )
+    e_r = _ou(t, TRACKER_DRIFT_ROT, TRACKER_DRIFT_TIME, rng) + rng.normal(
+        0, TRACKER_JITTER_ROT, (n, 3)
+    )
     return e_p, e_r
+
+
+@dataclass(frozen=True)
+class MeasurementNoise:
+    """Hand tremor and tracker error sampled at a sequence of time stamps.
+
+    Attributes
+    ----------
+    tremor_p, tremor_phi : ndarray, shape (n, 3)
+        Tremor displacement [m] and rotation vector [rad] of the hand.
+    error_p, error_phi : ndarray, shape (n, 3)
+        Tracker position [m] and orientation [rad] error.
+    """
+
+    tremor_p: np.ndarray
+    tremor_phi: np.ndarray
+    error_p: np.ndarray
+    error_phi: np.ndarray
+
+    def __getitem__(self, index: slice) -> MeasurementNoise:
+        return MeasurementNoise(
+            self.tremor_p[index], self.tremor_phi[index], self.error_p[index], self.error_phi[index]
+        )
+
+
+def measurement_noise(t: np.ndarray, rng: np.random.Generator) -> MeasurementNoise:
+    """Tremor (:func:`tremor`) and tracker error (:func:`tracker_error`) at times ``t`` (n,) [s]."""
+    tremor_p, tremor_phi = tremor(t, rng)
+    error_p, error_phi = tracker_error(t, rng)
+    return MeasurementNoise(tremor_p, tremor_phi, error_p, error_phi)
+
+
+def tracker_poses(
+    hand: np.ndarray, grip: np.ndarray, world: np.ndarray, noise: MeasurementNoise
+) -> np.ndarray:
+    """Measured tracker poses (n, 4, 4): ``world · (tremor · hand) · grip``, then the tracker error.
+
+    Parameters
+    ----------
+    hand : ndarray, shape (n, 4, 4)
+        Intended hand (palm) poses in the user frame.
+    grip : ndarray, shape (4, 4) or (n, 4, 4)
+        Tracker pose in the hand frame.
+    world : ndarray, shape (4, 4) or (n, 4, 4)
+        User frame in the tracker's world frame.
+    noise : MeasurementNoise
+        Sampled at the same n time stamps.
+    """
+    H = np.array(hand, dtype=np.float64, copy=True)
+    H[:, :3, 3] += noise.tremor_p
+    H[:, :3, :3] = se3.rotation_from_vector(noise.tremor_phi) @ H[:, :3, :3]
+    T = np.asarray(world) @ H @ np.asarray(grip)
+    T[:, :3, 3] += noise.error_p
+    T[:, :3, :3] = T[:, :3, :3] @ se3.rotation_from_vector(noise.error_phi)
+    return T
 
 
 def measure(
@@ -210,14 +275,7 @@ def measure(
     Trajectory
         Measured tracker poses, time starting at 0.
     """
-    H = np.array(hand, dtype=np.float64, copy=True)
-    dp, dphi = tremor(t, rng)
-    H[:, :3, 3] += dp
-    H[:, :3, :3] = se3.rotation_from_vector(dphi) @ H[:, :3, :3]
-    T = np.asarray(world) @ H @ np.asarray(grip)
-    e_p, e_r = tracker_error(t, rng)
-    T[:, :3, 3] += e_p
-    T[:, :3, :3] = T[:, :3, :3] @ se3.rotation_from_vector(e_r)
+    T = tracker_poses(hand, grip, world, measurement_noise(t, rng))
     return Trajectory.from_poses(t - t[0], T, source=source)
 
 
@@ -234,7 +292,9 @@ def stored_quaternions(q: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     return q
 
 
-def write_recording(path: str | Path, traj: Trajectory, rng: np.random.Generator | None = None) -> Path:
+def write_recording(
+    path: str | Path, traj: Trajectory, rng: np.random.Generator | None = None
+) -> Path:
     """Write ``traj`` as an 8-column CSV (no header, full precision); with ``rng``, store the
     quaternions as a tracker SDK might (:func:`stored_quaternions`: sign flips)."""
     path = Path(path)

@@ -27,11 +27,19 @@ from ..errors import DatasetError
 from ..trajectory import Trajectory
 from .gestures import ANTHROPOMETRY, GESTURE_SHAPES, default_world, plan_gesture
 from .motion import Motion, Piece, hold, make_pose, minimum_jerk, rot, sclerp_path, stroke
-from .recording import measure, random_grip, sample_times, write_recording
+from .recording import (
+    measure,
+    measurement_noise,
+    random_grip,
+    sample_times,
+    tracker_poses,
+    write_recording,
+)
 
 __all__ = [
     "STOP",
     "STOP_SIGNAL",
+    "LivePerson",
     "Segment",
     "StreamItem",
     "labels_path",
@@ -117,9 +125,18 @@ class _Session:
         self._h, self._g, self._w = hand, grip, world
         self.time = 0.0
 
-    def add(self, hand: Piece | None = None, grip: Piece | None = None, world: Piece | None = None,
-            duration: float | None = None) -> None:
-        d = next(p.duration for p in (hand, grip, world) if p is not None) if duration is None else duration
+    def add(
+        self,
+        hand: Piece | None = None,
+        grip: Piece | None = None,
+        world: Piece | None = None,
+        duration: float | None = None,
+    ) -> None:
+        d = (
+            next(p.duration for p in (hand, grip, world) if p is not None)
+            if duration is None
+            else duration
+        )
         for attr, piece in (("hand", hand), ("grip", grip), ("world", world)):
             current = getattr(self, "_" + attr[0])
             piece = piece if piece is not None else hold(current, d)
@@ -151,8 +168,12 @@ def _random_hand_pose(rng: np.random.Generator, around: np.ndarray) -> np.ndarra
     return make_pose(R, p)
 
 
-def _reposition(s: _Session, rng: np.random.Generator, target: np.ndarray | None = None,
-                duration: float | None = None) -> None:
+def _reposition(
+    s: _Session,
+    rng: np.random.Generator,
+    target: np.ndarray | None = None,
+    duration: float | None = None,
+) -> None:
     target = _random_hand_pose(rng, s.hand_pose) if target is None else target
     d = _move_duration(s.hand_pose, target) if duration is None else duration
     s.add(hand=stroke(sclerp_path(s.hand_pose, target), d, math.exp(rng.normal(0, 0.1))))
@@ -165,7 +186,9 @@ def _distractor(s: _Session, rng: np.random.Generator) -> None:
         target = s.hand_pose.copy()
         lo, hi = mean_p - np.array([0.2, 0.3, 0.4]), mean_p + np.array([0.2, 0.3, 0.3])
         target[:3, 3] = np.clip(target[:3, 3] + rng.normal(0, 0.12, 3), lo, hi)
-        target[:3, :3] = rot(rng.standard_normal(3), rng.uniform(0, math.radians(70))) @ target[:3, :3]
+        target[:3, :3] = (
+            rot(rng.standard_normal(3), rng.uniform(0, math.radians(70))) @ target[:3, :3]
+        )
         d = _move_duration(s.hand_pose, target) * rng.uniform(0.8, 1.2)
         s.add(hand=stroke(sclerp_path(s.hand_pose, target), d, math.exp(rng.normal(0, 0.1))))
         if rng.random() < 0.5:
@@ -255,13 +278,19 @@ def _approach(s: _Session, target: np.ndarray | None) -> float:
     return 0.0 if target is None else _move_duration(s.hand_pose, target)
 
 
-def _items(sequence: Sequence[str | StreamItem] | None, n_gestures: int, n_stops: int | None,
-           rng: np.random.Generator) -> list[StreamItem]:
+def _items(
+    sequence: Sequence[str | StreamItem] | None,
+    n_gestures: int,
+    n_stops: int | None,
+    rng: np.random.Generator,
+) -> list[StreamItem]:
     if sequence is not None:
         items = [x if isinstance(x, StreamItem) else StreamItem(str(x)) for x in sequence]
         for it in items:
             if it.label != STOP and it.label not in GESTURE_SHAPES:
-                raise ValueError(f"unknown stream label {it.label!r}; expected a gesture name or {STOP!r}")
+                raise ValueError(
+                    f"unknown stream label {it.label!r}; expected a gesture name or {STOP!r}"
+                )
         return items
     names = list(GESTURE_SHAPES)
     order: list[str] = []
@@ -269,7 +298,9 @@ def _items(sequence: Sequence[str | StreamItem] | None, n_gestures: int, n_stops
         order += [str(x) for x in rng.permutation(names)]
     order = order[:n_gestures]
     k = int(rng.integers(1, 3)) if n_stops is None else n_stops
-    for pos in sorted(rng.choice(np.arange(1, len(order) + 1), size=k, replace=k > len(order)), reverse=True):
+    for pos in sorted(
+        rng.choice(np.arange(1, len(order) + 1), size=k, replace=k > len(order)), reverse=True
+    ):
         order.insert(int(pos), STOP)
     return [StreamItem(x) for x in order]
 
@@ -307,47 +338,162 @@ def make_stream(
     """
     rng = np.random.default_rng([int(seed), 0x5EA])
     items = _items(sequence, n_gestures, n_stops, rng)
+    s = _start_session(seed, world, rng)
+    segments = [_perform(s, it, rng) for it in items]
+    s.add(duration=rng.uniform(1.0, 2.0))
+    t = sample_times(s.time, rng)
+    traj = measure(
+        t, s.hand.at(t), s.grip.at(t), s.world.at(t), rng, source=f"synthetic stream {seed}"
+    )
+    return traj, segments
+
+
+def _start_session(seed: int, world: np.ndarray | None, rng: np.random.Generator) -> _Session:
+    """A session resting at the first gesture's usual start pose, in a (random) user frame."""
     W0 = default_world(rng) if world is None else np.asarray(world, dtype=np.float64)
     plan0 = plan_gesture("go_left", np.random.default_rng([int(seed), 1]))
     s = _Session(plan0.start, random_grip(rng), W0)
     s.add(duration=rng.uniform(1.0, 2.0))
-    segments: list[Segment] = []
-    for it in items:
-        plan = None if it.label == STOP else plan_gesture(it.label, rng, it.speed)
-        target = None if plan is None else plan.start
-        if it.start_t is not None or it.gap is not None:
-            onset = float(it.start_t) if it.start_t is not None else s.time + float(it.gap)
-            need = _approach(s, target) + _MIN_SETTLE
-            if onset < s.time + need - 1e-9:
+    return s
+
+
+def _perform(s: _Session, it: StreamItem, rng: np.random.Generator) -> Segment:
+    """Add one scripted item to the session: what comes before it (free activities or a scripted
+    onset), the approach to its start pose, a short rest, and the gesture or stop signal itself."""
+    plan = None if it.label == STOP else plan_gesture(it.label, rng, it.speed)
+    target = None if plan is None else plan.start
+    if it.start_t is not None or it.gap is not None:
+        onset = float(it.start_t) if it.start_t is not None else s.time + float(it.gap)
+        need = _approach(s, target) + _MIN_SETTLE
+        if onset < s.time + need - 1e-9:
+            if it.gap != 0.0:
                 warnings.warn(
-                    f"{it.label} requested at {onset:.2f} s cannot start before {s.time + need:.2f} s; "
-                    "starting as early as possible",
-                    stacklevel=2,
+                    f"{it.label} requested at {onset:.2f} s cannot start before "
+                    f"{s.time + need:.2f} s; starting as early as possible",
+                    stacklevel=3,
                 )
-                onset = s.time + need
-            _fill(s, rng, until=onset - _FILL_MARGIN)
-            approach = _approach(s, target)
-            settle = onset - s.time - approach
-        else:
-            _interlude(s, rng)
-            approach = _approach(s, target)
-            settle = rng.uniform(0.4, 1.0)
-        if target is not None:
-            _reposition(s, rng, target, approach)
-        if settle > 1e-9:
-            s.add(duration=settle)
-        if plan is None:
-            a, b = _stop(s, rng)
-        else:
-            a = s.time
-            for piece in plan.strokes:
-                s.add(hand=piece)
-            b = s.time
-        segments.append(Segment(it.label, a, b))
-    s.add(duration=rng.uniform(1.0, 2.0))
-    t = sample_times(s.time, rng)
-    traj = measure(t, s.hand.at(t), s.grip.at(t), s.world.at(t), rng, source=f"synthetic stream {seed}")
-    return traj, segments
+            onset = s.time + need
+        _fill(s, rng, until=onset - _FILL_MARGIN)
+        approach = _approach(s, target)
+        settle = onset - s.time - approach
+    else:
+        _interlude(s, rng)
+        approach = _approach(s, target)
+        settle = rng.uniform(0.4, 1.0)
+    if target is not None:
+        _reposition(s, rng, target, approach)
+    if settle > 1e-9:
+        s.add(duration=settle)
+    if plan is None:
+        a, b = _stop(s, rng)
+    else:
+        a = s.time
+        for piece in plan.strokes:
+            s.add(hand=piece)
+        b = s.time
+    return Segment(it.label, a, b)
+
+
+class LivePerson:
+    """A simulated person who performs gestures on request while the stream is being consumed.
+
+    The same person model as :func:`make_stream` (interlude activities, walking, re-gripping,
+    approach, rest, the gesture, tremor, tracker error, 50 Hz time stamps with jitter), but the
+    script is decided as the session goes on, so a closed loop can react to what it observes: for
+    instance repeat a gesture the robot did not obey, as the paper's user did. Tremor and tracker
+    error are one continuous realization over the whole session.
+
+    Parameters
+    ----------
+    seed : int
+        Everything is deterministic given the seed and the sequence of requests.
+    world : ndarray, shape (4, 4), optional
+        Initial user frame in the tracker world (default: random, y-up).
+    max_duration : float
+        Longest session [s] (the noise processes are drawn for this span up front).
+
+    Examples
+    --------
+    >>> person = LivePerson(0)
+    >>> seg = person.perform("go_left", start_t=5.0)
+    >>> person.hold(2.0)                      # watch the robot for two seconds
+    >>> t, p, q = person.samples_until()      # everything performed so far, not yet emitted
+    """
+
+    def __init__(self, seed: int, world: np.ndarray | None = None, max_duration: float = 1200.0):
+        rng = np.random.default_rng([int(seed), 0x11FE])
+        self._rng = rng
+        self._session = _start_session(seed, world, rng)
+        self._times = sample_times(float(max_duration), rng)
+        self._noise = measurement_noise(self._times, rng)
+        self._emitted = 0
+        self._last_q: np.ndarray | None = None
+        self.segments: list[Segment] = []
+
+    @property
+    def time(self) -> float:
+        """End of what the person has performed so far [s]."""
+        return self._session.time
+
+    def perform(
+        self, label: str, start_t: float | None = None, gap: float | None = None, speed: float = 1.0
+    ) -> Segment:
+        """Perform a gesture (or ``"stop"``).
+
+        Parameters
+        ----------
+        label : str
+            Gesture name or ``"stop"``.
+        start_t : float, optional
+            Requested onset [s] (free activities fill the time before it; moved later, with a
+            warning, if it cannot be met).
+        gap : float, optional
+            Onset this long after the current end; 0 means as soon as possible (no warning).
+            Without ``start_t`` and ``gap``: after one to three random activities.
+        speed : float
+            Speed factor of the performance.
+
+        Returns
+        -------
+        Segment
+            The labelled span of the gesture (also appended to :attr:`segments`).
+        """
+        seg = _perform(self._session, StreamItem(label, start_t, gap, speed), self._rng)
+        if seg.end_t > self._times[-1]:
+            raise DatasetError(f"the session exceeds its max_duration of {self._times[-1]:.0f} s")
+        self.segments.append(seg)
+        return seg
+
+    def hold(self, duration: float) -> None:
+        """Keep the hand still (e.g. while watching the robot) for ``duration`` seconds."""
+        self._session.add(duration=float(duration))
+
+    def samples_until(self, t: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The not yet emitted tracker samples up to time ``t`` (default: all performed so far).
+
+        Returns
+        -------
+        t : ndarray, shape (n,)
+            Time stamps [s] (session clock, starting at 0).
+        p : ndarray, shape (n, 3)
+            Positions [m].
+        q : ndarray, shape (n, 4)
+            Quaternions (w, x, y, z), sign-continuous across calls.
+        """
+        end = self.time if t is None else min(float(t), self.time)
+        stop = int(np.searchsorted(self._times, end, side="right"))
+        window = slice(self._emitted, stop)
+        self._emitted = max(stop, self._emitted)
+        tt = self._times[window]
+        if tt.size == 0:
+            return tt, np.empty((0, 3)), np.empty((0, 4))
+        s = self._session
+        T = tracker_poses(s.hand.at(tt), s.grip.at(tt), s.world.at(tt), self._noise[window])
+        p, q = se3.pq_from_poses(T)
+        if self._last_q is not None and float(q[0] @ self._last_q) < 0.0:
+            q = -q
+        self._last_q = q[-1].copy()
+        return tt, p, q
 
 
 def labels_path(path: str | Path) -> Path:
@@ -356,8 +502,12 @@ def labels_path(path: str | Path) -> Path:
     return path.with_name(f"{path.stem}_labels.csv")
 
 
-def save_stream(path: str | Path, traj: Trajectory, segments: Sequence[Segment],
-                rng: np.random.Generator | None = None) -> Path:
+def save_stream(
+    path: str | Path,
+    traj: Trajectory,
+    segments: Sequence[Segment],
+    rng: np.random.Generator | None = None,
+) -> Path:
     """Write the stream CSV and its ``<name>_labels.csv``; with ``rng``, quaternions are stored
     with SDK-like sign flips. Returns the stream path."""
     path = write_recording(path, traj, rng)
