@@ -17,12 +17,16 @@ from ..demo import PAPER_RESULT
     help="Folder for the figures and summary.json.",
 )
 @click.option(
-    "--seed", type=int, default=0, show_default=True, help="Seed of the replica and the person."
+    "--seed",
+    type=int,
+    default=0,
+    show_default=True,
+    help="Seed of the person's session (the models come from the replica of seed 0).",
 )
 @click.option("--no-render", is_flag=True, help="Skip the MuJoCo images even if OpenGL works.")
 def demo(out, seed, no_render):
-    """Replica dataset → gesture models → a person performs the paper's 21-gesture session →
-    live recognition → planner → simulated Panda stacking blocks.
+    """Replica dataset → gesture models → a person gives the paper's stacking commands by hand
+    gestures → live recognition → planner → simulated Panda stacking blocks.
     """
     # robot.sim chooses MuJoCo's offscreen GL backend, which is fixed at mujoco's first import
     from ..robot.sim import SimulatorMissing, import_mujoco
@@ -36,6 +40,10 @@ def demo(out, seed, no_render):
     result = run_demo(out, seed=seed, render=not no_render, echo=click.echo)
     rec = result.recognition
     click.echo("")
+    click.echo(
+        f"  commands obeyed    {result.obeyed:5d} of {result.commands}  (the person repeats an "
+        "ignored command up to twice)"
+    )
     click.echo("                      framefree     paper ([P2] Table II)")
     for key in ("precision", "recall", "f1"):
         click.echo(f"  {key:<18} {100 * rec[key]:9.1f} %  {100 * PAPER_RESULT[key]:9.1f} %")

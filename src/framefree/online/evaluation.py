@@ -22,7 +22,15 @@ import numpy as np
 from ..trajectory import Trajectory
 from .events import Event
 
-__all__ = ["StreamResult", "StreamTrace", "combine", "match_events", "plot_timeline", "run_stream"]
+__all__ = [
+    "StreamResult",
+    "StreamTrace",
+    "TracingRecognizer",
+    "combine",
+    "match_events",
+    "plot_timeline",
+    "run_stream",
+]
 
 
 class SegmentLike(Protocol):
@@ -182,26 +190,53 @@ def combine(results: Sequence[StreamResult]) -> StreamResult:
     return out
 
 
+class TracingRecognizer:
+    """Wraps a recognizer: pushes samples, collects the events and the per-gesture dissimilarity
+    trace (the best matcher output of each gesture at every descriptor sample) for figures.
+
+    Parameters
+    ----------
+    recognizer : Recognizer
+        Reset on construction.
+    """
+
+    def __init__(self, recognizer: Any) -> None:
+        recognizer.reset()
+        self.recognizer = recognizer
+        self.gestures = list(recognizer.gestures)
+        self._gidx = np.array([self.gestures.index(s) for s in recognizer.labels])
+        self.events: list[Event] = []
+        self._times: list[float] = []
+        self._rows: list[np.ndarray] = []
+
+    def push(self, t: float, p: np.ndarray, q: np.ndarray) -> list[Event]:
+        """Push one pose sample (see ``Recognizer.push``); returns its events."""
+        rec = self.recognizer
+        n_before = rec.stats["descriptors"]
+        events = rec.push(t, p, q)
+        self.events.extend(events)
+        if rec.stats["descriptors"] != n_before:
+            row = np.full(len(self.gestures), np.inf)
+            np.minimum.at(row, self._gidx, rec.last_matched)
+            self._times.append(float(t))
+            self._rows.append(row)
+        return events
+
+    def trace(self) -> StreamTrace:
+        """The dissimilarity trace so far."""
+        diss = np.array(self._rows).reshape(-1, len(self.gestures))
+        thresholds = {
+            g: float(v) for g, v in getattr(self.recognizer, "gesture_thresholds", {}).items()
+        }
+        return StreamTrace(np.array(self._times), diss, self.gestures, thresholds)
+
+
 def run_stream(recognizer: Any, traj: Trajectory) -> tuple[list[Event], StreamTrace]:
     """Reset the recognizer, push a whole stream, return its events and a dissimilarity trace."""
-    recognizer.reset()
-    gestures = list(recognizer.gestures)
-    gidx = np.array([gestures.index(s) for s in recognizer.labels])
-    events: list[Event] = []
-    times: list[float] = []
-    rows: list[np.ndarray] = []
+    tracer = TracingRecognizer(recognizer)
     for k in range(len(traj)):
-        n_before = recognizer.stats["descriptors"]
-        events.extend(recognizer.push(traj.t[k], traj.p[k], traj.q[k]))
-        if recognizer.stats["descriptors"] != n_before:
-            d = recognizer.last_matched
-            row = np.full(len(gestures), np.inf)
-            np.minimum.at(row, gidx, d)
-            times.append(float(traj.t[k]))
-            rows.append(row)
-    diss = np.array(rows).reshape(-1, len(gestures))
-    thresholds = {g: float(v) for g, v in getattr(recognizer, "gesture_thresholds", {}).items()}
-    return events, StreamTrace(np.array(times), diss, gestures, thresholds)
+        tracer.push(traj.t[k], traj.p[k], traj.q[k])
+    return tracer.events, tracer.trace()
 
 
 def plot_timeline(
