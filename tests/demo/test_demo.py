@@ -6,6 +6,8 @@ import json
 
 import pytest
 
+import framefree.robot.sim  # noqa: F401  (chooses MuJoCo's offscreen GL backend before mujoco loads)
+
 pytest.importorskip("mujoco")
 
 from framefree.demo import PersonPolicy, demo_commands, run_demo
