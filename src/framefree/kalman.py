@@ -29,8 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from . import se3
 from .errors import DegenerateMotionError
+from .smoothing import pose_signals
 
 __all__ = [
     "KALMAN_Q",
@@ -383,16 +383,7 @@ def _qmul_vec_acc(a, b, c, out, scale):
 def pose_kinematics_kernel(poses, h, q):
     """Smoothed positions (n, 3) and pose twist derivatives (n, 3, 6) of poses (n, 4, 4)."""
     n = poses.shape[0]
-    y = np.empty((n, 7))
-    quat = np.empty((n, 4))
-    for k in range(n):
-        quat[k] = se3.quaternion_from_matrix_one(poses[k, :3, :3])
-    se3.continuity_inplace(quat, 0.5)
-    for k in range(n):
-        for r in range(3):
-            y[k, r] = poses[k, r, 3]
-        for r in range(4):
-            y[k, 3 + r] = quat[k, r]
+    y = pose_signals(poses)
     sig = np.empty(7)
     for r in range(3):
         sig[r] = SIGMA_POSITION

@@ -17,7 +17,13 @@ from numba import njit
 
 from . import se3
 
-__all__ = ["gaussian_offsets", "gaussian_smooth", "gaussian_weights", "smooth_poses"]
+__all__ = [
+    "gaussian_offsets",
+    "gaussian_smooth",
+    "gaussian_weights",
+    "pose_signals",
+    "smooth_poses",
+]
 
 
 def gaussian_offsets(window: int) -> tuple[int, int]:
@@ -77,19 +83,27 @@ def gaussian_smooth(y: np.ndarray, window: int) -> np.ndarray:
 
 
 @njit(cache=True)
-def smooth_poses_kernel(poses, g, before):
-    """Gaussian-smooth positions and quaternions of poses (N, 4, 4); returns poses and positions."""
+def pose_signals(poses):
+    """The 7 scalar signals of poses (N, 4, 4): positions and sign-continuous quaternions, (N, 7)."""
     n = poses.shape[0]
-    pq = np.empty((n, 7))
     q = np.empty((n, 4))
     for k in range(n):
         q[k] = se3.quaternion_from_matrix_one(poses[k, :3, :3])
     se3.continuity_inplace(q, 0.5)
+    y = np.empty((n, 7))
     for k in range(n):
         for r in range(3):
-            pq[k, r] = poses[k, r, 3]
+            y[k, r] = poses[k, r, 3]
         for r in range(4):
-            pq[k, 3 + r] = q[k, r]
+            y[k, 3 + r] = q[k, r]
+    return y
+
+
+@njit(cache=True)
+def smooth_poses_kernel(poses, g, before):
+    """Gaussian-smooth positions and quaternions of poses (N, 4, 4); returns smoothed poses."""
+    n = poses.shape[0]
+    pq = pose_signals(poses)
     sm = _smooth_kernel(pq, g, before)
     out = np.empty((n, 4, 4))
     for k in range(n):
