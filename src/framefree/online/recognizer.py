@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import se3
 from ..trajectory import Trajectory
 from .calibration import Calibration, calibrate_threshold
 from .config import RecognizerConfig
@@ -268,11 +269,10 @@ class Recognizer:
             if dt < 0.0:
                 st["backwards"] += 1
                 return []
-            dot = float(q @ self._q)
-            if dot < 0.0:
+            if se3.quaternion_sign(q, self._q) < 0.0:
                 q = -q
-                dot = -dot
                 st["sign_flips"] += 1
+            dot = float(q @ self._q)
             if dt > c.max_gap:
                 st["gaps"] += 1
                 self._restart()
