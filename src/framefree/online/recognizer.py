@@ -33,7 +33,7 @@ from .events import STOP, Event
 from .matchers import MatcherBank
 from .models import GestureModels, build_models, load_model_recordings
 from .preprocess import StreamingBILTSPlus
-from .stop import StopDetector, debounced_peak_rate
+from .stop import SampleRateStopDetector, debounced_peak_rate
 
 __all__ = ["STAT_KEYS", "Recognizer"]
 
@@ -134,7 +134,8 @@ class Recognizer:
                                 c.parallel_models)
         if c.prune_factor is not None:
             self.bank.set_cutoffs(c.prune_factor * self.model_thresholds)
-        self.stop = StopDetector(self.stop_threshold, c.stop_samples, c.stop_rearm, c.stop_refractory)
+        self.stop = SampleRateStopDetector(self.stop_threshold, c.stop_samples, c.stop_rearm,
+                                           c.stop_refractory)
         self.stats: dict[str, int] = dict.fromkeys(STAT_KEYS, 0)
         self.dissimilarities = self.bank.d
         self.last_matched = self.bank.d.copy()
