@@ -25,7 +25,7 @@ import numpy as np
 from .. import se3
 from ..errors import DatasetError
 from ..trajectory import Trajectory
-from .gestures import ANTHROPOMETRY, GESTURE_SHAPES, default_world, plan_gesture
+from .gestures import ANTHROPOMETRY, EXTRA_SHAPES, GESTURE_SHAPES, default_world, plan_gesture
 from .motion import Motion, Piece, hold, make_pose, minimum_jerk, rot, sclerp_path, stroke
 from .recording import (
     measure,
@@ -287,7 +287,7 @@ def _items(
     if sequence is not None:
         items = [x if isinstance(x, StreamItem) else StreamItem(str(x)) for x in sequence]
         for it in items:
-            if it.label != STOP and it.label not in GESTURE_SHAPES:
+            if it.label != STOP and it.label not in GESTURE_SHAPES and it.label not in EXTRA_SHAPES:
                 raise ValueError(
                     f"unknown stream label {it.label!r}; expected a gesture name or {STOP!r}"
                 )
@@ -490,8 +490,8 @@ class LivePerson:
         s = self._session
         T = tracker_poses(s.hand.at(tt), s.grip.at(tt), s.world.at(tt), self._noise[window])
         p, q = se3.pq_from_poses(T)
-        if self._last_q is not None and float(q[0] @ self._last_q) < 0.0:
-            q = -q
+        if self._last_q is not None:
+            q = q * se3.quaternion_sign(q[0], self._last_q)
         self._last_q = q[-1].copy()
         return tt, p, q
 
