@@ -17,6 +17,8 @@ from .events import STOP, Event
 from .matchers import MatcherBank
 from .models import GestureModels, build_models
 from .preprocess import StreamingBILTSPlus, descriptor_from_samples, replay
+from .paper import PaperRecognizer
+from .paper_config import PaperConfig
 from .recognizer import Recognizer
 from .stop import SampleRateStopDetector, StopDetector, sustained_peak_speed
 
@@ -27,6 +29,8 @@ __all__ = [
     "Event",
     "GestureModels",
     "MatcherBank",
+    "PaperConfig",
+    "PaperRecognizer",
     "Recognizer",
     "RecognizerConfig",
     "SampleGate",
