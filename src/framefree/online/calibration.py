@@ -50,9 +50,9 @@ import numpy as np
 from .. import se3
 from ..progress import cumulative_progress
 from ..trajectory import Trajectory
-from .paper_config import PaperConfig
 from .matchers import MatcherBank
 from .models import GestureModels
+from .paper_config import PaperConfig
 from .preprocess import replay
 
 __all__ = [

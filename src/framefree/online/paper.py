@@ -31,10 +31,10 @@ import numpy as np
 from .. import se3
 from ..trajectory import Trajectory
 from .calibration import Calibration, calibrate_threshold
-from .paper_config import PaperConfig
 from .events import STOP, Event
 from .matchers import MatcherBank
 from .models import GestureModels, build_models, load_model_recordings
+from .paper_config import PaperConfig
 from .preprocess import StreamingBILTSPlus
 from .stop import SampleRateStopDetector, debounced_peak_rate
 

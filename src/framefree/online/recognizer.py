@@ -173,7 +173,7 @@ class Recognizer:
         self.stop = StopDetector(self.stop_threshold, c.stop_window, c.stop_min_duration,
                                  c.stop_rearm, c.stop_refractory)
         self.resampler = UniformResampler(c.dt)
-        capacity = int(math.ceil((c.max_duration + c.max_wait + 2.0) / c.dt)) + 2 * c.margin
+        capacity = math.ceil((c.max_duration + c.max_wait + 2.0) / c.dt) + 2 * c.margin
         self.segmenter = MotionSegmenter(SpeedLevels(c.rest_speed, c.move_speed), c.L, c.dt,
                                          c.speed_lag, c.valley_ratio, capacity)
         self.spotter = _spotter(classifier, self.model_thresholds, c, self.labels)

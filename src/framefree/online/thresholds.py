@@ -20,6 +20,7 @@ compromise between missing demonstrations and accepting generic motion).
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -147,7 +148,7 @@ def candidate_limits(
             continue
         most = max(most, len(units))
         longest = max(longest, units[-1].end_t - units[0].start_t)
-        for a, b in zip(units[:-1], units[1:], strict=True):
+        for a, b in itertools.pairwise(units):
             pause = max(pause, b.start_t - a.end_t)
     if longest == 0.0:
         raise ValueError("no movement found in the model recordings")
