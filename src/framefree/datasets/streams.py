@@ -4,7 +4,11 @@ A session is a few minutes of tracker data in which gestures are performed one a
 separated by everything a person does in between: holding still, repositioning the hand, walking
 to another spot (the user frame moves in the tracker world), re-gripping the tracker (the tracker
 moves in the hand) and distractor motions that are no gesture; plus stop signals (a fast
-back-and-forth wrist rotation, peak angular speed above 5 rad/s).
+back-and-forth wrist rotation, peak angular speed above 5 rad/s). The activities are in
+:mod:`~framefree.datasets.activities`; a session performed by a simulated
+:class:`~framefree.datasets.people.Person` uses that person's style and a richer repertoire
+(reach-and-stay, walk-and-turn, scratching-like loops; see
+:mod:`~framefree.datasets.people_streams` for sessions of many people).
 
 Labels (``<name>_labels.csv``, header ``label,start_t,end_t``) span the gesture's movement, from
 the onset of its first stroke to the end of its last stroke (the rest before and after is not
