@@ -394,8 +394,8 @@ class LivePerson:
         s = self._session
         T = tracker_poses(s.hand.at(tt), s.grip.at(tt), s.world.at(tt), self._noise[window])
         p, q = se3.pq_from_poses(T)
-        if self._last_q is not None and float(q[0] @ self._last_q) < 0.0:
-            q = -q
+        if self._last_q is not None:
+            q = q * se3.quaternion_sign(q[0], self._last_q)
         self._last_q = q[-1].copy()
         return tt, p, q
 
