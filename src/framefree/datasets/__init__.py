@@ -8,6 +8,7 @@ the online recognizer.
 (35, 231)
 """
 
+from .activities import PERSON_ACTIVITIES, Activity
 from .contexts import (
     BODY_FRAMES,
     COMBINATION_FRAMES,
@@ -20,6 +21,7 @@ from .contexts import (
 from .gestures import EXTRA_SHAPES, plan_gesture, synthesize_gesture
 from .layout import CONTEXTS, GESTURES, MODEL_CONTEXT, STREAMS_DIR, Dataset, Trial, load_dataset
 from .people import DEFAULT_PERSON, DEV_PEOPLE, HELDOUT_PEOPLE, Person, draw_person, person
+from .people_streams import PersonStream, make_person_streams, person_stream
 from .replica import REPLICA_VERSION, cache_dir, generator_fingerprint, make_replica, replica_path
 from .streams import (
     STOP,
@@ -44,13 +46,16 @@ __all__ = [
     "MODEL_CONTEXT",
     "NOISE_POS_STD",
     "NOISE_ROT_STD",
+    "PERSON_ACTIVITIES",
     "REPLICA_VERSION",
     "STOP",
     "STREAMS_DIR",
     "WORLD_FRAMES",
+    "Activity",
     "Dataset",
     "LivePerson",
     "Person",
+    "PersonStream",
     "Segment",
     "StreamItem",
     "Trial",
@@ -62,9 +67,11 @@ __all__ = [
     "labels_path",
     "load_dataset",
     "load_stream",
+    "make_person_streams",
     "make_replica",
     "make_stream",
     "person",
+    "person_stream",
     "plan_gesture",
     "replica_path",
     "save_stream",

@@ -59,8 +59,8 @@ NOMINAL_STATURE = 1.70
 #: The population :func:`draw_person` draws from (ranges are inclusive; see docs/dataset.md).
 #: Normal laws are (mean, std) truncated at ± 2.5 std and then clipped to the range given.
 POPULATION = {
-    # adult stature [m]: half women N(1.61, 0.07), half men N(1.75, 0.075)
-    "stature": {"female": (1.61, 0.07), "male": (1.75, 0.075)},
+    # adult stature [m]: half women N(1.61, 0.066), half men N(1.75, 0.072)
+    "stature": {"female": (1.61, 0.066), "male": (1.75, 0.072)},
     # elbow-to-palm distance / stature, N(mean, std): 0.33 m at 1.70 m
     "elbow_to_palm_ratio": (0.33 / NOMINAL_STATURE, 0.006),
     # personal offset of the working hand position [m], per axis std
