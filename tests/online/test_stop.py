@@ -87,7 +87,8 @@ def test_calibration_matches_the_detector(seed, min_duration):
     rng = np.random.default_rng(seed)
     n = 60
     t = np.cumsum(rng.uniform(0.005, 0.04, n))
-    q = np.cumsum(rng.normal(0.0, 0.1, (n, 4)), axis=0) + [3.0, 0.0, 0.0, 0.0]
+    q = np.cumsum(rng.normal(0.0, 0.1, (n, 4)), axis=0)
+    q[:, 0] += 3.0
     q /= np.linalg.norm(q, axis=1)[:, None]
     peak = sustained_peak_speed(t, q, window=0.08, min_duration=min_duration)
     if peak <= 0.0:
