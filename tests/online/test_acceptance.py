@@ -178,11 +178,14 @@ def test_repeated_backwards_and_clock_reset():
     assert gate.push(0.18, [0.0, 0.0, 0.009], q).samples == []  # same time stamp
     assert gate.push(0.10, [0.0, 0.0, 0.009], q).samples == []  # backwards
     assert gate.stats["repeated"] == 1 and gate.stats["backwards"] == 1
-    restarted = False
+    released = []
     for k in range(6):  # the clock starts again from zero
         acc = gate.push(0.02 * k + 0.001, [0.0, 0.0, 0.0], q)
-        restarted |= acc.restarted
-    assert restarted and gate.stats["clock_resets"] == 1
+        if acc.samples:
+            released.append((acc.restarted, [s[0] for s in acc.samples]))
+    assert gate.stats["clock_resets"] == 1
+    assert released[0][0] and not any(r for r, _ in released[1:])
+    assert released[0][1][0] == pytest.approx(0.021)  # third backwards stamp in a row (0.10 first)
 
 
 def test_invalid_values_are_counted():
@@ -218,13 +221,17 @@ finite = st.floats(-1e3, 1e3, allow_nan=False)
                           st.tuples(finite, finite, finite, finite)), max_size=60))
 def test_any_finite_sequence_gives_a_clean_stream(samples):
     gate = SampleGate()
-    out = []
+    pieces: list[list] = [[]]  # the output, split where the stream restarted
     for t, p, q in samples:
-        out.extend(gate.push(t, p, q).samples)
+        acc = gate.push(t, p, q)
+        if acc.restarted:
+            pieces.append([])
+        pieces[-1].extend(acc.samples)
         assert gate.n_held <= gate.patience
+    out = [s for piece in pieces for s in piece]
     if out:
-        to = np.array([s[0] for s in out])
-        qo = np.array([s[2] for s in out])
-        check_clean_output(to, qo)
-        assert all(np.isfinite(s[1]).all() for s in out)
+        check_clean_output(np.arange(len(out)), np.array([s[2] for s in out]))
+        assert all(np.isfinite(s[1]).all() and math.isfinite(s[0]) for s in out)
+    for piece in pieces:
+        assert (np.diff([s[0] for s in piece]) > 0).all()
     assert gate.stats["samples"] == len(samples)
