@@ -8,6 +8,8 @@ import itertools
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from framefree import se3
 from framefree.datasets import (
@@ -163,3 +165,15 @@ def test_default_person_passed_explicitly_uses_the_rich_repertoire() -> None:
     traj_none, _ = make_stream(2, ["go_up", StreamItem("go_left"), "go_down"])
     traj_default, _ = make_stream(2, ["go_up", StreamItem("go_left"), "go_down"], person=DEFAULT_PERSON)
     assert traj_none.t.shape != traj_default.t.shape or not np.allclose(traj_none.p, traj_default.p)
+
+
+@settings(max_examples=5, deadline=None)
+@given(person_seed=st.integers(0, 10**6), stream_seed=st.integers(0, 10**6))
+def test_any_person_gives_a_consistent_short_session(person_seed: int, stream_seed: int) -> None:
+    ps = person_stream(stream_seed, person(person_seed), n_gestures=3, n_stops=1)
+    assert [s.label for s in ps.segments].count(STOP) == 1 and len(ps.segments) == 4
+    for a, b in itertools.pairwise(ps.segments):
+        assert a.end_t < b.start_t
+    assert all(0 < s.start_t < s.end_t < ps.traj.t[-1] for s in ps.segments)
+    assert np.all(np.diff(ps.traj.t) > 0) and np.all(np.isfinite(ps.traj.p))
+    assert ps.activities[-1].end_t == pytest.approx(ps.traj.t[-1], abs=0.05)
