@@ -65,6 +65,10 @@ class RecognizerConfig:
         Quantile of the generic non-gesture episodes' scores taken as ``N_g`` (0.05).
     closure : bool
         Accept a candidate only within its gesture's closure limit (True).
+    size : bool
+        Accept a candidate only within its gesture's size limits (True).
+    size_factor : float
+        People make a gesture up to this factor smaller or larger than the demonstrations (2.0).
     stop_threshold : float or None
         Stop detector threshold on the windowed angular speed [rad/s]; ``None``: ``stop_margin`` ×
         the fastest sustained rotation of any model recording, at least ``stop_floor``.
@@ -78,6 +82,9 @@ class RecognizerConfig:
     closure_limits : dict of str to float or None
         Largest closure accepted per gesture; ``None``: from the models
         (:func:`~framefree.online.thresholds.closure_limit`).
+    size_limits : dict of str to (float, float) or None
+        Smallest and largest size [m of screw path] accepted per gesture; ``None``: from the models
+        (:func:`~framefree.online.thresholds.size_limits`).
     max_bridge : float
         Longest dropout [s] bridged by ScLERP instead of restarting (0.5).
     """
@@ -103,6 +110,8 @@ class RecognizerConfig:
     threshold: float | None = None
     negative_quantile: float = 0.05
     closure: bool = True
+    size: bool = True
+    size_factor: float = 2.0
     stop_threshold: float | None = None
     stop_margin: float = 1.2
     stop_floor: float = 3.0
@@ -113,10 +122,11 @@ class RecognizerConfig:
     rest_speed: float | None = None
     move_speed: float | None = None
     closure_limits: dict[str, float] | None = None
+    size_limits: dict[str, tuple[float, float]] | None = None
     max_bridge: float = 0.5
 
     def __post_init__(self) -> None:
-        positive = ("L", "ds_scale", "dt", "span_factor", "stop_margin", "stop_floor",
+        positive = ("L", "ds_scale", "dt", "span_factor", "size_factor", "stop_margin", "stop_floor",
                     "stop_window", "max_bridge", "max_wait")
         for name in positive:
             if not getattr(self, name) > 0:
@@ -136,10 +146,12 @@ class RecognizerConfig:
             raise ValueError(f"max_units must be at least 1, got {self.max_units}")
         if self.confirm < 0 or self.margin < 0:
             raise ValueError("confirm and margin must not be negative")
-        for name in ("closure_limits",):
-            value = getattr(self, name)
-            if value is not None:
-                object.__setattr__(self, name, {str(g): float(v) for g, v in value.items()})
+        if self.closure_limits is not None:
+            object.__setattr__(self, "closure_limits",
+                               {str(g): float(v) for g, v in self.closure_limits.items()})
+        if self.size_limits is not None:
+            object.__setattr__(self, "size_limits", {str(g): (float(v[0]), float(v[1]))
+                                                     for g, v in self.size_limits.items()})
         if self.gesture_thresholds is not None:
             bad = {g: v for g, v in self.gesture_thresholds.items() if not float(v) > 0}
             if bad:

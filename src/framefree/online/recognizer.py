@@ -42,7 +42,8 @@ from .thresholds import (
     calibrate_segment_thresholds,
     candidate_limits,
     closure_limit,
-    gesture_closures,
+    gesture_geometry,
+    size_limits,
 )
 
 __all__ = ["STAT_KEYS", "Recognizer", "resolve_config"]
@@ -79,9 +80,14 @@ def resolve_config(
                                                   c.min_pause, c.dt)
         c = c.replace(max_units=c.max_units or units, max_duration=c.max_duration or duration,
                       max_pause=c.max_pause or pause)
-    if c.closure_limits is None:
-        closed = gesture_closures(trajectories, labels, levels, c.L, c.dt)
-        c = c.replace(closure_limits={g: closure_limit(closed.get(g, 1.0)) for g in gestures})
+    if c.closure_limits is None or c.size_limits is None:
+        closed, sizes = gesture_geometry(trajectories, labels, classifier, levels, c.L, c.margin,
+                                         c.dt)
+        if c.closure_limits is None:
+            c = c.replace(closure_limits={g: closure_limit(closed.get(g, 1.0)) for g in gestures})
+        if c.size_limits is None:
+            c = c.replace(size_limits={g: size_limits(*sizes.get(g, (0.0, np.inf)), c.size_factor)
+                                       for g in gestures})
     calibration = None
     if c.threshold is not None:
         c = c.replace(gesture_thresholds=dict.fromkeys(gestures, c.threshold))
@@ -99,11 +105,13 @@ def resolve_config(
 
 def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: RecognizerConfig,
              labels: list[str]) -> Spotter:
-    limits = None
+    closures = sizes = None
     if c.closure and c.closure_limits is not None:
-        limits = np.array([c.closure_limits.get(g, 1.0) for g in labels])
+        closures = np.array([c.closure_limits.get(g, 1.0) for g in labels])
+    if c.size and c.size_limits is not None:
+        sizes = np.array([c.size_limits.get(g, (0.0, np.inf)) for g in labels])
     return Spotter(classifier, model_thresholds, c.max_units, c.max_duration, c.max_pause,
-                   c.margin, c.confirm, c.max_wait, limits, c.L)
+                   c.margin, c.confirm, c.max_wait, closures, c.L, sizes)
 
 
 class Recognizer:
