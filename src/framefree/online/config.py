@@ -63,6 +63,9 @@ class RecognizerConfig:
         One τ for every gesture (overrides the calibration).
     negative_quantile : float
         Quantile of the generic non-gesture episodes' scores taken as ``N_g`` (0.05).
+    threshold_position : float
+        ``τ_g = P_g^(1-a) N_g^a`` between the worst demonstration ``P_g`` and the generic motion
+        ``N_g`` (0.5: the geometric midpoint).
     closure : bool
         Accept a candidate only within its gesture's closure limit (True).
     size : bool
@@ -109,6 +112,7 @@ class RecognizerConfig:
     gesture_thresholds: dict[str, float] | None = None
     threshold: float | None = None
     negative_quantile: float = 0.05
+    threshold_position: float = 0.5
     closure: bool = True
     size: bool = True
     size_factor: float = 2.0

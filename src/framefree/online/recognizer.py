@@ -94,7 +94,8 @@ def resolve_config(
     elif c.gesture_thresholds is None:
         spotter = _spotter(classifier, np.ones(len(labels)), c, list(labels))
         calibration = calibrate_segment_thresholds(
-            trajectories, labels, classifier, levels, spotter, c.L, c.negative_quantile)
+            trajectories, labels, classifier, levels, spotter, c.L, c.negative_quantile,
+            c.threshold_position)
         c = c.replace(gesture_thresholds=calibration.thresholds)
     if c.stop_threshold is None:
         peak = max(sustained_peak_speed(tr.t, tr.q, c.stop_window, c.stop_min_duration)
@@ -310,7 +311,7 @@ class Recognizer:
         self._counts["grid"] += 1
         unit = self.segmenter.push(t, T)
         spotter = self.spotter
-        if self.stop.active:
+        if not self.stop.armed:  # a stop fired and the hand still turns fast: it is not a gesture
             spotter.discard_before(self.segmenter.buffer.count)
             return None
         fired = None

@@ -180,6 +180,7 @@ def calibrate_segment_thresholds(
     spotter: Spotter,
     L: float,
     negative_quantile: float = 0.05,
+    position: float = 0.5,
     seed: int = 0,
 ) -> SegmentThresholds:
     """τ_g for every gesture (see the module docstring).
@@ -195,6 +196,9 @@ def calibrate_segment_thresholds(
         ``N_g`` is this quantile of the non-gesture episodes' scores (0.05: one generic motion
         episode in twenty may come closer to ``g`` than ``N_g``; the minimum would hinge on the
         single most gesture-like of an arbitrary number of random episodes).
+    position : float
+        Where τ_g lies between ``P_g`` and ``N_g`` on a log scale: ``τ_g = P_g^(1-a) N_g^a``
+        (0.5: the geometric midpoint).
     seed : int
         Seed of the generated non-gesture motion (the calibration is deterministic).
     """
@@ -230,7 +234,7 @@ def calibrate_segment_thresholds(
         negatives[g] = N
         separated[g] = bool(P < N)
         if np.isfinite(P) and np.isfinite(N):
-            thresholds[g] = float(np.sqrt(P * N))
+            thresholds[g] = float(P ** (1.0 - position) * N**position)
         elif np.isfinite(P):  # nothing generic comes close to this gesture
             thresholds[g] = 2.0 * P
         elif np.isfinite(N):
