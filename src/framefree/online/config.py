@@ -43,11 +43,13 @@ class RecognizerConfig:
     max_units, max_duration, max_pause : int, float, float or None
         Candidate limits: units per candidate, duration [s], longest rest inside [s]. ``None``:
         from the models — one unit more than the most units of any model recording;
-        ``span_factor`` × the longest model gesture; ``span_factor`` × the longest rest inside a
+        ``span_factor`` × the longest model gesture; ``pause_factor`` × the longest rest inside a
         model gesture (at least ``min_pause``).
     span_factor : float
         How much slower than the model demonstrations a person may be (2.5: a tempo factor of 0.6
         with room for a long reversal pause).
+    pause_factor : float
+        How much longer than in the demonstrations a person may pause inside a gesture (1.5).
     min_pause : float
         Lower bound of the automatic ``max_pause`` [s] (0.5).
     margin : int
@@ -105,6 +107,7 @@ class RecognizerConfig:
     max_duration: float | None = None
     max_pause: float | None = None
     span_factor: float = 2.5
+    pause_factor: float = 1.5
     min_pause: float = 0.5
     margin: int = 5
     confirm: float = 0.2
@@ -130,8 +133,8 @@ class RecognizerConfig:
     max_bridge: float = 0.5
 
     def __post_init__(self) -> None:
-        positive = ("L", "ds_scale", "dt", "span_factor", "size_factor", "stop_margin", "stop_floor",
-                    "stop_window", "max_bridge", "max_wait")
+        positive = ("L", "ds_scale", "dt", "span_factor", "pause_factor", "size_factor",
+                    "stop_margin", "stop_floor", "stop_window", "max_bridge", "max_wait")
         for name in positive:
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be positive, got {getattr(self, name)}")

@@ -77,7 +77,7 @@ def resolve_config(
     levels = SpeedLevels(c.rest_speed, c.move_speed)
     if c.max_units is None or c.max_duration is None or c.max_pause is None:
         units, duration, pause = candidate_limits(trajectories, levels, c.L, c.span_factor,
-                                                  c.min_pause, c.dt)
+                                                  c.pause_factor, c.min_pause, c.dt)
         c = c.replace(max_units=c.max_units or units, max_duration=c.max_duration or duration,
                       max_pause=c.max_pause or pause)
     if c.closure_limits is None or c.size_limits is None:

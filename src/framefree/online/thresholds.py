@@ -144,12 +144,12 @@ def size_limits(smallest: float, largest: float, factor: float) -> tuple[float, 
 
 def candidate_limits(
     trajectories: Sequence[Trajectory], levels: SpeedLevels, L: float, span_factor: float,
-    min_pause: float, dt: float = 0.02,
+    pause_factor: float, min_pause: float, dt: float = 0.02,
 ) -> tuple[int, float, float]:
     """Candidate limits from the model recordings: ``(max_units, max_duration, max_pause)``.
 
     One unit more than the most units of any recording; ``span_factor`` × the longest gesture (first
-    unit's start to last unit's end); ``span_factor`` × the longest rest between two units of one
+    unit's start to last unit's end); ``pause_factor`` × the longest rest between two units of one
     recording, at least ``min_pause`` [s].
     """
     most, longest, pause = 1, 0.0, 0.0
@@ -163,7 +163,7 @@ def candidate_limits(
             pause = max(pause, b.start_t - a.end_t)
     if longest == 0.0:
         raise ValueError("no movement found in the model recordings")
-    return most + 1, span_factor * longest, max(min_pause, span_factor * pause)
+    return most + 1, span_factor * longest, max(min_pause, pause_factor * pause)
 
 
 def closure_limit(largest: float) -> float:
