@@ -17,7 +17,18 @@ from .contexts import (
     apply_context,
 )
 from .gestures import plan_gesture, synthesize_gesture
-from .layout import CONTEXTS, GESTURES, MODEL_CONTEXT, STREAMS_DIR, Dataset, Trial, load_dataset
+from .layout import (
+    CONTEXTS,
+    GESTURES,
+    MODEL_CONTEXT,
+    STREAMS_DIR,
+    Dataset,
+    LayoutWarning,
+    ModelSet,
+    Trial,
+    load_dataset,
+    resolve_models,
+)
 from .replica import REPLICA_VERSION, cache_dir, generator_fingerprint, make_replica, replica_path
 from .streams import (
     STOP,
@@ -43,7 +54,9 @@ __all__ = [
     "STREAMS_DIR",
     "WORLD_FRAMES",
     "Dataset",
+    "LayoutWarning",
     "LivePerson",
+    "ModelSet",
     "Segment",
     "StreamItem",
     "Trial",
@@ -58,6 +71,7 @@ __all__ = [
     "make_stream",
     "plan_gesture",
     "replica_path",
+    "resolve_models",
     "save_stream",
     "synthesize_gesture",
 ]
