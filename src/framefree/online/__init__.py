@@ -17,11 +17,13 @@ from .matchers import MatcherBank
 from .models import GestureModels, build_models
 from .preprocess import StreamingBILTSPlus, descriptor_from_samples, replay
 from .recognizer import Recognizer
+from .sources import CsvReplay, ZmqPublisher, ZmqSource, open_source
 from .stop import StopDetector
 
 __all__ = [
     "STOP",
     "Calibration",
+    "CsvReplay",
     "Event",
     "GestureModels",
     "MatcherBank",
@@ -29,8 +31,11 @@ __all__ = [
     "RecognizerConfig",
     "StopDetector",
     "StreamingBILTSPlus",
+    "ZmqPublisher",
+    "ZmqSource",
     "build_models",
     "calibrate_threshold",
     "descriptor_from_samples",
+    "open_source",
     "replay",
 ]
