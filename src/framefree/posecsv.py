@@ -221,13 +221,17 @@ def _unit_problem(data: np.ndarray) -> str | None:
 
 
 def _order_problem(raw_quaternions: np.ndarray) -> str | None:
-    """Sign jumps explained by a scalar kept non-negative in the *last* column."""
+    """Sign jumps explained by a scalar kept non-negative in the *last* column, not the first."""
     q = raw_quaternions / np.linalg.norm(raw_quaternions, axis=1, keepdims=True)
     jumps = np.flatnonzero(np.einsum("ij,ij->i", q[1:], q[:-1]) < 0)
-    if jumps.size == 0 or q[:, 3].min() < 0:
+    if jumps.size == 0:
         return None
     around = np.concatenate([jumps, jumps + 1])
-    if np.abs(q[around, 3]).max() < 0.2 and np.abs(q[around, 0]).min() > 0.2:
+
+    def kept_non_negative(col: int) -> bool:
+        return bool(q[:, col].min() >= 0 and np.abs(q[around, col]).max() < 0.2)
+
+    if kept_non_negative(3) and not kept_non_negative(0):
         return (
             "the quaternion's last column is never negative and its sign jumps where that column "
             "crosses zero: the file looks scalar-last (x, y, z, w); use --quat-order xyzw "
