@@ -249,10 +249,13 @@ def _robot_sim():
 
 
 @click.command("evaluate-stream")
+@click.argument("more_streams", nargs=-1, type=click.Path(exists=True, dir_okay=False),
+                metavar="[STREAM]...")
 @_model_options
-@click.option("--stream", "streams", required=True, multiple=True,
+@click.option("--stream", "streams", multiple=True,
               type=click.Path(exists=True, dir_okay=False),
-              help="Stream CSV (with <name>_labels.csv beside it); repeatable.")
+              help="Stream CSV (with <name>_labels.csv beside it); repeatable, or give the "
+              "streams as arguments.")
 @click.option("--quat-order", default="wxyz", show_default=True, type=click.Choice(QUAT_ORDERS),
               help="Quaternion column order of the stream files.")
 @click.option("--tolerance", type=float, default=0.5, show_default=True,
@@ -261,12 +264,18 @@ def _robot_sim():
               help="Write all metrics and events to this JSON file.")
 @click.option("--figures", type=click.Path(file_okay=False), default=None,
               help="Folder for one timeline figure per stream (PNG).")
-def evaluate_stream_cmd(models: str, model_context: str, model_quat_order: str, units: str,
-                        streams: tuple[str, ...], quat_order: str, tolerance: float,
-                        json_path: str | None, figures: str | None, **kw: Any):
-    """Event-level precision, recall, F1, false positives per minute and latency on labelled streams."""
+def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_context: str,
+                        model_quat_order: str, units: str, streams: tuple[str, ...],
+                        quat_order: str, tolerance: float, json_path: str | None,
+                        figures: str | None, **kw: Any):
+    """Event-level precision, recall, F1, false positives per minute and latency on labelled streams
+    (--stream FILE, repeatable, and/or STREAM arguments)."""
     from ..datasets.streams import load_stream
     from ..online.evaluation import combine, match_events, plot_timeline, run_stream
+
+    streams = (*streams, *more_streams)
+    if not streams:
+        raise click.UsageError("give at least one labelled stream (--stream FILE)")
 
     if units != "m":
         raise click.BadParameter("labelled streams are read in metres", param_hint="--units")
