@@ -228,11 +228,11 @@ def _robot_sim():
     try:
         from ..robot import sim as _sim
     except ImportError as exc:
-        raise click.ClickException(f"--robot sim is not available: {exc}") from None
+        raise FramefreeError(f"--robot sim is not available: {exc}") from None
     try:
         _sim.import_mujoco()
     except _sim.SimulatorMissing as exc:
-        raise click.ClickException(f"--robot sim: {exc}") from None
+        raise FramefreeError(f"--robot sim: {exc}") from None
     from ..robot.scenario import STACKING_PLANNER, STACKING_SCENE, STACKING_START
     from ..robot.session import RobotSim
 
