@@ -132,6 +132,10 @@ class NearestNeighborClassifier:
             no_validation=True,
         )
 
+    def __sklearn_is_fitted__(self) -> bool:
+        """Whether :meth:`fit` has run (for scikit-learn's ``check_is_fitted``)."""
+        return hasattr(self, "models_")
+
     def __repr__(self) -> str:
         init = inspect.signature(type(self).__init__).parameters
         changed = [

@@ -5,9 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from sklearn.base import clone, is_classifier
+from sklearn.exceptions import NotFittedError
 from sklearn.model_selection import GridSearchCV, StratifiedKFold, cross_val_score
 from sklearn.pipeline import Pipeline
 from sklearn.preprocessing import FunctionTransformer
+from sklearn.utils.validation import check_is_fitted
 
 from framefree import NearestNeighborClassifier, get_descriptor
 
@@ -52,6 +54,9 @@ def test_clone_gives_an_unfitted_copy_with_equal_parameters(xy):
     assert not hasattr(copy, "models_") and not hasattr(copy, "descriptor_")
     with pytest.raises(RuntimeError, match="fit"):
         copy.predict(X[:1])
+    check_is_fitted(clf)
+    with pytest.raises(NotFittedError):
+        check_is_fitted(copy)
 
 
 def test_cross_val_score_on_the_replica(xy):
