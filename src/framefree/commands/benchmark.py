@@ -121,21 +121,9 @@ def benchmark_command(
     """
     from tqdm import tqdm
 
-    from ..benchmark import load_benchmark_data, make_backend, parse_methods, run_benchmark
-    from ..benchmark.results import write_csv, write_json, write_markdown
-    from ..descriptors import available_descriptors
+    from ..benchmark import load_benchmark_data, make_backend, run_benchmark
 
-    try:
-        specs = parse_methods(methods, available_descriptors())
-    except ValueError as exc:
-        raise click.BadParameter(str(exc), param_hint="--methods") from None
-    if methods.strip().lower() == "all":
-        from ..benchmark.grids import TABLE1_ROWS
-
-        skipped = [r.key for r in TABLE1_ROWS if r not in specs]
-        if skipped:
-            msg = f"not registered in this installation, skipped: {', '.join(skipped)}"
-            click.secho(msg, fg="yellow", err=True)
+    specs = _method_specs(methods)
     if json_file is not None:
         writable_file(json_file, "--json")
     writable_folder(out_dir)
@@ -172,6 +160,32 @@ def benchmark_command(
     result.timing["load"] = load_s
     result.timing["total"] += load_s
 
+    _write_outputs(result, data, out_dir, json_file, figures)
+
+
+def _method_specs(methods: str) -> list:
+    """The rows ``--methods`` names; says which Table I rows this installation lacks."""
+    from ..benchmark import parse_methods
+    from ..descriptors import available_descriptors
+
+    try:
+        specs = parse_methods(methods, available_descriptors())
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--methods") from None
+    if methods.strip().lower() == "all":
+        from ..benchmark.grids import TABLE1_ROWS
+
+        skipped = [r.key for r in TABLE1_ROWS if r not in specs]
+        if skipped:
+            msg = f"not registered in this installation, skipped: {', '.join(skipped)}"
+            click.secho(msg, fg="yellow", err=True)
+    return specs
+
+
+def _write_outputs(result, data, out_dir: Path, json_file: Path | None, figures: bool) -> None:  # type: ignore[no-untyped-def]
+    """Table I (Markdown, CSV, JSON), the figures, and the table and timing on stdout."""
+    from ..benchmark.results import markdown_table, write_csv, write_json, write_markdown
+
     written = [
         write_markdown(result, out_dir / "table1.md"),
         write_csv(result, out_dir / "table1.csv"),
@@ -181,8 +195,6 @@ def benchmark_command(
         written.append(write_json(result, json_file))
     if figures:
         written += _figures(result, data, out_dir)
-    from ..benchmark.results import markdown_table
-
     click.echo(markdown_table(result))
     t = result.timing
     click.echo(
