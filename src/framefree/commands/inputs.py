@@ -14,6 +14,7 @@ from typing import Any
 
 import click
 
+from ..datasets.layout import ModelSet, resolve_models
 from ..errors import FramefreeError
 from ..posecsv import QUAT_ORDERS, UNITS
 
@@ -84,14 +85,9 @@ def model_options(func: Callable[..., Any]) -> Callable[..., Any]:
     )
 
 
-def read_models(folder: str | Path, model_context: str, quat_order: str, units: str):
-    """Models from either layout; says on stderr which layout it found.
-
-    Returns
-    -------
-    ModelSet
-    """
-    from ..datasets import resolve_models
+def read_models(folder: str | Path, model_context: str, quat_order: str, units: str) -> ModelSet:
+    """Models from either layout (see :func:`~framefree.datasets.resolve_models`); says on stderr
+    which layout it found."""
 
     found = resolve_models(folder, model_context=model_context, quat_order=quat_order, units=units)
     click.echo(found.description, err=True)
