@@ -46,6 +46,9 @@ def _square(x: int) -> int:
 
 def test_local_dask_cluster_listens_on_loopback_only_without_dashboard() -> None:
     pytest.importorskip("dask.distributed")
+    import dask
+
+    temporary_before = dask.config.get("temporary-directory")
     me = psutil.Process()
     before = _listening_addresses(me)
     with make_backend("dask", jobs=1) as bk:
@@ -61,7 +64,10 @@ def test_local_dask_cluster_listens_on_loopback_only_without_dashboard() -> None
             urllib.request.urlopen(f"http://127.0.0.1:{port}/status", timeout=10)
         scratch = Path(bk._scratch.name)
         assert scratch.is_dir()
+        # lock files of the scheduler and nannies go there too, not to a dask-scratch-space
+        assert dask.config.get("temporary-directory") == str(scratch)
     assert not scratch.exists()
+    assert dask.config.get("temporary-directory") == temporary_before
     assert "127.0.0.1" in bk.describe()
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import sys
 import types
 from pathlib import Path
@@ -256,6 +257,7 @@ def _fake_dask(submitted: list) -> tuple[types.ModuleType, types.ModuleType]:
     dist.as_completed = lambda futures: reversed(list(futures))  # any completion order
     dask = types.ModuleType("dask")
     dask.distributed = dist
+    dask.config = types.SimpleNamespace(set=lambda *args, **kwargs: contextlib.nullcontext())
     return dask, dist
 
 

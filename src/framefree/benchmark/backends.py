@@ -148,6 +148,7 @@ class DaskBackend(Backend):
             ) from None
         self.address = address
         self._scratch: tempfile.TemporaryDirectory | None = None
+        self._config: Any = None
         if address:
             try:
                 self._client = Client(address, timeout=timeout)
@@ -158,7 +159,11 @@ class DaskBackend(Backend):
                 ) from None
             self._owned = False
         else:
+            import dask
+
             self._scratch = tempfile.TemporaryDirectory(prefix="framefree-dask-")
+            # the scheduler and nannies keep lock files in dask's temporary directory too
+            self._config = dask.config.set({"temporary-directory": self._scratch.name})
             self._client = Client(
                 n_workers=self.jobs,
                 threads_per_worker=1,
@@ -191,6 +196,9 @@ class DaskBackend(Backend):
             if cluster is not None:
                 cluster.close()
             self._owned = False
+        if getattr(self, "_config", None) is not None:
+            self._config.__exit__(None, None, None)
+            self._config = None
         if self._scratch is not None:
             self._scratch.cleanup()
             self._scratch = None
