@@ -115,5 +115,5 @@ def test_evaluate_stream_checks_outputs_first(data, tmp_path):
 
 def test_latency_min_help_states_the_real_default():
     res = run("live", "--help")
-    assert "Smallest latency searched (default: 0)" in " ".join(res.output.split())
+    assert "smallest latency searched (default: 0)" in " ".join(res.output.split())
     assert "issue" not in res.output.lower()
