@@ -10,7 +10,22 @@ import numpy as np
 from .descriptors.base import Descriptor, get_descriptor
 from .trajectory import Trajectory
 
-__all__ = ["NearestNeighborClassifier", "round_significant"]
+__all__ = ["RECOMMENDED", "NearestNeighborClassifier", "round_significant"]
+
+#: The recommended offline configuration (``docs/algorithms/recommended.md``): BILTS+ with
+#: screw-path progress, the 50 Hz poses Gaussian-smoothed with a 5-sample window before progress is
+#: computed, and open-end alignment (an unfinished query may match the beginning of a model).
+#: ``L`` [m] and ``ds_scale`` [m] are the values the benchmark's grid search selects on the
+#: training trials of the HPM replica (``framefree benchmark --methods recommended``); retrain them
+#: on your own data with the same command.
+RECOMMENDED: dict[str, Any] = {
+    "descriptor": "bilts+",
+    "progress": "screw",
+    "presmooth": 5,
+    "open_end": True,
+    "L": 0.1,
+    "ds_scale": 0.06,
+}
 
 
 def round_significant(x: np.ndarray, digits: int) -> np.ndarray:
@@ -61,6 +76,19 @@ class NearestNeighborClassifier:
             raise TypeError("descriptor parameters can only be given with a descriptor name")
         self.descriptor = descriptor
         self.round_digits = round_digits
+
+    @classmethod
+    def recommended(cls, **overrides: Any) -> NearestNeighborClassifier:
+        """The recommended offline recognizer, :data:`RECOMMENDED` (any entry can be overridden).
+
+        Examples
+        --------
+        >>> clf = NearestNeighborClassifier.recommended()           # doctest: +SKIP
+        >>> clf.fit(model_trajectories, model_labels).predict(half_gestures)  # doctest: +SKIP
+        """
+        params = {**RECOMMENDED, **overrides}
+        descriptor = params.pop("descriptor")
+        return cls(descriptor, **params)
 
     def _describe(self, trajectories: Sequence[Trajectory]) -> list[np.ndarray]:
         out = []

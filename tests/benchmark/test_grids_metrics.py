@@ -9,6 +9,7 @@ import pytest
 
 from framefree.benchmark import (
     PAPER_TABLE1,
+    RECOMMENDED,
     TABLE1_ROWS,
     is_training_trial,
     mean_std,
@@ -70,13 +71,29 @@ def test_table1_rows_and_grids() -> None:
     }
 
 
+def test_recommended_row() -> None:
+    assert RECOMMENDED.key == RECOMMENDED.method_name == "recommended"
+    assert RECOMMENDED.label == "framefree (recommended) screw path"
+    assert RECOMMENDED.grid() == MethodSpec("bilts+", "screw").grid()
+    assert RECOMMENDED.params(0.06, 0.1) == {
+        "progress": "screw",
+        "L": 0.1,
+        "ds_scale": 0.06,
+        "presmooth": 5,
+        "open_end": True,
+    }
+    assert RECOMMENDED.trained(0.06, 0.1) == {"ds_scale": 0.06, "L": 0.1}
+
+
 def test_grid_scan_order_is_x_then_L() -> None:
     g = MethodSpec("bilts+", "screw").grid()
     assert g[:6] == [(0.03, 0.1), (0.03, 0.3), (0.03, 0.5), (0.03, 0.7), (0.03, 0.9), (0.06, 0.1)]
 
 
 def test_parse_methods() -> None:
-    assert parse_methods("all") == list(TABLE1_ROWS)
+    assert parse_methods("all") == [*TABLE1_ROWS, RECOMMENDED]
+    assert parse_methods("paper") == list(TABLE1_ROWS)
+    assert parse_methods("recommended,bilts+:screw") == [RECOMMENDED, TABLE1_ROWS[10]]
     assert [s.key for s in parse_methods("bilts+:screw, dhb:arclength")] == [
         "bilts+:screw",
         "dhb:arclength",
@@ -87,6 +104,7 @@ def test_parse_methods() -> None:
         "bilts:angle",
         "bilts:screw",
         "bilts+:screw",
+        "recommended",
     ]
     with pytest.raises(ValueError, match="progress"):
         parse_methods("dhb:time")

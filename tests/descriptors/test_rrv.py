@@ -11,13 +11,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from framefree import get_descriptor, se3
-from framefree.descriptors.rrv import (
-    RRV,
-    normalized_step,
-    rates_kernel,
-    rrv_from_rates,
-    total_arclength,
-)
+from framefree.descriptors.families import normalized_step, rates_kernel, total_arclength
+from framefree.descriptors.rrv import RRV, rrv_from_rates
 from framefree.dtw import dtw_distance
 from framefree.errors import DegenerateMotionError
 from framefree.progress import reparameterize, reparameterize_poses, uniform_time_poses

@@ -20,10 +20,9 @@ All three task functions are pure (numpy arrays and small values in, results out
 
 from __future__ import annotations
 
-import inspect
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -31,11 +30,10 @@ from typing import Any
 import numpy as np
 
 from ..classifier import round_significant
-from ..descriptors.base import Descriptor, available_descriptors, get_descriptor
+from ..descriptors.base import Descriptor, get_descriptor
 from ..errors import DatasetError, FramefreeError
 from ..progress import cumulative_progress, reparameterize_poses, uniform_time_poses
 from ..trajectory import Trajectory
-from .backends import Backend, SerialBackend
 from .grids import MethodSpec
 from .metrics import context_groups, mean_std, order_contexts, pooled_ratio, ratios_by_context
 
@@ -53,7 +51,6 @@ __all__ = [
     "predict_from_distances",
     "reparameterize_task",
     "resample_task",
-    "run_benchmark",
     "select_best",
 ]
 
@@ -259,9 +256,8 @@ class DescriptorInput:
     ds : float
         Progress step of ``poses`` [m or rad].
     arclength : float
-        Total arclength ℓ [m] of the 50 Hz trajectory (the normalization of RRV and DSRF, §4.7).
-    data : ndarray or None
-        ``(M, 8)`` time trajectory, for descriptors that can only start from a trajectory.
+        Total arclength ℓ [m] of the 50 Hz trajectory (the normalization of the global
+        descriptors).
     error : str or None
         Why no descriptor can be computed (e.g. no progress of this type); then the trial gets no
         class and counts as misrecognized.
@@ -270,7 +266,6 @@ class DescriptorInput:
     poses: np.ndarray | None = None
     ds: float = float("nan")
     arclength: float = float("nan")
-    data: np.ndarray | None = None
     error: str | None = None
 
 
@@ -348,21 +343,6 @@ class PointResult:
     failures: list[str] = field(default_factory=list)
 
 
-def _takes_arclength(desc: Descriptor) -> bool:
-    fn = getattr(desc, "from_reparameterized", None)
-    if fn is None:
-        return False
-    return "arclength" in inspect.signature(fn).parameters
-
-
-def _shares_representation(desc: Descriptor) -> bool:
-    """Whether the descriptor splits into a parameter-free ``representation(poses, ds)`` and a
-    cheap ``weight(representation)`` (DHB, eFS, ISA: L and λ only weight the rows)."""
-    return callable(getattr(desc, "representation", None)) and callable(
-        getattr(desc, "weight", None)
-    )
-
-
 def _describe(
     desc: Descriptor,
     inp: DescriptorInput,
@@ -372,30 +352,27 @@ def _describe(
 ) -> np.ndarray | str:
     """Descriptor (K, F) of one input, or the reason it cannot be computed.
 
-    With ``cache``, descriptors that share a representation between parameter points compute it
-    once per input (``key``) and only re-weight it.
+    With ``cache``, descriptors that declare ``shares_representation`` compute their
+    representation once per input (``key``) and only re-weight it per grid point.
     """
     if inp.error is not None:
         return inp.error
+    errors = (FramefreeError, FloatingPointError, np.linalg.LinAlgError)
     try:
-        if inp.data is not None:
-            d = desc.compute(Trajectory.from_array(inp.data))
-        elif cache is not None and _shares_representation(desc):
+        if cache is not None and desc.shares_representation:
             raw = cache.get(key)
             if raw is None:
                 try:
-                    raw = desc.representation(inp.poses, inp.ds)  # type: ignore[attr-defined]
-                except (FramefreeError, FloatingPointError, np.linalg.LinAlgError) as exc:
+                    raw = desc.representation(inp.poses, inp.ds, inp.arclength)
+                except errors as exc:
                     raw = str(exc)
                 cache[key] = raw
             if isinstance(raw, str):
                 return raw
-            d = desc.weight(raw)  # type: ignore[attr-defined]
-        elif _takes_arclength(desc):  # RRV, DSRF: normalized by the 50 Hz arclength (§4.7)
-            d = desc.from_reparameterized(inp.poses, inp.ds, inp.arclength)  # type: ignore[attr-defined]
+            d = desc.weight(raw)
         else:
-            d = desc.from_reparameterized(inp.poses, inp.ds)  # type: ignore[attr-defined]
-    except (FramefreeError, FloatingPointError, np.linalg.LinAlgError) as exc:
+            d = desc.from_reparameterized(inp.poses, inp.ds, inp.arclength)
+    except errors as exc:
         return str(exc)
     d = np.asarray(d, dtype=np.float64)
     if not np.isfinite(d).all():
@@ -635,233 +612,3 @@ def score_row(
         "confusion": conf,
         "confusion_by_context": conf_ctx,
     }
-
-
-# ----------------------------------------------------------------------------------------- driver
-def _chunks(n: int, size: int) -> list[range]:
-    return [range(i, min(n, i + size)) for i in range(0, n, size)]
-
-
-def _needs_time_trajectory(spec: MethodSpec) -> bool:
-    """True for descriptors that cannot start from reparameterized poses: no
-    ``from_reparameterized``, or one that needs more than poses, step and arclength."""
-    x, L = spec.grid()[0]
-    fn = getattr(get_descriptor(spec.method, **spec.params(x, L)), "from_reparameterized", None)
-    if fn is None:
-        return True
-    required = [
-        p.name
-        for p in inspect.signature(fn).parameters.values()
-        if p.default is inspect.Parameter.empty and p.kind is not p.VAR_KEYWORD
-    ]
-    return not set(required) <= {"poses", "ds", "arclength"}
-
-
-def _rep_key(spec: MethodSpec, L: float) -> tuple[str, float]:
-    return (spec.progress, float(L) if spec.reparameterization_uses_L else 0.0)
-
-
-def run_benchmark(
-    data: BenchmarkData,
-    methods: Sequence[MethodSpec],
-    backend: Backend | None = None,
-    progress: Callable[[int], None] | None = None,
-    on_total: Callable[[int], None] | None = None,
-    round_digits: int | None = None,
-    n_samples: int = 50,
-    presmooth: int | None = None,
-) -> BenchmarkResult:
-    """Run the protocol for each method/progress row.
-
-    Parameters
-    ----------
-    data : BenchmarkData
-        Models, training and test trials (:func:`load_benchmark_data`).
-    methods : sequence of MethodSpec
-        Rows to compute (e.g. :data:`~framefree.benchmark.grids.TABLE1_ROWS`).
-    backend : Backend, optional
-        Where tasks run; default in-process.
-    progress : callable, optional
-        Called with the number of tasks just finished (e.g. ``tqdm.update``).
-    on_total : callable, optional
-        Called once per stage with the number of tasks that stage adds (to size a progress bar).
-    round_digits : int, optional
-        Round descriptors to this many significant digits (§6.8); default full precision.
-    n_samples : int
-        Progress samples per trajectory (50).
-    presmooth : int, optional
-        framefree extension, off by default (not the paper's protocol): Gaussian-smooth the 50 Hz
-        poses with this window [samples] before progress and descriptors are computed.
-
-    Returns
-    -------
-    BenchmarkResult
-    """
-    backend = backend or SerialBackend()
-    methods = list(methods)
-    missing = sorted({m.method for m in methods} - set(available_descriptors()))
-    if missing:
-        raise ValueError(f"descriptor(s) not registered: {', '.join(missing)}")
-    tick = progress or (lambda n: None)
-    total_cb = on_total or (lambda n: None)
-    timing: dict[str, float] = {}
-    t_start = time.perf_counter()
-
-    trials = data.all_trials
-    n_models, n_train = len(data.models), len(data.train)
-    idx_models = list(range(n_models))
-    idx_train = list(range(n_models, n_models + n_train))
-    idx_test = list(range(n_models + n_train, len(trials)))
-    model_labels = [r.gesture for r in data.models]
-
-    from_time = [_needs_time_trajectory(spec) for spec in methods]
-    if presmooth and any(from_time):
-        names = ", ".join(m.key for m, f in zip(methods, from_time, strict=True) if f)
-        raise ValueError(f"presmoothing needs descriptors with from_reparameterized; not: {names}")
-
-    # the full tally of tasks, so a progress bar knows its length up front
-    rep_keys: list[tuple[str, float]] = []
-    grid_jobs: list[tuple[int, float, list[tuple[float | None, float]]]] = []  # (row, L, points)
-    for ri, spec in enumerate(methods):
-        for L in spec.L_values:
-            pts = [(x, L) for x in spec.x_values]
-            grid_jobs.append((ri, L, pts))
-            if not from_time[ri] and _rep_key(spec, L) not in rep_keys:
-                rep_keys.append(_rep_key(spec, L))
-    needs_poses = bool(rep_keys)
-    chunks = _chunks(len(trials), CHUNK)
-    n_resample = len(chunks) if needs_poses else 0
-    total_cb(n_resample + len(rep_keys) * len(chunks) + len(grid_jobs) + len(methods))
-
-    # 1. 50 Hz resampling, once per trial
-    t = time.perf_counter()
-    poses50: list[np.ndarray | None] = [None] * len(trials)
-    if needs_poses:
-        tasks = [([trials[i].data for i in ch], presmooth) for ch in chunks]
-        for k, res in backend.run(resample_task, tasks):
-            for i, P in zip(chunks[k], res, strict=True):
-                poses50[i] = P
-            tick(1)
-    timing["resample"] = time.perf_counter() - t
-
-    # 2. reparameterization, once per (trial, progress, L)
-    t = time.perf_counter()
-    reps: dict[tuple[str, float], list[DescriptorInput]] = {}
-    tasks, where = [], []
-    for key in rep_keys:
-        reps[key] = [DescriptorInput()] * len(trials)
-        for ch in chunks:
-            L_rep = key[1] if key[1] > 0 else 0.3  # any L: only screw progress uses it
-            tasks.append(([poses50[i] for i in ch], key[0], L_rep, n_samples))
-            where.append((key, ch))
-    for k, res in backend.run(reparameterize_task, tasks):
-        key, ch = where[k]
-        for i, inp in zip(ch, res, strict=True):
-            reps[key][i] = inp
-        tick(1)
-    timing["reparameterize"] = time.perf_counter() - t
-    raw_inputs = [DescriptorInput(data=r.data) for r in trials]
-
-    def inputs(ri: int, L: float, idx: list[int]) -> list[DescriptorInput]:
-        src = raw_inputs if from_time[ri] else reps[_rep_key(methods[ri], L)]
-        return [src[i] for i in idx]
-
-    # 3. grid search on the training trials
-    t = time.perf_counter()
-    threads = backend.task_threads
-    tasks = []
-    for ri, L, pts in grid_jobs:
-        spec = methods[ri]
-        tasks.append(
-            (
-                spec.method,
-                [spec.params(x, L) for x, _ in pts],
-                inputs(ri, L, idx_models),
-                inputs(ri, L, idx_train),
-                threads,
-                round_digits,
-            )
-        )
-    grid_scores: list[list[tuple[float | None, float, float]]] = [[] for _ in methods]
-    row_desc = [0.0] * len(methods)
-    row_match = [0.0] * len(methods)
-    train_labels = [r.gesture for r in data.train]
-    for k, res in backend.run(evaluate_task, tasks):
-        ri, L, pts = grid_jobs[k]
-        for (x, _), pr in zip(pts, res, strict=True):
-            pred = predict_from_distances(pr.distances, model_labels)
-            ok = sum(a == b for a, b in zip(pred, train_labels, strict=True))
-            score = 100.0 * ok / len(train_labels) if train_labels else 0.0
-            grid_scores[ri].append((x, L, score))
-            row_desc[ri] += pr.descriptor_seconds
-            row_match[ri] += pr.matching_seconds
-        tick(1)
-    timing["grid"] = time.perf_counter() - t
-
-    # 4. test at the selected point
-    t = time.perf_counter()
-    selected: list[tuple[float | None, float, float]] = []
-    tasks = []
-    for ri, spec in enumerate(methods):
-        scores = grid_scores[ri]
-        if not scores:  # no training trials: take the first grid point
-            scores = [(x, L, float("nan")) for x, L in spec.grid()]
-        best = scores[select_best([(x, L, 0.0 if math.isnan(s) else s) for x, L, s in scores])]
-        selected.append(best)
-        tasks.append(
-            (
-                spec.method,
-                [spec.params(best[0], best[1])],
-                inputs(ri, best[1], idx_models),
-                inputs(ri, best[1], idx_test),
-                threads,
-                round_digits,
-            )
-        )
-    test_out: dict[int, PointResult] = {}
-    for k, res in backend.run(evaluate_task, tasks):
-        test_out[k] = res[0]
-        row_desc[k] += res[0].descriptor_seconds
-        row_match[k] += res[0].matching_seconds
-        tick(1)
-    timing["test"] = time.perf_counter() - t
-
-    rows = []
-    for ri, spec in enumerate(methods):
-        x, L, score = selected[ri]
-        pr = test_out[ri]
-        pred = predict_from_distances(pr.distances, model_labels)
-        metrics = score_row(spec, pr.params, pred, data)
-        scan = sorted(grid_scores[ri], key=lambda e: (-math.inf if e[0] is None else e[0], e[1]))
-        grid = [{"x": gx, "L": gL, "train_ratio": s} for gx, gL, s in scan]
-        rows.append(
-            RowResult(
-                spec=spec,
-                trained=spec.trained(x, L),
-                params=pr.params,
-                train_ratio=score,
-                grid=grid,
-                descriptor_seconds=row_desc[ri],
-                matching_seconds=row_match[ri],
-                failures=pr.failures,
-                test_predictions=pred,
-                **metrics,
-            )
-        )
-    timing["descriptors"] = float(sum(row_desc))
-    timing["matching"] = float(sum(row_match))
-    timing["total"] = time.perf_counter() - t_start
-    return BenchmarkResult(
-        rows=rows,
-        gestures=list(data.gestures),
-        contexts=list(data.contexts),
-        model_context=data.model_context,
-        data_root=data.root,
-        counts={"models": n_models, "train": n_train, "test": len(idx_test)},
-        timing=timing,
-        backend=backend.describe(),
-        test_labels=[r.gesture for r in data.test],
-        test_contexts=[r.context for r in data.test],
-        test_names=[r.name for r in data.test],
-        settings={"round_digits": round_digits, "presmooth": presmooth, "n_samples": n_samples},
-    )

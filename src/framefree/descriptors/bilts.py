@@ -245,7 +245,18 @@ def twist_perturbation(seed: int | None, shape: tuple[int, int]) -> np.ndarray:
 
 class _BILTSBase(Descriptor):
     progress_types = ("screw", "angle")
-    param_names = ("progress", "L", "ds_scale", "window", "n_samples", "seed", "presmooth")
+    trained_parameter = "ds_scale"
+    supports_open_end = True
+    param_names = (
+        "progress",
+        "L",
+        "ds_scale",
+        "window",
+        "n_samples",
+        "seed",
+        "presmooth",
+        "open_end",
+    )
     regularized: bool = False
     default_window: int = 20
     feature_names = FEATURE_NAMES
@@ -259,6 +270,7 @@ class _BILTSBase(Descriptor):
         n_samples: int = DEFAULT_SAMPLES,
         seed: int | None = 0,
         presmooth: int | None = None,
+        open_end: bool = False,
     ) -> None:
         self.progress = self._check_progress(progress)
         if not L > 0:
@@ -275,6 +287,14 @@ class _BILTSBase(Descriptor):
         if presmooth is not None and presmooth < 1:
             raise ValueError(f"presmooth must be a window of at least 1 sample, got {presmooth}")
         self.presmooth = presmooth
+        self.open_end = bool(open_end)
+
+    @classmethod
+    def parameter_grid(cls, progress: str) -> tuple[float, ...]:
+        """Window scales searched by the benchmark: 0.03..0.15 m (screw), 1°..40° (angle)."""
+        if progress == "angle":
+            return tuple(math.radians(d) for d in (1.0, 10.0, 20.0, 30.0, 40.0))
+        return (0.03, 0.06, 0.09, 0.12, 0.15)
 
     def _max_spacing(self) -> int:
         return min(MAX_WINDOW_SPACING, (self.n_samples - 1) // 2)
@@ -290,8 +310,11 @@ class _BILTSBase(Descriptor):
         rep = reparameterize(traj, self.progress, self.L, self.n_samples, presmooth=self.presmooth)
         return self.from_reparameterized(rep.poses, rep.ds)
 
-    def from_reparameterized(self, poses: np.ndarray, ds: float) -> np.ndarray:
-        """Descriptor from poses (N, 4, 4) already at equidistant progress with step ``ds``."""
+    def from_reparameterized(
+        self, poses: np.ndarray, ds: float, arclength: float | None = None
+    ) -> np.ndarray:
+        """Descriptor from poses (N, 4, 4) already at equidistant progress with step ``ds``
+        (``arclength`` is not used)."""
         m = window_spacing(self.ds_scale, ds, self._max_spacing())
         smoothed = smooth_poses(poses, self.window)
         twists = se3.central_spatial_twists(smoothed, ds)
@@ -307,7 +330,7 @@ class _BILTSBase(Descriptor):
         Y = np.ascontiguousarray(query, dtype=np.float64)
         if X.ndim != 2 or Y.ndim != 2 or X.shape[1] != N_FEATURES or Y.shape[1] != N_FEATURES:
             raise ValueError(f"BILTS sequences are (K, {N_FEATURES}) arrays")
-        return float(path_distance_kernel(X, Y, 18, 24, self._pointwise))
+        return float(path_distance_kernel(X, Y, 18, 24, self._pointwise, self.open_end))
 
     def distance_matrix(
         self, queries: Sequence[np.ndarray], models: Sequence[np.ndarray]
@@ -322,7 +345,7 @@ class _BILTSBase(Descriptor):
         md, mo = pack_sequences(list(models))
         if qd.shape[1] != N_FEATURES or md.shape[1] != N_FEATURES:
             raise ValueError(f"BILTS sequences have {N_FEATURES} columns")
-        return path_distance_matrix_kernel(qd, qo, md, mo, 18, 24, self._pointwise)
+        return path_distance_matrix_kernel(qd, qo, md, mo, 18, 24, self._pointwise, self.open_end)
 
 
 @register
@@ -350,6 +373,7 @@ class BILTS(_BILTSBase):
     """
 
     name = "bilts"
+    display_name = "BILTS"
     regularized = False
     default_window = 20
     _pointwise = POINTWISE_SQUARED
@@ -364,6 +388,7 @@ class BILTSPlus(_BILTSBase):
     """
 
     name = "bilts+"
+    display_name = "BILTS+"
     regularized = True
     default_window = 10
     _pointwise = POINTWISE_KABSCH

@@ -25,7 +25,7 @@ from numba import njit, prange
 
 from ..dtw import accumulated_cost_kernel, pack_sequences
 from .base import register
-from .rrv import RATE_OFFSET, GlobalDescriptor
+from .families import RATE_OFFSET, GlobalDescriptor
 
 __all__ = ["DSRF", "dsrf_alignment", "dsrf_distance", "dsrf_from_rates"]
 
@@ -151,6 +151,7 @@ class DSRF(GlobalDescriptor):
     """
 
     name = "dsrf"
+    display_name = "DSRF"
     n_features = 6
 
     def from_rates(self, omega: np.ndarray, u: np.ndarray) -> np.ndarray:

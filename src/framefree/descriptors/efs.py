@@ -21,7 +21,7 @@ from numba import njit
 
 from ..kalman import PoseKinematics
 from .base import register
-from .dhb import KalmanDescriptor
+from .families import KalmanDescriptor
 
 __all__ = ["EFS", "efs_representation"]
 
@@ -111,7 +111,9 @@ class EFS(KalmanDescriptor):
     """
 
     name = "efs"
+    display_name = "eFS"
     default_lam = 0.1
+    lam_grid = (0.001, 0.01, 0.1, 1.0, 10.0)
 
     @staticmethod
     def row_weights_for(L: float, lam: float) -> np.ndarray:

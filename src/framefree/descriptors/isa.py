@@ -26,7 +26,7 @@ from numba import njit
 
 from ..kalman import PoseKinematics
 from .base import register
-from .dhb import KalmanDescriptor
+from .families import KalmanDescriptor
 
 __all__ = ["ISA", "isa_representation"]
 
@@ -137,8 +137,10 @@ class ISA(KalmanDescriptor):
     """
 
     name = "isa"
+    display_name = "ISA"
     progress_types = ("angle", "screw")
     default_lam = 0.01
+    lam_grid = (0.0001, 0.001, 0.01, 0.1, 1.0)
 
     @staticmethod
     def row_weights_for(L: float, lam: float) -> np.ndarray:
