@@ -14,7 +14,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ..datasets.layout import CONTEXTS, MODEL_CONTEXT
+from ..datasets.layout import MODEL_CONTEXT, REPLICA_CONTEXTS
 
 __all__ = [
     "CONTEXT_ORDER",
@@ -28,7 +28,7 @@ __all__ = [
 ]
 
 #: Table I's order of the HPM test contexts; others follow in sorted order
-CONTEXT_ORDER: tuple[str, ...] = tuple(c for c in CONTEXTS if c != MODEL_CONTEXT)
+CONTEXT_ORDER: tuple[str, ...] = tuple(c for c in REPLICA_CONTEXTS if c != MODEL_CONTEXT)
 
 #: pooled columns of Table I: column name -> context-name pattern
 GROUP_PATTERNS: dict[str, re.Pattern[str]] = {

@@ -166,18 +166,43 @@ def _records_from_dataset(ds: Any) -> list[TrialRecord]:
 
 
 def build_benchmark_data(
-    records: Sequence[TrialRecord], model_context: str, root: str = ""
+    records: Sequence[TrialRecord],
+    model_context: str,
+    root: str = "",
+    contexts: Sequence[str] | None = None,
 ) -> BenchmarkData:
     """Split trial records into models, training and test queries (§7.1).
+
+    Parameters
+    ----------
+    records : sequence of TrialRecord
+    model_context : str
+    root : str
+        Dataset folder (for messages).
+    contexts : sequence of str, optional
+        Query contexts to keep (default: every context on disk). Both the training and the test
+        queries come from these contexts only, so a subset is a smaller data set, not a filter
+        on the test columns.
 
     Raises
     ------
     DatasetError
-        If the model context has no trials, or there are no query trials.
+        If the model context has no trials, a requested context is not on disk, or there are no
+        query trials.
     """
     records = list(records)
     if not records:
         raise DatasetError(f"{root}: no trials found (expected <gesture>/<context>/<trial>.csv)")
+    contexts_on_disk = {r.context for r in records}
+    if contexts is not None:
+        unknown = [c for c in contexts if c not in contexts_on_disk]
+        if unknown:
+            raise DatasetError(
+                f"{root}: context(s) {', '.join(unknown)} not found; contexts on disk: "
+                f"{', '.join(order_contexts(sorted(contexts_on_disk)))}"
+            )
+        keep = {*contexts, model_context}
+        records = [r for r in records if r.context in keep]
     contexts = {r.context for r in records}
     if model_context not in contexts:
         raise DatasetError(
@@ -205,7 +230,9 @@ def build_benchmark_data(
 
 
 def load_benchmark_data(
-    root: str | Path | None = None, model_context: str = DEFAULT_MODEL_CONTEXT
+    root: str | Path | None = None,
+    model_context: str = DEFAULT_MODEL_CONTEXT,
+    contexts: Sequence[str] | None = None,
 ) -> BenchmarkData:
     """Load a dataset folder laid out as ``<root>/<gesture>/<context>/<trial>.csv``.
 
@@ -215,6 +242,8 @@ def load_benchmark_data(
         Dataset folder; default: the HPM replica (``framefree.datasets.replica_path()``).
     model_context : str
         Context whose trials are the models.
+    contexts : sequence of str, optional
+        Query contexts to use (default: all); see :func:`build_benchmark_data`.
 
     Raises
     ------
@@ -241,7 +270,7 @@ def load_benchmark_data(
         records = _records_from_dataset(load_dataset(root, model_context=model_context))
     else:
         records = _records_from_layout(root)
-    return build_benchmark_data(records, model_context, str(root))
+    return build_benchmark_data(records, model_context, str(root), contexts)
 
 
 # ------------------------------------------------------------------------------------------ tasks

@@ -28,7 +28,20 @@ __all__ = ["benchmark_command", "register"]
     "--methods",
     default="all",
     show_default=True,
-    help="'all' (the 17 rows of Table I) or e.g. 'bilts+:screw,dhb:arclength,rrv'.",
+    help="'all' (the 17 rows of Table I and the recommended row), 'paper' (the 17 rows), or "
+    "e.g. 'bilts+:screw,dhb:arclength,rrv,recommended'.",
+)
+@click.option(
+    "--contexts",
+    default=None,
+    help="Query contexts to use, comma-separated, or 'paper' (the paper's eleven query "
+    "contexts); default: every context on disk. Training and test trials both come from them.",
+)
+@click.option(
+    "--early",
+    is_flag=True,
+    help="Also measure early recognition (test trials cut to 25/50/75/100 %) for BILTS+ screw "
+    "and the recommended row: early.json, early.md, early.png.",
 )
 @click.option(
     "--jobs",
@@ -87,6 +100,8 @@ def benchmark_command(
     data_dir: Path | None,
     model_context: str,
     methods: str,
+    contexts: str | None,
+    early: bool,
     jobs: int,
     backend: str,
     address: str | None,
@@ -116,6 +131,8 @@ def benchmark_command(
         specs = parse_methods(methods, available_descriptors())
     except ValueError as exc:
         raise click.BadParameter(str(exc), param_hint="--methods") from None
+    if early:
+        specs += [s for s in parse_methods("bilts+:screw,recommended") if s not in specs]
     if methods.strip().lower() == "all":
         from ..benchmark.grids import TABLE1_ROWS
 
@@ -129,7 +146,7 @@ def benchmark_command(
         raise click.BadParameter(str(exc), param_hint="--backend") from None
     t0 = time.perf_counter()
     try:
-        data = load_benchmark_data(data_dir, model_context)
+        data = load_benchmark_data(data_dir, model_context, _parse_contexts(contexts))
     except BaseException:
         bk.close()
         raise
@@ -168,6 +185,8 @@ def benchmark_command(
         written.append(write_json(result, json_file))
     if figures:
         written += _figures(result, data, out_dir)
+    if early:
+        written += _early(result, data, out_dir, presmooth)
     from ..benchmark.results import markdown_table
 
     click.echo(markdown_table(result))
@@ -178,6 +197,35 @@ def benchmark_command(
     )
     for p in written:
         click.echo(f"wrote {p}", err=True)
+
+
+def _parse_contexts(text: str | None) -> list[str] | None:
+    """``--contexts``: None (all), ``paper`` (the paper's query contexts) or a comma list."""
+    if text is None:
+        return None
+    if text.strip().lower() == "paper":
+        from ..datasets.layout import CONTEXTS, MODEL_CONTEXT
+
+        return [c for c in CONTEXTS if c != MODEL_CONTEXT]
+    names = [c.strip() for c in text.split(",") if c.strip()]
+    if not names:
+        raise click.BadParameter("no context named", param_hint="--contexts")
+    return names
+
+
+def _early(result, data, out_dir: Path, presmooth: int | None) -> list[Path]:  # type: ignore[no-untyped-def]
+    """Early recognition of BILTS+ screw and the recommended row."""
+    from ..benchmark.early import early_markdown, early_recognition, plot_early, write_early_json
+
+    rows = [r for r in result.rows if r.spec.key in ("bilts+:screw", "recommended")]
+    res = early_recognition(data, rows, presmooth=presmooth)
+    (out_dir / "early.md").write_text(early_markdown(res), encoding="utf-8")
+    click.echo(early_markdown(res))
+    return [
+        write_early_json(res, out_dir / "early.json"),
+        out_dir / "early.md",
+        plot_early(res, out_dir / "early.png"),
+    ]
 
 
 def _figures(result, data, out_dir: Path) -> list[Path]:  # type: ignore[no-untyped-def]

@@ -19,7 +19,17 @@ from .contexts import (
     apply_context,
 )
 from .gestures import EXTRA_SHAPES, plan_gesture, synthesize_gesture
-from .layout import CONTEXTS, GESTURES, MODEL_CONTEXT, STREAMS_DIR, Dataset, Trial, load_dataset
+from .layout import (
+    CONTEXTS,
+    GESTURES,
+    MODEL_CONTEXT,
+    REPLICA_CONTEXTS,
+    STREAMS_DIR,
+    STRESS_CONTEXTS,
+    Dataset,
+    Trial,
+    load_dataset,
+)
 from .people import DEFAULT_PERSON, DEV_PEOPLE, HELDOUT_PEOPLE, Person, draw_person, person
 from .people_streams import PersonStream, make_person_streams, person_stream
 from .replica import REPLICA_VERSION, cache_dir, generator_fingerprint, make_replica, replica_path
@@ -47,9 +57,11 @@ __all__ = [
     "NOISE_POS_STD",
     "NOISE_ROT_STD",
     "PERSON_ACTIVITIES",
+    "REPLICA_CONTEXTS",
     "REPLICA_VERSION",
     "STOP",
     "STREAMS_DIR",
+    "STRESS_CONTEXTS",
     "WORLD_FRAMES",
     "Activity",
     "Dataset",

@@ -47,6 +47,7 @@ __all__ = [
     "total_arclength",
 ]
 
+
 def euclidean_distance_matrix(
     queries: Sequence[np.ndarray], models: Sequence[np.ndarray], n_features: int
 ) -> np.ndarray:
