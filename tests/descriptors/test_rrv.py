@@ -7,8 +7,6 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given
-from hypothesis import strategies as st
 
 from framefree import get_descriptor, se3
 from framefree.descriptors.families import normalized_step, rates_kernel, total_arclength
@@ -28,8 +26,6 @@ from .conftest import (
     rel,
     screw_trajectory,
     standstill_trajectory,
-    time_rescaling_change,
-    world_changed,
 )
 
 GENERIC = generic_trajectory()
@@ -117,18 +113,6 @@ def test_svd_sign_rule():
     np.testing.assert_allclose(rrv_from_rates(omega @ R.T, u @ R.T), out, atol=1e-10)
 
 
-@given(
-    st.tuples(*[st.floats(-3, 3)] * 3),
-    st.tuples(*[st.floats(-2, 2)] * 3),
-    st.sampled_from(["arclength", "angle", "screw"]),
-)
-def test_world_frame_invariance(rotvec, trans, progress):
-    d = RRV(progress=progress, L=0.4)
-    a = d.compute(GENERIC)
-    b = d.compute(world_changed(GENERIC, pose(rotvec, trans)))
-    np.testing.assert_allclose(b, a, atol=1e-8)
-
-
 def test_not_body_invariant():
     d = RRV(progress="arclength")
     a = d.compute(GENERIC)
@@ -169,9 +153,3 @@ def test_distance_is_generic_dtw_over_seven_columns():
     D = d.distance_matrix([a, b], [b])
     np.testing.assert_allclose(D[:, 0], [dtw_distance(b, a) / 97, 0.0], atol=1e-14)
     assert d.params == {"progress": "angle", "L": 0.5, "n_samples": 50}
-
-
-@pytest.mark.parametrize("progress", ["arclength", "angle", "screw"])
-@pytest.mark.parametrize("factor", [0.5, 2.0])
-def test_time_rescaling_changes_only_through_resampling(progress, factor):
-    assert time_rescaling_change("rrv", progress, factor) < 2e-3
