@@ -1,9 +1,9 @@
 """Time of the full Table I benchmark (18 rows, grid search included) and where it goes.
 
-Runs the protocol of ALGORITHMS.md §7 on a dataset (default: the HPM replica) after a warm-up on a
-small subset (so that numba compilation or cache loading is not counted), prints the stage times
-and the split between descriptor computation and matching (DTW + distances), and writes JSON
-(default ``benchmarks/results/table1.json``).
+Runs the protocol of docs/algorithms/table1-protocol.md on a dataset (default: the HPM replica)
+after a warm-up on a small subset (so that numba compilation or cache loading is not counted),
+prints the stage times and the split between descriptor computation and matching (DTW + distances),
+and writes JSON (default ``benchmarks/results/table1.json``).
 
     python benchmarks/bench_table1.py [--data DIR] [--jobs N ...] [--methods all] [--json PATH]
 

@@ -1,4 +1,5 @@
-"""1-nearest-neighbour classification of trajectories with a descriptor's distance (§6.1)."""
+"""1-nearest-neighbour classification of trajectories with a descriptor's distance
+(docs/algorithms/dtw.md)."""
 
 from __future__ import annotations
 
@@ -29,7 +30,8 @@ RECOMMENDED: dict[str, Any] = {
 
 
 def round_significant(x: np.ndarray, digits: int) -> np.ndarray:
-    """Round to ``digits`` significant digits (emulates the reference's ``csvwrite`` storage, §6.8)."""
+    """Round to ``digits`` significant digits (emulates the reference's ``csvwrite`` storage,
+    docs/algorithms/dtw.md)."""
     x = np.asarray(x, dtype=np.float64)
     with np.errstate(divide="ignore"):
         mag = np.where(x == 0, 0, np.floor(np.log10(np.abs(x))))

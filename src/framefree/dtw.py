@@ -1,4 +1,4 @@
-"""Dynamic time warping as the reference uses it (MATLAB ``dtw(X, Y)``, §6.2), in numba.
+"""Dynamic time warping as the reference uses it (MATLAB ``dtw(X, Y)``, docs/algorithms/dtw.md), in numba.
 
 * local cost: Euclidean distance between feature vectors (not squared);
 * steps (1,1), (1,0), (0,1), all of weight 1, no window;
@@ -8,7 +8,7 @@
 
 Sequences are arrays with **time leading**: shape (n, features). The model is the first argument.
 
-The BILTS distances (§6.5, §6.6) align with DTW on the singular-value features (columns 18–23)
+The BILTS distances (docs/algorithms/dtw.md) align with DTW on the singular-value features (columns 18–23)
 and then sum another pointwise quantity along the warping path; those kernels live here too so
 that one path traversal does both.
 """

@@ -1,4 +1,4 @@
-"""Split rule, grids, tie rule and the Table I metrics (ALGORITHMS.md §7)."""
+"""Split rule, grids, tie rule and the Table I metrics (docs/algorithms/table1-protocol.md)."""
 
 from __future__ import annotations
 
@@ -33,7 +33,8 @@ from framefree.benchmark.paper import PAPER_COLUMNS
         ("trial_5", False),
         ("trial_1.csv", True),
         ("trial_5.csv", False),
-        ("trial_11", True),  # the reference's rule looks at the last character only (§9 item 22)
+        # the reference's rule looks at the last character only (docs/algorithms/table1-protocol.md)
+        ("trial_11", True),
         ("trial_12", True),
         ("trial_10", False),
         ("rec2", True),

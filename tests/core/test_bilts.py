@@ -133,7 +133,7 @@ def test_body_frame_changes_bilts_nearly_and_bilts_plus_within_tolerance(seed):
     Tb = se3.pose_from_twist(np.concatenate([rng.normal(size=3), rng.uniform(-0.05, 0.05, 3)]))
     traj = _generic_motion(1)
     # component-wise smoothing (window 20) and the progress clamp do not commute exactly with a body
-    # change (ALGORITHMS §5.9, §9 item 23): BILTS stays within ~1 %, BILTS+ within a few %
+    # change (docs/algorithms/bilts.md): BILTS stays within ~1 %, BILTS+ within a few %
     for name, tol in (("bilts", 0.03), ("bilts+", 0.10)):
         desc = ff.get_descriptor(name, L=0.5, ds_scale=0.09)
         a = desc.compute(traj)

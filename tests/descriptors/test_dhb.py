@@ -1,4 +1,5 @@
-"""DHB (§5.1): golden values by hand, reference quirks, weighting, invariances, degenerate input."""
+"""DHB (docs/algorithms/descriptors.md): golden values by hand, reference quirks, weighting,
+invariances, degenerate input."""
 
 from __future__ import annotations
 

@@ -1,5 +1,6 @@
-"""DSRF (§5.6) and its rotation-aligned distance (§6.4): golden screw motion, Kabsch rule,
-world-frame invariance of the distance (not of the descriptor), degenerate motions."""
+"""DSRF (docs/algorithms/descriptors.md) and its rotation-aligned distance (docs/algorithms/dtw.md):
+golden screw motion, Kabsch rule, world-frame invariance of the distance (not of the descriptor),
+degenerate motions."""
 
 from __future__ import annotations
 

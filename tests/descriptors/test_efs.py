@@ -1,4 +1,5 @@
-"""eFS (§5.2): golden values by hand, the circle, offsets, weighting, invariances, singularities."""
+"""eFS (docs/algorithms/descriptors.md): golden values by hand, the circle, offsets, weighting,
+invariances, singularities."""
 
 from __future__ import annotations
 

@@ -1,4 +1,5 @@
-"""ISA (§5.3): constant invariants recovered, weighting, bi-invariance, singular motions."""
+"""ISA (docs/algorithms/descriptors.md): constant invariants recovered, weighting, bi-invariance,
+singular motions."""
 
 from __future__ import annotations
 

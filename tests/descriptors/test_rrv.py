@@ -1,5 +1,6 @@
-"""RRV (§5.5) and the §4.7 normalization shared with DSRF: golden screw motion, the literal
-normalize-then-reparameterize pipeline, SVD sign rule, invariances, degenerate motions."""
+"""RRV (docs/algorithms/descriptors.md) and the docs/algorithms/progress.md normalization shared
+with DSRF: golden screw motion, the literal normalize-then-reparameterize pipeline, SVD sign rule,
+invariances, degenerate motions."""
 
 from __future__ import annotations
 
@@ -66,7 +67,8 @@ def test_golden_screw_motion(progress):
 
 @pytest.mark.parametrize("progress", ["arclength", "angle"])
 def test_normalization_equals_the_literal_pipeline(progress):
-    """§4.7 literally: divide the 50 Hz positions by ℓ, then reparameterize; Δs of that."""
+    """docs/algorithms/progress.md literally: divide the 50 Hz positions by ℓ, then reparameterize;
+    Δs of that."""
     T50 = uniform_time_poses(GENERIC)
     ell = total_arclength(T50)
     lit = T50.copy()

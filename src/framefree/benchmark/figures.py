@@ -105,7 +105,7 @@ def plot_confusion(row: RowResult, gestures: list[str], path: str | Path) -> Pat
 
 
 def alignment_columns(descriptor: Descriptor, n_features: int) -> slice:
-    """Feature columns the descriptor's classifier aligns with DTW (§6.7).
+    """Feature columns the descriptor's classifier aligns with DTW (docs/algorithms/dtw.md).
 
     BILTS and BILTS+ align on their six singular values (columns 18–23); the others on all columns.
     A descriptor may declare ``alignment_columns`` (a slice) itself.
@@ -121,8 +121,8 @@ def alignment_columns(descriptor: Descriptor, n_features: int) -> slice:
 def prealign(descriptor: Descriptor, model: np.ndarray, query: np.ndarray) -> np.ndarray:
     """The model sequence as the classifier compares it with the query.
 
-    DSRF rotates the model by one global Kabsch rotation before DTW (§6.4); every other descriptor
-    compares the sequences as they are.
+    DSRF rotates the model by one global Kabsch rotation before DTW (docs/algorithms/dtw.md); every
+    other descriptor compares the sequences as they are.
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""Recognition metrics of the protocol (ALGORITHMS.md §7.4).
+"""Recognition metrics of the protocol (docs/algorithms/table1-protocol.md).
 
 * recognition ratio (RR) per context = correct / number of test trials of that context, in percent;
 * the pooled Δ{b} and Δ{w} columns of Table I = RR over all trials of the body-frame (world-frame)
@@ -101,7 +101,8 @@ def pooled_ratio(
 
 
 def mean_std(per_context: Sequence[float] | Mapping[str, float]) -> tuple[float, float]:
-    """Mean and sample standard deviation over contexts of RRs rounded to one decimal (§7.4).
+    """Mean and sample standard deviation over contexts of RRs rounded to one decimal
+    (docs/algorithms/table1-protocol.md).
 
     Parameters
     ----------

@@ -1,10 +1,11 @@
-"""The offline training/testing protocol of the paper (ALGORITHMS.md §7) as pure task functions.
+"""The offline training/testing protocol of the paper (docs/algorithms/table1-protocol.md) as pure
+task functions.
 
-Sets (§7.1): the **models** (1-NN neighbours) are all trials of the model context; every other
-context contributes its trials whose file stem ends in ``1`` or ``2`` to the **training** set and
-the rest to the **test** set. For every method/progress row, the grid of §7.2 is searched for the
-point with the highest pooled training recognition ratio (ties: smallest x, then smallest L, §7.3),
-and the test trials are classified with that point.
+Sets (docs/algorithms/table1-protocol.md): the **models** (1-NN neighbours) are all trials of the
+model context; every other context contributes its trials whose file stem ends in ``1`` or ``2`` to
+the **training** set and the rest to the **test** set. For every method/progress row, the grid is
+searched for the point with the highest pooled training recognition ratio (ties: smallest x, then
+smallest L, docs/algorithms/table1-protocol.md), and the test trials are classified with that point.
 
 Work is organized so that nothing is computed twice:
 
@@ -54,7 +55,7 @@ __all__ = [
     "select_best",
 ]
 
-#: default model context of the HPM dataset (§1.3)
+#: default model context of the HPM dataset (docs/algorithms/table1-protocol.md)
 DEFAULT_MODEL_CONTEXT = "original_1"
 
 #: trials per resampling / reparameterization task
@@ -63,8 +64,9 @@ CHUNK = 40
 
 # ------------------------------------------------------------------------------------------- sets
 def is_training_trial(name: str) -> bool:
-    """Split rule of §1.3: a trial is a training trial iff the last character of its file stem is
-    ``1`` or ``2`` (so ``trial_11`` is a training trial, ``trial_3`` a test trial).
+    """Split rule (docs/algorithms/table1-protocol.md): a trial is a training trial iff the last
+    character of its file stem is ``1`` or ``2`` (so ``trial_11`` is a training trial, ``trial_3`` a
+    test trial).
 
     Parameters
     ----------
@@ -171,7 +173,7 @@ def build_benchmark_data(
     root: str = "",
     contexts: Sequence[str] | None = None,
 ) -> BenchmarkData:
-    """Split trial records into models, training and test queries (§7.1).
+    """Split trial records into models, training and test queries (docs/algorithms/table1-protocol.md).
 
     Parameters
     ----------
@@ -299,7 +301,7 @@ class DescriptorInput:
 
 
 def resample_task(arrays: Sequence[np.ndarray], presmooth: int | None = None) -> list[np.ndarray]:
-    """Resample trials at 50 Hz with ScLERP (§1.2).
+    """Resample trials at 50 Hz with ScLERP (docs/algorithms/progress.md).
 
     Parameters
     ----------
@@ -320,7 +322,7 @@ def resample_task(arrays: Sequence[np.ndarray], presmooth: int | None = None) ->
 def reparameterize_task(
     poses_list: Sequence[np.ndarray], progress: str, L: float, n: int = 50
 ) -> list[DescriptorInput]:
-    """Reparameterize 50 Hz pose sequences at ``n`` equidistant progress values (§4.5).
+    """Reparameterize 50 Hz pose sequences at ``n`` equidistant progress values (docs/algorithms/progress.md).
 
     Parameters
     ----------
@@ -435,7 +437,8 @@ def evaluate_task(
     threads : int, optional
         Numba threads for the distance kernels in this worker (None: unchanged).
     round_digits : int, optional
-        Round descriptors to this many significant digits, as the reference's CSV storage (§6.8).
+        Round descriptors to this many significant digits, as the reference's CSV storage
+        (docs/algorithms/dtw.md).
 
     Returns
     -------
@@ -472,7 +475,8 @@ def evaluate_task(
 
 # ------------------------------------------------------------------------------------- selection
 def predict_from_distances(distances: np.ndarray, model_labels: Sequence[str]) -> list[str | None]:
-    """1-NN labels: the first model with the smallest distance (§6.1); None if all are infinite.
+    """1-NN labels: the first model with the smallest distance (docs/algorithms/dtw.md); None if all
+    are infinite.
 
     Parameters
     ----------
@@ -490,7 +494,7 @@ def predict_from_distances(distances: np.ndarray, model_labels: Sequence[str]) -
 
 
 def select_best(scores: Sequence[tuple[float | None, float, float]]) -> int:
-    """Index of the selected grid point (§7.3).
+    """Index of the selected grid point (docs/algorithms/table1-protocol.md).
 
     Parameters
     ----------
@@ -535,7 +539,7 @@ class RowResult:
     pooled : dict
         Pooled columns (``body_frame``, ``world_frame``) [%].
     mean, std : float
-        Over the individual test contexts, from RRs rounded to 0.1 (§7.4).
+        Over the individual test contexts, from RRs rounded to 0.1 (docs/algorithms/table1-protocol.md).
     overall : float
         Recognition ratio over all test trials [%].
     confusion : ndarray, shape (n_gestures, n_gestures + 1)
@@ -613,7 +617,7 @@ def score_row(
     predictions: Sequence[str | None],
     data: BenchmarkData,
 ) -> dict[str, Any]:
-    """Test metrics of one row from its test predictions (§7.4)."""
+    """Test metrics of one row from its test predictions (docs/algorithms/table1-protocol.md)."""
     from .metrics import confusion_matrix
 
     labels = [r.gesture for r in data.test]

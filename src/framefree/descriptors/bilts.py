@@ -1,6 +1,6 @@
-"""BILTS and BILTS+: bi-invariant local trajectory-shape descriptors (§5.7, §5.8).
+"""BILTS and BILTS+: bi-invariant local trajectory-shape descriptors (docs/algorithms/bilts.md).
 
-Pipeline per trajectory (Appendix C of ALGORITHMS.md):
+Pipeline per trajectory (docs/algorithms/bilts.md):
 
 1. resample at 50 Hz, reparameterize to N = 50 equidistant progress samples, step Δs;
 2. window spacing ``m = min(23, max(1, round(ds_scale / Δs)))``;
@@ -49,7 +49,7 @@ __all__ = [
 
 #: Largest window spacing m (leaves at least 4 of 50 samples).
 MAX_WINDOW_SPACING = 23
-#: Standard deviation of the perturbation added to every twist entry (reference, §5.7 step 5).
+#: Standard deviation of the perturbation added to every twist entry (reference, docs/algorithms/bilts.md).
 TWIST_NOISE = 1e-12
 #: Number of columns of a BILTS sample.
 N_FEATURES = 24
@@ -236,7 +236,7 @@ def _seeded_perturbation(seed: int, shape: tuple[int, int]) -> np.ndarray:
 
 
 def twist_perturbation(seed: int | None, shape: tuple[int, int]) -> np.ndarray:
-    """The 1e-12 twist perturbation of §5.7 step 5: reproducible for an integer seed (cached),
+    """The 1e-12 twist perturbation of docs/algorithms/bilts.md: reproducible for an integer seed (cached),
     fresh for ``None`` (unseeded, as the reference)."""
     if seed is None:
         return np.random.default_rng().normal(0.0, TWIST_NOISE, shape)
@@ -335,7 +335,8 @@ class _BILTSBase(Descriptor):
     def distance_matrix(
         self, queries: Sequence[np.ndarray], models: Sequence[np.ndarray]
     ) -> np.ndarray:
-        """DTW on the singular values, pointwise sum of the twist part along the path (§6.5-6.6).
+        """DTW on the singular values, pointwise sum of the twist part along the path
+        (docs/algorithms/dtw.md).
 
         Returns
         -------
@@ -351,7 +352,7 @@ class _BILTSBase(Descriptor):
 @register
 class BILTS(_BILTSBase):
     """BILTS (``BILTS_discrete``): Gaussian window 20, ISA-based frame origin, squared-Euclidean
-    distance along the DTW path (§5.7, §6.5).
+    distance along the DTW path (docs/algorithms/bilts.md, docs/algorithms/dtw.md).
 
     Parameters
     ----------
@@ -382,7 +383,8 @@ class BILTS(_BILTSBase):
 @register
 class BILTSPlus(_BILTSBase):
     """BILTS+ (``BILTS_discrete_reg``): Gaussian window 10, frame origin clamped within L of the
-    body origin, per-pair Kabsch-aligned distance along the DTW path (§5.8, §6.6).
+    body origin, per-pair Kabsch-aligned distance along the DTW path (docs/algorithms/bilts.md,
+    docs/algorithms/dtw.md).
 
     Parameters are those of :class:`BILTS` (default window 10).
     """

@@ -1,16 +1,16 @@
-"""DHB: Denavit–Hartenberg-inspired Bidirectional invariants (§5.1), and the machinery shared by the
-three Kalman-based local descriptors DHB, eFS and ISA.
+"""DHB: Denavit–Hartenberg-inspired Bidirectional invariants (docs/algorithms/descriptors.md), and
+the machinery shared by the three Kalman-based local descriptors DHB, eFS and ISA.
 
 Pipeline (reference ``calculate_DHB_descriptor.m``):
 
-1. reparameterize to N = 50 equidistant progress samples, step Δs (§4.5);
-2. Kalman/RTS-smooth positions and quaternions with step Δs (§3.2) and form the pose twist
-   ``(ω, ṗ)`` (§3.3);
+1. reparameterize to N = 50 equidistant progress samples, step Δs (docs/algorithms/progress.md);
+2. Kalman/RTS-smooth positions and quaternions with step Δs (docs/algorithms/smoothing.md) and form
+   the pose twist ``(ω, ṗ)`` (docs/algorithms/smoothing.md);
 3. map each block (x = ω, then x = ṗ) to a magnitude and two angles between successive vectors:
    ``a_k = |x_k|``; ``θ¹_k = arctan(|x_k × x_{k+1}| / (x_k·x_{k+1}))`` (0 if the denominator is at
    most 1e-10 in magnitude; last sample 0); ``θ²_k = arctan(|x_{k+1}| x_{k+1}·(x_k × x_{k+2}) /
    ((x_{k+1} × x_k)·(x_{k+1} × x_{k+2})))`` (same guard; last two samples 0). The arctangent is the
-   single-argument one, as in the reference (Ambiguity 5.1);
+   single-argument one, as in the reference (docs/algorithms/descriptors.md);
 4. columns ``[a^ω, θ¹^ω, θ²^ω, a^v, θ¹^v, θ²^v]`` weighted by ``(L, λL, λL, 1, λL, λL)``.
 
 The unweighted (N, 6) *representation* depends on the trajectory, the progress type and, for screw
@@ -103,7 +103,8 @@ def dhb_representation(twists: np.ndarray) -> np.ndarray:
 
 @register
 class DHB(KalmanDescriptor):
-    """DHB invariants of the Kalman-smoothed pose twist (§5.1), Euclidean DTW distance (§6.3).
+    """DHB invariants of the Kalman-smoothed pose twist (docs/algorithms/descriptors.md), Euclidean
+    DTW distance (docs/algorithms/dtw.md).
 
     Parameters
     ----------

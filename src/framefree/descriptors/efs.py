@@ -1,9 +1,11 @@
-"""eFS: extended Frenet–Serret invariants of the rotational and translational motion (§5.2).
+"""eFS: extended Frenet–Serret invariants of the rotational and translational motion
+(docs/algorithms/descriptors.md).
 
-Pipeline (reference ``calculate_eFS_descriptor.m``): reparameterize (§4.5), Kalman/RTS-smooth
-(§3.2) and take the pose twist ``(ω, ṗ)`` with its first two progress derivatives (§3.3); add the
-constant 1e-12 to every entry of the twist and of its first derivative; then per block
-(``x = ω, ẋ = ω̇, ẍ = ω̈`` and ``x = ṗ, ẋ = p̈, ẍ = p⃛``) and per sample:
+Pipeline (reference ``calculate_eFS_descriptor.m``): reparameterize (docs/algorithms/progress.md),
+Kalman/RTS-smooth (docs/algorithms/smoothing.md) and take the pose twist ``(ω, ṗ)`` with its first
+two progress derivatives (docs/algorithms/smoothing.md); add the constant 1e-12 to every entry of
+the twist and of its first derivative; then per block (``x = ω, ẋ = ω̇, ẍ = ω̈`` and ``x = ṗ, ẋ =
+p̈, ẍ = p⃛``) and per sample:
 
 * ``r₁ = |x|``;
 * ``r₂ = |x × ẋ| / |x|²`` (curvature rate);
@@ -90,7 +92,8 @@ def efs_representation(pose_twists: np.ndarray, offset: float = EFS_OFFSET) -> n
 
 @register
 class EFS(KalmanDescriptor):
-    """Extended Frenet–Serret invariants (§5.2), Euclidean DTW distance (§6.3).
+    """Extended Frenet–Serret invariants (docs/algorithms/descriptors.md), Euclidean DTW distance
+    (docs/algorithms/dtw.md).
 
     Parameters
     ----------

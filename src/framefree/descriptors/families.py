@@ -51,7 +51,7 @@ __all__ = [
 def euclidean_distance_matrix(
     queries: Sequence[np.ndarray], models: Sequence[np.ndarray], n_features: int
 ) -> np.ndarray:
-    """Generic classifier distance (§6.3) between every query and every model.
+    """Generic classifier distance (docs/algorithms/dtw.md) between every query and every model.
 
     DTW with Euclidean local cost over all columns, model first; the accumulated cost divided by
     ``n_query + n_model - 1``.
@@ -208,7 +208,7 @@ class KalmanDescriptor(Descriptor):
     def distance_matrix(
         self, queries: Sequence[np.ndarray], models: Sequence[np.ndarray]
     ) -> np.ndarray:
-        """Euclidean DTW distance over all 6 columns, divided by ``n_q + n_m - 1`` (§6.3).
+        """Euclidean DTW distance over all 6 columns, divided by ``n_q + n_m - 1`` (docs/algorithms/dtw.md).
 
         Returns
         -------
@@ -229,7 +229,7 @@ def total_arclength(poses: np.ndarray) -> float:
 
 
 def normalized_step(progress: str, ds: float, arclength: float, n: int) -> float:
-    """Progress step of the normalized trajectory (§4.7).
+    """Progress step of the normalized trajectory (docs/algorithms/progress.md).
 
     Parameters
     ----------
@@ -285,7 +285,8 @@ def rates_kernel(T, ds):
 def global_rates(
     poses: np.ndarray, ds: float, arclength: float, progress: str
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Normalize (§4.7), smooth (window 3) and differentiate a reparameterized trajectory.
+    """Normalize (docs/algorithms/progress.md), smooth (window 3) and differentiate a
+    reparameterized trajectory.
 
     Parameters
     ----------

@@ -1,13 +1,13 @@
-"""RRV: Rotation and Relative Velocity, a global descriptor (§5.5), and the front end it shares
-with DSRF: the normalization by the total arclength (§4.7), Gaussian smoothing (window 3) and the
-finite-difference rates.
+"""RRV: Rotation and Relative Velocity, a global descriptor (docs/algorithms/descriptors.md), and
+the front end it shares with DSRF: the normalization by the total arclength
+(docs/algorithms/progress.md), Gaussian smoothing (window 3) and the finite-difference rates.
 
-Normalization (§4.7). ℓ is the total arclength of the 50 Hz trajectory. The reference divides the
-positions by ℓ before (arclength, angle progress) or after (screw progress) reparameterizing.
-Scaling all translations by 1/ℓ is an automorphism of SE(3) that commutes with ScLERP and scales
-arclength progress by 1/ℓ while leaving angle progress unchanged, so all three cases are obtained
-from the *unnormalized* reparameterization (the cached one of the benchmark): divide the resampled
-positions by ℓ and use the step
+Normalization (docs/algorithms/progress.md). ℓ is the total arclength of the 50 Hz trajectory. The
+reference divides the positions by ℓ before (arclength, angle progress) or after (screw progress)
+reparameterizing. Scaling all translations by 1/ℓ is an automorphism of SE(3) that commutes with
+ScLERP and scales arclength progress by 1/ℓ while leaving angle progress unchanged, so all three
+cases are obtained from the *unnormalized* reparameterization (the cached one of the benchmark):
+divide the resampled positions by ℓ and use the step
 
 * arclength: ``Δs = 1/(N-1)``;
 * angle: ``Δs`` = the angle step of the reparameterization;
@@ -17,13 +17,13 @@ RRV pipeline (reference ``calculate_RRV_descriptor.m``), after normalization and
 k = 1..N-1:
 
 * ``ω_k = log(R_{k+1} R_kᵀ)^∨ / Δs``, ``u_k = (p_{k+1} - p_k)/Δs``, ``β_k = |ω_k|`` (a rate, as in
-  the reference, Ambiguity 5.5), ``a_k = ω_k/(β_k + 1e-10)``;
+  the reference, docs/algorithms/descriptors.md), ``a_k = ω_k/(β_k + 1e-10)``;
 * global frame U: left singular vectors of ``[a_1 … a_{N-1}]``; ``U₁``, ``U₂`` negated when their
   dot product with the mean of the ``a_k`` is negative, ``U₃ = U₁ × U₂``;
 * ``S_k = (cos(β_k/2), sin(β_k/2) Uᵀa_k)``; ``u^loc_k = R(S_k)ᵀ Uᵀ u_k``;
   ``ν_k = u^loc_k / sqrt(|u^loc_k| + 1e-10)``.
 
-Output (N-1, 7): ``[S_k, ν_k]``. Distance: Euclidean DTW over all 7 columns (§6.3, Ambiguity 6.3).
+Output (N-1, 7): ``[S_k, ν_k]``. Distance: Euclidean DTW over all 7 columns (docs/algorithms/dtw.md).
 """
 
 from __future__ import annotations
@@ -90,7 +90,8 @@ def rrv_kernel(w, u):
 
 
 def rrv_from_rates(omega: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """RRV descriptor (K, 7) from angular rates (K, 3) and velocities (K, 3) (§5.5 steps 3–7)."""
+    """RRV descriptor (K, 7) from angular rates (K, 3) and velocities (K, 3)
+    (docs/algorithms/descriptors.md)."""
     return rrv_kernel(
         np.ascontiguousarray(omega, dtype=np.float64), np.ascontiguousarray(u, dtype=np.float64)
     )
@@ -98,7 +99,8 @@ def rrv_from_rates(omega: np.ndarray, u: np.ndarray) -> np.ndarray:
 
 @register
 class RRV(GlobalDescriptor):
-    """Rotation and Relative Velocity (§5.5), generic Euclidean DTW distance (§6.3).
+    """Rotation and Relative Velocity (docs/algorithms/descriptors.md), generic Euclidean DTW
+    distance (docs/algorithms/dtw.md).
 
     Parameters
     ----------
@@ -127,7 +129,7 @@ class RRV(GlobalDescriptor):
     def distance_matrix(
         self, queries: Sequence[np.ndarray], models: Sequence[np.ndarray]
     ) -> np.ndarray:
-        """Euclidean DTW over all 7 columns divided by ``n_q + n_m - 1`` (§6.3).
+        """Euclidean DTW over all 7 columns divided by ``n_q + n_m - 1`` (docs/algorithms/dtw.md).
 
         Returns
         -------

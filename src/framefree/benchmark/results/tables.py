@@ -141,7 +141,10 @@ def _settings_lines(result: BenchmarkResult) -> list[str]:
             f"Gaussian-smoothed (window {st['presmooth']} samples) before progress and descriptors."
         )
     if st.get("round_digits"):
-        notes.append(f"Descriptors rounded to {st['round_digits']} significant digits (§6.8).")
+        notes.append(
+            f"Descriptors rounded to {st['round_digits']} significant digits, as the reference "
+            "stores them (docs/algorithms/dtw.md)."
+        )
     if st.get("n_samples", 50) != 50:
         notes.append(f"{st['n_samples']} progress samples per trajectory (the paper: 50).")
     return [*(n + "\n" for n in notes)]
