@@ -19,6 +19,8 @@ is declared here, on :class:`Descriptor`, and nowhere else:
                             parameter (it only weights the result), so a grid search computes the
                             representation once per trial and calls :meth:`weight` per grid point
 ``supports_open_end``       whether the constructor takes ``open_end`` (open-end alignment)
+:meth:`alignment_columns`,   how the distance aligns two sequences (for figures): the columns DTW
+:meth:`prealign`            aligns on, and the model as compared with a query
 :meth:`compute`             descriptor of a trajectory
 :meth:`from_reparameterized`  descriptor of poses already at equidistant progress (the benchmark's
                             cached input), given the 50 Hz arclength for global descriptors
@@ -186,6 +188,15 @@ class Descriptor(ABC):
         ``arclength`` is the total arclength [m] of the 50 Hz trajectory the poses were resampled
         from; global descriptors normalize by it, local ones ignore it.
         """
+
+    def alignment_columns(self, n_features: int) -> slice:
+        """Feature columns the distance aligns with DTW (default: all ``n_features``)."""
+        return slice(0, n_features)
+
+    def prealign(self, model: np.ndarray, query: np.ndarray) -> np.ndarray:
+        """The model sequence (K, F) as the distance compares it with ``query`` (default:
+        unchanged; DSRF rotates it first)."""
+        return model
 
     def representation(
         self, poses: np.ndarray, ds: float, arclength: float | None = None

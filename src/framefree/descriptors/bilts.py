@@ -324,6 +324,10 @@ class _BILTSBase(Descriptor):
 
     _pointwise: int = POINTWISE_SQUARED
 
+    def alignment_columns(self, n_features: int) -> slice:
+        """DTW aligns on the six singular values (columns 18–23)."""
+        return slice(18, 24) if n_features == N_FEATURES else slice(0, n_features)
+
     def distance(self, model: np.ndarray, query: np.ndarray) -> float:
         """Distance between one model and one query sequence (both (K, 24))."""
         X = np.ascontiguousarray(model, dtype=np.float64)

@@ -161,6 +161,13 @@ class DSRF(GlobalDescriptor):
         """DSRF (K, 6) from normalized rates."""
         return dsrf_from_rates(omega, u)
 
+    def prealign(self, model: np.ndarray, query: np.ndarray) -> np.ndarray:
+        """The model rotated by the distance's global Kabsch rotation onto the query."""
+        if model.shape != query.shape or model.shape[1] != 6:
+            return model
+        R = dsrf_alignment(model, query)
+        return np.hstack([model[:, :3] @ R.T, model[:, 3:] @ R.T])
+
     def distance_matrix(
         self, queries: Sequence[np.ndarray], models: Sequence[np.ndarray]
     ) -> np.ndarray:
