@@ -16,6 +16,7 @@ import pytest
 
 from framefree.benchmark import load_benchmark_data, parse_methods, run_benchmark
 from framefree.benchmark.backends import SerialBackend
+from framefree.classifier import RECOMMENDED
 from framefree.datasets import CONTEXTS, MODEL_CONTEXT
 
 RESULTS = Path(__file__).resolve().parents[2] / "docs" / "results" / "replica" / "results.json"
@@ -54,4 +55,7 @@ def test_recommended_row_on_the_paper_contexts(paper_contexts_result) -> None:
     row = paper_contexts_result.rows[-1]
     assert row.spec.key == "recommended"
     assert row.params["open_end"] is True and row.params["presmooth"] == 5
+    # the classifier's documented configuration is what this grid search selects
+    assert row.trained == {"ds_scale": RECOMMENDED["ds_scale"], "L": RECOMMENDED["L"]}
+    assert RECOMMENDED["presmooth"] == row.params["presmooth"]
     assert min(row.per_context.values()) >= 99.0
