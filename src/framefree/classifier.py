@@ -1,4 +1,5 @@
-"""1-nearest-neighbour classification of trajectories with a descriptor's distance (§6.1)."""
+"""1-nearest-neighbour classification of trajectories with a descriptor's distance
+(docs/algorithms/dtw.md)."""
 
 from __future__ import annotations
 
@@ -11,11 +12,27 @@ import numpy as np
 from .descriptors.base import Descriptor, get_descriptor
 from .trajectory import Trajectory
 
-__all__ = ["NearestNeighborClassifier", "round_significant"]
+__all__ = ["RECOMMENDED", "NearestNeighborClassifier", "round_significant"]
+
+#: The recommended offline configuration (``docs/algorithms/recommended.md``): BILTS+ with
+#: screw-path progress, the 50 Hz poses Gaussian-smoothed with a 5-sample window before progress is
+#: computed, and open-end alignment (an unfinished query may match the beginning of a model).
+#: ``L`` [m] and ``ds_scale`` [m] are the values the benchmark's grid search selects on the
+#: training trials of the HPM replica (``framefree benchmark --methods recommended``); retrain them
+#: on your own data with the same command.
+RECOMMENDED: dict[str, Any] = {
+    "descriptor": "bilts+",
+    "progress": "screw",
+    "presmooth": 5,
+    "open_end": True,
+    "L": 0.1,
+    "ds_scale": 0.06,
+}
 
 
 def round_significant(x: np.ndarray, digits: int) -> np.ndarray:
-    """Round to ``digits`` significant digits (emulates the reference's ``csvwrite`` storage, §6.8)."""
+    """Round to ``digits`` significant digits (emulates the reference's ``csvwrite`` storage,
+    docs/algorithms/dtw.md)."""
     x = np.asarray(x, dtype=np.float64)
     with np.errstate(divide="ignore"):
         mag = np.where(x == 0, 0, np.floor(np.log10(np.abs(x))))
@@ -155,6 +172,19 @@ class NearestNeighborClassifier:
         if isinstance(self.descriptor, Descriptor):
             return self.descriptor.with_params(**params) if params else self.descriptor
         return get_descriptor(self.descriptor, **params)
+
+    @classmethod
+    def recommended(cls, **overrides: Any) -> NearestNeighborClassifier:
+        """The recommended offline recognizer, :data:`RECOMMENDED` (any entry can be overridden).
+
+        Examples
+        --------
+        >>> clf = NearestNeighborClassifier.recommended()           # doctest: +SKIP
+        >>> clf.fit(model_trajectories, model_labels).predict(half_gestures)  # doctest: +SKIP
+        """
+        params = {**RECOMMENDED, **overrides}
+        descriptor = params.pop("descriptor")
+        return cls(descriptor, **params)
 
     def _describe(self, trajectories: Sequence[Trajectory]) -> list[np.ndarray]:
         out = []

@@ -216,7 +216,8 @@ class Trajectory:
         return Trajectory(t, self.p, self.q, source=self.source)
 
     def resampled(self, dt: float = 0.02) -> Trajectory:
-        """Resample on a uniform time grid by ScLERP (constant-twist interpolation, §1.2).
+        """Resample on a uniform time grid by ScLERP (constant-twist interpolation,
+        docs/algorithms/progress.md).
 
         The grid has ``round(1 + floor(duration / dt))`` points from the first to the last time
         stamp inclusive, as the reference does; its step is therefore close to, but in general not

@@ -167,7 +167,7 @@ def test_same_task_functions_run_on_a_cluster_api(tiny, serial_result, monkeypat
 
 
 def test_builtin_layout_scanner_agrees_with_dataset_loader(tiny_root: Path, tiny) -> None:
-    from framefree.benchmark.protocol import _records_from_layout, build_benchmark_data
+    from framefree.benchmark.data import _records_from_layout, build_benchmark_data
 
     own = build_benchmark_data(_records_from_layout(tiny_root), "original_1", str(tiny_root))
     for a, b in ((own.models, tiny.models), (own.train, tiny.train), (own.test, tiny.test)):

@@ -8,7 +8,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from framefree.datasets import CONTEXTS, GESTURES, MODEL_CONTEXT, LayoutWarning, load_dataset
+from framefree.datasets import (
+    GESTURES,
+    MODEL_CONTEXT,
+    REPLICA_CONTEXTS,
+    LayoutWarning,
+    load_dataset,
+)
 from framefree.errors import DatasetError
 
 
@@ -34,15 +40,15 @@ def tiny(tmp_path: Path) -> Path:
 
 def test_replica_layout(replica) -> None:
     assert replica.gestures == tuple(sorted(GESTURES))
-    assert replica.contexts == CONTEXTS
+    assert replica.contexts == REPLICA_CONTEXTS
     assert replica.model_context == MODEL_CONTEXT
-    assert len(replica) == 420
+    assert len(replica) == 560
     assert len(replica.models()) == 35
-    assert len(replica.queries()) == 385
-    assert len(replica.queries("train")) == 154
-    assert len(replica.queries("test")) == 231
+    assert len(replica.queries()) == 525
+    assert len(replica.queries("train")) == 210
+    assert len(replica.queries("test")) == 315
     assert all(t.name[-1] in "12" for t in replica.queries("train"))
-    assert {t.context for t in replica.queries()} == set(CONTEXTS) - {MODEL_CONTEXT}
+    assert {t.context for t in replica.queries()} == set(REPLICA_CONTEXTS) - {MODEL_CONTEXT}
     t = replica.trials[0]
     assert t.path.is_file() and t.path.stem == t.name and len(t.trajectory) > 50
     with pytest.raises(ValueError, match="split"):

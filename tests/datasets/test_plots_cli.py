@@ -28,7 +28,7 @@ def test_cli_info_and_plot(replica_root: Path, tmp_path: Path) -> None:
     runner = CliRunner()
     res = runner.invoke(cli, ["dataset", "info", str(replica_root)])
     assert res.exit_code == 0, res.output
-    assert "420 trials" in res.output and "go_home" in res.output and "combination" in res.output
+    assert "560 trials" in res.output and "go_home" in res.output and "combination" in res.output
     res = runner.invoke(cli, ["plot", str(replica_root), "-o", str(tmp_path / "g.png")])
     assert res.exit_code == 0, res.output
     assert (tmp_path / "g.png").is_file()

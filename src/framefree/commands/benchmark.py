@@ -30,7 +30,20 @@ __all__ = ["benchmark_command", "register"]
     "--methods",
     default="all",
     show_default=True,
-    help="'all' (the 17 rows of Table I) or e.g. 'bilts+:screw,dhb:arclength,rrv'.",
+    help="'all' (the 17 rows of Table I and the recommended row), 'paper' (the 17 rows), or "
+    "e.g. 'bilts+:screw,dhb:arclength,rrv,recommended'.",
+)
+@click.option(
+    "--contexts",
+    default=None,
+    help="Query contexts to use, comma-separated, or 'paper' (the paper's eleven query "
+    "contexts); default: every context on disk. Training and test trials both come from them.",
+)
+@click.option(
+    "--early",
+    is_flag=True,
+    help="Also measure early recognition (test trials cut to 25/50/75/100 %) for BILTS+ screw "
+    "and the recommended row: early.json, early.md, early.png.",
 )
 @click.option(
     "--jobs",
@@ -99,6 +112,8 @@ def benchmark_command(
     data_dir: Path | None,
     model_context: str,
     methods: str,
+    contexts: str | None,
+    early: bool,
     jobs: int | None,
     backend: str,
     address: str | None,
@@ -124,13 +139,17 @@ def benchmark_command(
     from ..benchmark import load_benchmark_data, make_backend, run_benchmark
 
     specs = _method_specs(methods)
+    if early:
+        from ..benchmark import parse_methods
+
+        specs += [s for s in parse_methods("bilts+:screw,recommended") if s not in specs]
     if json_file is not None:
         writable_file(json_file, "--json")
     writable_folder(out_dir)
     bk = make_backend(backend, jobs, address, connect_timeout)
     t0 = time.perf_counter()
     try:
-        data = load_benchmark_data(data_dir, model_context)
+        data = load_benchmark_data(data_dir, model_context, _parse_contexts(contexts))
     except BaseException:
         bk.close()
         raise
@@ -160,7 +179,7 @@ def benchmark_command(
     result.timing["load"] = load_s
     result.timing["total"] += load_s
 
-    _write_outputs(result, data, out_dir, json_file, figures)
+    _write_outputs(result, data, out_dir, json_file, figures, early, presmooth)
 
 
 def _method_specs(methods: str) -> list:
@@ -182,7 +201,8 @@ def _method_specs(methods: str) -> list:
     return specs
 
 
-def _write_outputs(result, data, out_dir: Path, json_file: Path | None, figures: bool) -> None:  # type: ignore[no-untyped-def]
+def _write_outputs(result, data, out_dir: Path, json_file: Path | None, figures: bool,  # type: ignore[no-untyped-def]
+                   early: bool = False, presmooth: int | None = None) -> None:
     """Table I (Markdown, CSV, JSON), the figures, and the table and timing on stdout."""
     from ..benchmark.results import markdown_table, write_csv, write_json, write_markdown
 
@@ -195,6 +215,8 @@ def _write_outputs(result, data, out_dir: Path, json_file: Path | None, figures:
         written.append(write_json(result, json_file))
     if figures:
         written += _figures(result, data, out_dir)
+    if early:
+        written += _early(result, data, out_dir, presmooth)
     click.echo(markdown_table(result))
     t = result.timing
     click.echo(
@@ -203,6 +225,35 @@ def _write_outputs(result, data, out_dir: Path, json_file: Path | None, figures:
     )
     for p in written:
         click.echo(f"wrote {p}", err=True)
+
+
+def _parse_contexts(text: str | None) -> list[str] | None:
+    """``--contexts``: None (all), ``paper`` (the paper's query contexts) or a comma list."""
+    if text is None:
+        return None
+    if text.strip().lower() == "paper":
+        from ..datasets.layout import CONTEXTS, MODEL_CONTEXT
+
+        return [c for c in CONTEXTS if c != MODEL_CONTEXT]
+    names = [c.strip() for c in text.split(",") if c.strip()]
+    if not names:
+        raise click.BadParameter("no context named", param_hint="--contexts")
+    return names
+
+
+def _early(result, data, out_dir: Path, presmooth: int | None) -> list[Path]:  # type: ignore[no-untyped-def]
+    """Early recognition of BILTS+ screw and the recommended row."""
+    from ..benchmark.early import early_markdown, early_recognition, plot_early, write_early_json
+
+    rows = [r for r in result.rows if r.spec.key in ("bilts+:screw", "recommended")]
+    res = early_recognition(data, rows, presmooth=presmooth)
+    (out_dir / "early.md").write_text(early_markdown(res), encoding="utf-8")
+    click.echo(early_markdown(res))
+    return [
+        write_early_json(res, out_dir / "early.json"),
+        out_dir / "early.md",
+        plot_early(res, out_dir / "early.png"),
+    ]
 
 
 def _figures(result, data, out_dir: Path) -> list[Path]:  # type: ignore[no-untyped-def]

@@ -15,7 +15,9 @@ __all__ = [
     "CONTEXTS",
     "GESTURES",
     "MODEL_CONTEXT",
+    "REPLICA_CONTEXTS",
     "STREAMS_DIR",
+    "STRESS_CONTEXTS",
     "Dataset",
     "LayoutWarning",
     "ModelSet",
@@ -43,6 +45,12 @@ CONTEXTS = (
     "world_frame_3",
     "combination",
 )
+#: Stress contexts beyond the paper, after its twelve in the replica and in Table I: 3 mm / 3°
+#: noise, time × 3, a random world and body frame per trial, and a second person
+#: (:mod:`~framefree.datasets.contexts`, ``docs/dataset.md``).
+STRESS_CONTEXTS = ("heavy_noise", "slower_3x", "random_frames", "other_person")
+#: Every context of the replica, in table order.
+REPLICA_CONTEXTS = (*CONTEXTS, *STRESS_CONTEXTS)
 #: The context whose trials are the 1-NN models.
 MODEL_CONTEXT = "original_1"
 #: A top-level folder of this name holds continuous streams, not a gesture; the loader skips it.
@@ -100,7 +108,8 @@ class Dataset:
     gestures : tuple of str
         Gesture folder names, sorted (class label order).
     contexts : tuple of str
-        Context folder names: those of :data:`CONTEXTS` in paper order, then any others sorted.
+        Context folder names: those of :data:`REPLICA_CONTEXTS` in table order, then any others
+        sorted.
     model_context : str
     trials : list of Trial
         Every trial, by gesture, context and natural trial order.
@@ -199,7 +208,7 @@ def _load_trial(f: Path, quat_order: str, units: str) -> Trajectory:
 
 
 def _context_order(names: set[str]) -> tuple[str, ...]:
-    known = [c for c in CONTEXTS if c in names]
+    known = [c for c in REPLICA_CONTEXTS if c in names]
     return (*known, *sorted(names - set(known), key=_natural_key))
 
 
