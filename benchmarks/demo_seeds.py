@@ -51,6 +51,7 @@ def _session(method: str, seed: int, out_root: str) -> dict:
         **{k: rec[k] for k in ("tp", "fp", "fn", "precision", "recall", "f1", "fp_per_minute",
                                "latency_median_s")},
         "missed": [f"{m['label']}@{m['start_t']:.1f}" for m in res.missed],
+        "missed_details": res.missed,
         "false": [f"{e['label']}@{e['time']:.1f}({e['verdict']})" for e in res.events
                   if e["verdict"] != "tp"],
         "not_obeyed": [f"{c['label']}@{c['onset_s']:.1f}" for c in res.command_log

@@ -100,7 +100,9 @@ class DemoResult:
     command_log : list of dict
         Per command: onset [s], gesture, attempts, whether the robot obeyed.
     missed : list of dict
-        Performed gestures no event matched (label, start and end time [s]).
+        Performed gestures no event matched: label, start and end time [s], and what the
+        recognizer saw of them (candidates classified, the smallest dissimilarity to the
+        gesture's models among them, its threshold).
     """
 
     recognition: dict[str, Any]
@@ -269,8 +271,27 @@ def evaluate_loop(loop: ClosedLoop, log: Any, method: str) -> DemoResult:
         method=method,
         person_seed=None if who is None else who.seed,
         command_log=list(loop.command_log),
-        missed=matched.missed,
+        missed=_closest_approach(loop.tracer.trace(), matched.missed),
     )
+
+
+def _closest_approach(trace: Any, missed: list[dict[str, Any]], slack: float = 1.0
+                      ) -> list[dict[str, Any]]:
+    """What the recognizer saw of each missed gesture: how many candidates it classified between
+    the gesture's start and ``slack`` seconds after its end, the smallest dissimilarity to the
+    gesture's own models among them (``closest``) and the gesture's threshold."""
+    out = []
+    for m in missed:
+        row = {**m, "candidates": 0, "closest": None,
+               "threshold": trace.thresholds.get(m["label"])}
+        if m["label"] in trace.gestures and trace.times.size:
+            during = (trace.times >= m["start_t"]) & (trace.times <= m["end_t"] + slack)
+            own = trace.dissimilarity[during, trace.gestures.index(m["label"])]
+            row["candidates"] = int(during.sum())
+            if np.isfinite(own).any():
+                row["closest"] = float(np.min(own))
+        out.append(row)
+    return out
 
 
 def write_outputs(out: Path, loop: ClosedLoop, log: Any, render: bool,

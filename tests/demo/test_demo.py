@@ -78,6 +78,9 @@ def test_short_session_of_a_heldout_person_runs_end_to_end(tmp_path, replica_cac
     # every performed gesture is either detected or reported missed; every event has a verdict
     assert rec["tp"] + rec["fn"] == summary["gestures_performed"]
     assert len(summary["missed"]) == rec["fn"]
+    for miss in summary["missed"]:  # with what the recognizer saw of each missed gesture
+        assert miss["threshold"] == summary["gesture_thresholds"][miss["label"]]
+        assert miss["closest"] is None or miss["closest"] > 0
     assert len(summary["events"]) == rec["tp"] + rec["fp"]
     assert all(e["verdict"] in ("tp", "fp", "fp-repeat") for e in summary["events"])
     assert all(e["robot"] != "not reached" for e in summary["events"])
