@@ -10,7 +10,8 @@ which events were false, and which commands the robot never received; then the t
     .venv/bin/python benchmarks/demo_seeds.py --seeds 0-9 --method both --keep demo_runs
 
 ``--keep DIR`` keeps each session's ``framefree demo`` output (summary.json and the recognition
-timeline) in ``DIR/<method>_seed<k>/``; otherwise they go to a temporary folder.
+timeline) in ``DIR/<method>_seed<k>/``; otherwise they go to a temporary folder. ``--json`` (default
+``benchmarks/results/demo_seeds.json``) replaces the results of the methods run and keeps the others.
 """
 
 from __future__ import annotations
@@ -114,11 +115,13 @@ def main() -> None:
         root = str(args.keep or tmp)
         rows = Parallel(n_jobs=args.jobs)(
             delayed(_session)(m, s, root) for m in methods for s in seeds)
-    out: dict = {"command": f"framefree demo --seed k --no-render --method M, k in {args.seeds}",
-                 "models": "replica seed 0, original_1", "people": "held-out 1000 + (k mod 20)"}
+    # results of other methods already in the file are kept (run the methods one at a time)
+    out: dict = json.loads(args.json.read_text()) if args.json.is_file() else {}
+    out.update({"models": "replica seed 0, original_1", "people": "held-out 1000 + (k mod 20)"})
     for m in methods:
         mrows = [r for r in rows if r["method"] == m]
-        out[m] = {"totals": _totals(mrows), "sessions": mrows}
+        out[m] = {"command": f"framefree demo --seed k --no-render --method {m}, k in {args.seeds}",
+                  "totals": _totals(mrows), "sessions": mrows}
         _print(m, mrows, out[m]["totals"])
     print(f"\nwall {time.perf_counter() - t0:.0f} s")
     args.json.parent.mkdir(parents=True, exist_ok=True)
