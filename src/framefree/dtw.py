@@ -1,4 +1,4 @@
-"""Dynamic time warping as the reference uses it (MATLAB ``dtw(X, Y)``, §6.2), in numba.
+"""Dynamic time warping as the reference uses it (MATLAB ``dtw(X, Y)``, docs/algorithms/dtw.md), in numba.
 
 * local cost: Euclidean distance between feature vectors (not squared);
 * steps (1,1), (1,0), (0,1), all of weight 1, no window;
@@ -8,7 +8,7 @@
 
 Sequences are arrays with **time leading**: shape (n, features). The model is the first argument.
 
-The BILTS distances (§6.5, §6.6) align with DTW on the singular-value features (columns 18–23)
+The BILTS distances (docs/algorithms/dtw.md) align with DTW on the singular-value features (columns 18–23)
 and then sum another pointwise quantity along the warping path; those kernels live here too so
 that one path traversal does both.
 """
@@ -131,15 +131,37 @@ POINTWISE_KABSCH = 2  # Kabsch residual over the six 3-vectors in columns 0..17 
 
 
 @njit(cache=True)
-def path_distance_kernel(X, Y, align_lo, align_hi, mode):
+def open_end_row(C):
+    """Model row where an open-end alignment stops: ``argmin_i C[i, m-1] / (i + m)``.
+
+    ``C`` is an accumulated cost (n_model, m_query). The query must be used up (last column) but
+    may end at any model sample ``i``; dividing by ``i + m`` (the largest number of cells a path
+    from (0, 0) to (i, m-1) can visit, minus one) makes the cost an average per step, so a short
+    prefix is neither favoured (fewer terms) nor punished (more terms) for its length.
+    """
+    n, m = C.shape
+    best = 0
+    best_cost = C[0, m - 1] / m
+    for i in range(1, n):
+        c = C[i, m - 1] / (i + m)
+        if c < best_cost:
+            best = i
+            best_cost = c
+    return best
+
+
+@njit(cache=True)
+def path_distance_kernel(X, Y, align_lo, align_hi, mode, open_end):
     """Normalized path distance between model X (n, F) and query Y (m, F).
 
     DTW on columns ``align_lo..align_hi-1``; then, depending on ``mode``, either the accumulated cost
-    itself, or the sum along the path of a pointwise quantity on columns 0..17; divided by n + m - 1.
+    itself, or the sum along the path of a pointwise quantity on columns 0..17; divided by
+    ``n + m - 1``. With ``open_end`` the path ends at the model sample chosen by
+    :func:`open_end_row` (``i_end``) instead of the last one, and the divisor is ``i_end + m``.
     """
     C = accumulated_cost_kernel(X, Y, align_lo, align_hi)
-    n = X.shape[0]
     m = Y.shape[0]
+    n = open_end_row(C) + 1 if open_end else X.shape[0]
     if mode == POINTWISE_EUCLIDEAN:
         return C[n - 1, m - 1] / (n + m - 1)
     total = 0.0
@@ -161,7 +183,7 @@ def path_distance_kernel(X, Y, align_lo, align_hi, mode):
 
 
 @njit(cache=True, parallel=True)
-def path_distance_matrix_kernel(qdata, qoff, mdata, moff, align_lo, align_hi, mode):
+def path_distance_matrix_kernel(qdata, qoff, mdata, moff, align_lo, align_hi, mode, open_end):
     """Distances between every packed query and every packed model, shape (n_queries, n_models)."""
     nq = qoff.shape[0] - 1
     nm = moff.shape[0] - 1
@@ -170,7 +192,12 @@ def path_distance_matrix_kernel(qdata, qoff, mdata, moff, align_lo, align_hi, mo
         a = t // nm
         b = t % nm
         out[a, b] = path_distance_kernel(
-            mdata[moff[b] : moff[b + 1]], qdata[qoff[a] : qoff[a + 1]], align_lo, align_hi, mode
+            mdata[moff[b] : moff[b + 1]],
+            qdata[qoff[a] : qoff[a + 1]],
+            align_lo,
+            align_hi,
+            mode,
+            open_end,
         )
     return out
 

@@ -1,6 +1,6 @@
 """Optimal rotation alignment of two sets of 3-vectors (the Kabsch problem), as a residual.
 
-BILTS+ compares two descriptor samples after rotating one onto the other (§6.6):
+BILTS+ compares two descriptor samples after rotating one onto the other (docs/algorithms/dtw.md):
 ``δ(A, B) = min_{R ∈ SO(3)} ||R A - B||_F²`` for 3×k matrices A, B. Only the residual is needed, so
 instead of a 3×3 SVD per pair we use Horn's quaternion formulation: the maximum of ``tr(R A Bᵀ)`` over
 rotations is the largest eigenvalue λ of a symmetric, traceless 4×4 matrix built from ``M = A Bᵀ``, and
@@ -238,7 +238,8 @@ def max_rotation_trace(M: np.ndarray) -> float:
 
 
 def kabsch_rotation(A: np.ndarray, B: np.ndarray) -> np.ndarray:
-    """The rotation R (3, 3) minimizing ``||R A − B||_F`` (SVD with the determinant fix, §6.4)."""
+    """The rotation R (3, 3) minimizing ``||R A − B||_F`` (SVD with the determinant fix,
+    docs/algorithms/dtw.md)."""
     C = np.asarray(A, dtype=np.float64) @ np.asarray(B, dtype=np.float64).T
     U, _, Vt = np.linalg.svd(C)
     R = Vt.T @ U.T

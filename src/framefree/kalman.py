@@ -1,4 +1,4 @@
-"""Kalman / Rauch–Tung–Striebel smoother of the Kalman-based descriptors (§3.2–§3.3).
+"""Kalman / Rauch–Tung–Striebel smoother of the Kalman-based descriptors (docs/algorithms/smoothing.md).
 
 DHB, eFS and ISA smooth the 50-sample reparameterized trajectory with a forward Kalman filter and a
 backward RTS pass, applied independently to each of 7 scalar signals: the 3 position coordinates
@@ -15,10 +15,11 @@ jerk, driven by white noise on the derivative of the jerk:
 
 The covariances and gains do not depend on the data, only on ``h`` and ``σ``: they are computed once
 per distinct ``σ`` (twice for a pose: positions, quaternions) and applied to every signal of that
-group. Gains come from linear solves (no explicit inverse, §9 item 19).
+group. Gains come from linear solves (no explicit inverse, docs/algorithms/smoothing.md).
 
 :func:`smooth_pose_kinematics` turns the smoothed signals into the pose twist ``(ω, ṗ)`` and its
-first two derivatives (§3.3), from which the spatial screw twist and its derivatives follow.
+first two derivatives (docs/algorithms/smoothing.md), from which the spatial screw twist and its
+derivatives follow.
 """
 
 from __future__ import annotations
@@ -317,7 +318,7 @@ def _check_step(h: float) -> float:
 def rts_smooth(
     y: np.ndarray, h: float, sigma: float | np.ndarray, q: float = KALMAN_Q
 ) -> np.ndarray:
-    """Kalman filter + RTS smoother of §3.2 applied to each column of ``y``.
+    """Kalman filter + RTS smoother of docs/algorithms/smoothing.md applied to each column of ``y``.
 
     Parameters
     ----------
@@ -364,7 +365,7 @@ def rts_smooth_with_covariance(
 
 
 # --------------------------------------------------------------------------------------------------
-# smoothed pose kinematics (§3.3)
+# smoothed pose kinematics (docs/algorithms/smoothing.md)
 # --------------------------------------------------------------------------------------------------
 
 
@@ -451,7 +452,7 @@ def spatial_twists_kernel(pos, tw):
 
 @dataclass(frozen=True)
 class PoseKinematics:
-    """Kalman-smoothed kinematics of a reparameterized trajectory (§3.3).
+    """Kalman-smoothed kinematics of a reparameterized trajectory (docs/algorithms/smoothing.md).
 
     Attributes
     ----------
@@ -482,7 +483,7 @@ def spatial_from_pose_twists(pose_twists: np.ndarray, positions: np.ndarray) -> 
 
 
 def smooth_pose_kinematics(poses: np.ndarray, ds: float, q: float = KALMAN_Q) -> PoseKinematics:
-    """Kalman-smooth a reparameterized pose sequence and derive its twists (§3.2–§3.3).
+    """Kalman-smooth a reparameterized pose sequence and derive its twists (docs/algorithms/smoothing.md).
 
     Parameters
     ----------

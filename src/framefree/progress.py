@@ -1,4 +1,5 @@
-"""Geometric progress along a rigid-body trajectory and reparameterization by it (§4).
+"""Geometric progress along a rigid-body trajectory and reparameterization by it
+(docs/algorithms/progress.md).
 
 Three progress measures are offered:
 
@@ -9,12 +10,12 @@ Three progress measures are offered:
 ``"screw"``
     screw path [m]: the combined rotation (weighted by the scale length ``L``) and translation along
     the instantaneous screw axis, whose reference point is kept within ``L`` of the body origin
-    (segmentation paper, §4.4).
+    (segmentation paper, docs/algorithms/progress.md).
 
 Offline, a trajectory is resampled at 50 Hz, its cumulative progress computed, and poses are
-interpolated (ScLERP) at N equidistant progress values (§4.5). Online, :class:`StreamingReparameterizer`
-keeps an incoming pose only once the screw path since the last kept pose exceeds a resolution
-(Algorithm 1 of the paper, §4.8).
+interpolated (ScLERP) at N equidistant progress values (docs/algorithms/progress.md). Online,
+:class:`StreamingReparameterizer` keeps an incoming pose only once the screw path since the last
+kept pose exceeds a resolution (Algorithm 1 of the paper, docs/algorithms/progress.md).
 """
 
 from __future__ import annotations
@@ -51,7 +52,8 @@ DEFAULT_SAMPLES = 50
 
 @njit(cache=True)
 def screw_increment_from_twist(xi, L):
-    """Screw path of one displacement twist ``(phi, rho)`` in body coordinates (§4.4 steps 2-3)."""
+    """Screw path of one displacement twist ``(phi, rho)`` in body coordinates
+    (docs/algorithms/progress.md)."""
     phi = xi[:3]
     rho = xi[3:]
     nphi2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2]
@@ -152,7 +154,8 @@ class Reparameterized:
 def uniform_time_poses(
     traj: Trajectory, dt: float = DEFAULT_DT, presmooth: int | None = None
 ) -> np.ndarray:
-    """Poses (M, 4, 4) of ``traj`` resampled on the reference's uniform time grid (§1.2).
+    """Poses (M, 4, 4) of ``traj`` resampled on the reference's uniform time grid
+    (docs/algorithms/progress.md).
 
     Parameters
     ----------
@@ -173,7 +176,8 @@ def reparameterize_poses(
     n: int = DEFAULT_SAMPLES,
     source: str | None = None,
 ) -> Reparameterized:
-    """Resample a pose sequence at ``n`` equidistant values of its cumulative progress (§4.5).
+    """Resample a pose sequence at ``n`` equidistant values of its cumulative progress
+    (docs/algorithms/progress.md).
 
     Raises
     ------
@@ -206,7 +210,8 @@ def reparameterize(
     dt: float = DEFAULT_DT,
     presmooth: int | None = None,
 ) -> Reparameterized:
-    """Resample ``traj`` at 50 Hz (ScLERP), then at ``n`` equidistant progress values (§4.5).
+    """Resample ``traj`` at 50 Hz (ScLERP), then at ``n`` equidistant progress values
+    (docs/algorithms/progress.md).
 
     Parameters
     ----------
@@ -232,7 +237,7 @@ def reparameterize(
 
 
 class StreamingReparameterizer:
-    """Online reparameterization by screw path (Algorithm 1 of the paper, §4.8).
+    """Online reparameterization by screw path (Algorithm 1 of the paper, docs/algorithms/progress.md).
 
     The first pose is kept. Every later pose is kept when the screw path from the last kept pose
     to it exceeds ``resolution``; otherwise it is discarded. No interpolation is done.

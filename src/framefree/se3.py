@@ -1,6 +1,6 @@
 """SO(3) / SE(3) / quaternion maths, batched over a leading axis.
 
-Conventions (see ``ALGORITHMS.md`` §0 and §2):
+Conventions (see docs/algorithms/README.md and docs/algorithms/se3.md):
 
 * poses are homogeneous 4×4 matrices ``T = [[R, p], [0, 1]]`` (R: orientation of the body in the world,
   p: position of the body origin in the world, metres);
@@ -49,7 +49,8 @@ __all__ = [
 _SMALL_ANGLE = 1e-4
 #: Below this value of cos θ the rotation logarithm reads the axis from the symmetric part (θ near π).
 _NEAR_PI_COS = -0.99
-#: Sign-continuity threshold of the reference batch converter: Euclidean distance in R^4 (§2.3).
+#: Sign-continuity threshold of the reference batch converter: Euclidean distance in R^4
+#: (docs/algorithms/se3.md).
 REFERENCE_SIGN_THRESHOLD = 0.5
 #: Sign-continuity threshold that picks the nearer of ``q`` and ``-q`` (unit quaternions:
 #: ``|q - ref| > √2`` exactly when ``q · ref < 0``).
@@ -193,7 +194,7 @@ def pose_from_twist_one(xi):
 def twist_from_pose_one(T):
     """SE(3) logarithm of a 4×4 pose → displacement twist ``(phi, rho)`` (6,).
 
-    ``rho = V(phi)^-1 p``; identical to the reference's ``theta * G^-1 p`` (§2.5).
+    ``rho = V(phi)^-1 p``; identical to the reference's ``theta * G^-1 p`` (docs/algorithms/se3.md).
     """
     phi = vector_from_rotation_one(T[:3, :3])
     theta2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2]
@@ -297,7 +298,8 @@ def matrix_from_quaternion_one(q):
 
 @njit(cache=True)
 def quaternion_from_matrix_one(R):
-    """Quaternion ``(w, x, y, z)`` with ``w >= 0`` of a rotation matrix (reference algorithm §2.3)."""
+    """Quaternion ``(w, x, y, z)`` with ``w >= 0`` of a rotation matrix (the reference's algorithm,
+    docs/algorithms/se3.md)."""
     tr1 = R[0, 0] + R[1, 1] + R[2, 2] + 1.0
     w = 0.5 * math.sqrt(max(tr1, 0.0))
     k0 = np.empty(3)
@@ -424,7 +426,7 @@ def _sclerp_batch(A, B, alpha):
 def interpolate_poses_kernel(x, T, xq):
     """Reference ``interpT``: ScLERP of poses ``T`` (n,4,4) at knots ``x`` (n,) for sorted ``xq``.
 
-    The segment index only walks forward; equal knots return the left pose (§2.9).
+    The segment index only walks forward; equal knots return the left pose (docs/algorithms/se3.md).
     """
     n = x.shape[0]
     out = np.empty((xq.shape[0], 4, 4))
@@ -549,7 +551,7 @@ def matrix_from_quaternion(q: np.ndarray) -> np.ndarray:
 
 
 def quaternion_from_matrix(R: np.ndarray, continuous: bool = True) -> np.ndarray:
-    """Quaternions (..., 4) of rotation matrices (..., 3, 3), reference algorithm (§2.3).
+    """Quaternions (..., 4) of rotation matrices (..., 3, 3), reference algorithm (docs/algorithms/se3.md).
 
     With ``continuous=True`` and a sequence (leading axis = time), signs are made continuous:
     a quaternion farther than 0.5 from its predecessor is negated.
@@ -562,7 +564,7 @@ def quaternion_from_matrix(R: np.ndarray, continuous: bool = True) -> np.ndarray
 
 
 def quaternion_continuity(q: np.ndarray, threshold: float = REFERENCE_SIGN_THRESHOLD) -> np.ndarray:
-    """Copy of a quaternion sequence (N, 4) with sign flips removed (§2.3 step 5)."""
+    """Copy of a quaternion sequence (N, 4) with sign flips removed (docs/algorithms/se3.md)."""
     q = np.array(q, dtype=np.float64, copy=True)
     if q.ndim != 2 or q.shape[1] != 4:
         raise ValueError(f"expected quaternions of shape (N, 4), got {q.shape}")
@@ -668,13 +670,14 @@ def central_spatial_twists(T: np.ndarray, ds: float) -> np.ndarray:
     """Spatial twists (N, 6) from central differences ``log(T_{k+1} T_{k-1}^-1) / (2 ds)``.
 
     The first and last twists are one-sided differences still divided by ``2 ds`` (reference
-    quirk, §2.7).
+    quirk, docs/algorithms/se3.md).
     """
     return central_spatial_twists_kernel(np.ascontiguousarray(T, dtype=np.float64), float(ds))
 
 
 def screw_axis(twist: np.ndarray, ref_point: np.ndarray | None = None):
-    """Instantaneous screw axis of twists ``(ω, v_r)`` (..., 6) referred to point ``r`` (§2.8).
+    """Instantaneous screw axis of twists ``(ω, v_r)`` (..., 6) referred to point ``r``
+    (docs/algorithms/se3.md).
 
     Parameters
     ----------

@@ -1,13 +1,14 @@
 """Smoothing of pose sequences.
 
 :func:`gaussian_smooth` emulates MATLAB's ``smoothdata(y, 'gaussian', w)`` exactly as the reference
-relies on it (§3.4): σ = w/5, window offsets ``-(w-1)/2..(w-1)/2`` for odd w and ``-w/2..w/2-1`` for
-even w, truncated and renormalized at the ends.
+relies on it (docs/algorithms/smoothing.md): σ = w/5, window offsets ``-(w-1)/2..(w-1)/2`` for odd w
+and ``-w/2..w/2-1`` for even w, truncated and renormalized at the ends.
 
 :func:`smooth_poses` applies it to positions and sign-continuous quaternion components, then
 renormalizes the quaternions (RRV, DSRF, BILTS, BILTS+).
 
-The Kalman/RTS smoother of §3.2 used by DHB, eFS and ISA lives in :mod:`framefree.kalman`.
+The Kalman/RTS smoother of docs/algorithms/smoothing.md used by DHB, eFS and ISA lives in
+:mod:`framefree.kalman`.
 """
 
 from __future__ import annotations
@@ -117,7 +118,8 @@ def smooth_poses_kernel(poses, g, before):
 
 
 def smooth_poses(poses: np.ndarray, window: int) -> np.ndarray:
-    """Gaussian-smooth a pose sequence (N, 4, 4) component-wise (§3.4); quaternions renormalized."""
+    """Gaussian-smooth a pose sequence (N, 4, 4) component-wise (docs/algorithms/smoothing.md);
+    quaternions renormalized."""
     before, _ = gaussian_offsets(window)
     return smooth_poses_kernel(
         np.ascontiguousarray(poses, dtype=np.float64), gaussian_weights(window), before

@@ -128,3 +128,64 @@ def test_command_reports_missing_model_context(foreign_root: Path, tmp_path: Pat
     )
     assert res.exit_code == 2
     assert "original_1" in res.output
+
+
+def test_command_context_subset_recommended_row_and_early(
+    foreign_root: Path, tmp_path: Path
+) -> None:
+    out = tmp_path / "out"
+    res = CliRunner().invoke(
+        cli,
+        [
+            "benchmark",
+            "--data", str(foreign_root),
+            "--model-context", "reference",
+            "--contexts", "repeat,world_frame_a",
+            "--methods", "recommended",
+            "--early",
+            "--jobs", "1",
+            "--no-figures",
+            "--out", str(out),
+            "--quiet",
+        ],
+    )  # fmt: skip
+    assert res.exit_code == 0, res.output
+    js = json.loads((out / "results.json").read_text())
+    assert js["contexts"] == ["repeat", "world_frame_a"]
+    assert js["counts"] == {"models": 8, "train": 2 * 2 * 2, "test": 2 * 2 * 2}
+    # --early adds the faithful BILTS+ row beside the recommended one
+    assert [r["method"] for r in js["rows"]] == ["recommended", "bilts+"]
+    rec = js["rows"][0]
+    assert rec["descriptor"] == "bilts+" and rec["label"].startswith("framefree (recommended)")
+    assert rec["descriptor_parameters"]["open_end"] is True
+    assert rec["descriptor_parameters"]["presmooth"] == 5
+    assert "| framefree (recommended) | screw path |" in res.output
+    early = json.loads((out / "early.json").read_text())
+    assert early["fractions"] == [0.25, 0.5, 0.75, 1.0]
+    assert set(early["rows"]) == {"recommended", "bilts+:screw"}
+    for key, row in early["rows"].items():
+        # at 100 % the early classification is the test classification of the row
+        ref = next(
+            r
+            for r in js["rows"]
+            if (r["method"] if r["method"] == "recommended" else f"{r['method']}:{r['progress']}")
+            == key
+        )
+        assert row["overall"][-1] == pytest.approx(ref["overall"])
+    assert (out / "early.png").stat().st_size > 1000
+
+
+def test_command_reports_unknown_context(foreign_root: Path, tmp_path: Path) -> None:
+    res = CliRunner().invoke(
+        cli,
+        [
+            "benchmark",
+            "--data", str(foreign_root),
+            "--model-context", "reference",
+            "--contexts", "repeat,sideways",
+            "--methods", "bilts+:screw",
+            "--out", str(tmp_path),
+        ],
+    )  # fmt: skip
+    assert res.exit_code == 2
+    assert "sideways" in res.output and "Traceback" not in res.output

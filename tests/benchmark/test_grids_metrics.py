@@ -1,4 +1,4 @@
-"""Split rule, grids, tie rule and the Table I metrics (ALGORITHMS.md §7)."""
+"""Split rule, grids, tie rule and the Table I metrics (docs/algorithms/table1-protocol.md)."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ import pytest
 
 from framefree.benchmark import (
     PAPER_TABLE1,
+    RECOMMENDED,
     TABLE1_ROWS,
     is_training_trial,
     mean_std,
@@ -32,7 +33,8 @@ from framefree.benchmark.paper import PAPER_COLUMNS
         ("trial_5", False),
         ("trial_1.csv", True),
         ("trial_5.csv", False),
-        ("trial_11", True),  # the reference's rule looks at the last character only (§9 item 22)
+        # the reference's rule looks at the last character only (docs/algorithms/table1-protocol.md)
+        ("trial_11", True),
         ("trial_12", True),
         ("trial_10", False),
         ("rec2", True),
@@ -70,13 +72,29 @@ def test_table1_rows_and_grids() -> None:
     }
 
 
+def test_recommended_row() -> None:
+    assert RECOMMENDED.key == RECOMMENDED.method_name == "recommended"
+    assert RECOMMENDED.label == "framefree (recommended) screw path"
+    assert RECOMMENDED.grid() == MethodSpec("bilts+", "screw").grid()
+    assert RECOMMENDED.params(0.06, 0.1) == {
+        "progress": "screw",
+        "L": 0.1,
+        "ds_scale": 0.06,
+        "presmooth": 5,
+        "open_end": True,
+    }
+    assert RECOMMENDED.trained(0.06, 0.1) == {"ds_scale": 0.06, "L": 0.1}
+
+
 def test_grid_scan_order_is_x_then_L() -> None:
     g = MethodSpec("bilts+", "screw").grid()
     assert g[:6] == [(0.03, 0.1), (0.03, 0.3), (0.03, 0.5), (0.03, 0.7), (0.03, 0.9), (0.06, 0.1)]
 
 
 def test_parse_methods() -> None:
-    assert parse_methods("all") == list(TABLE1_ROWS)
+    assert parse_methods("all") == [*TABLE1_ROWS, RECOMMENDED]
+    assert parse_methods("paper") == list(TABLE1_ROWS)
+    assert parse_methods("recommended,bilts+:screw") == [RECOMMENDED, TABLE1_ROWS[10]]
     assert [s.key for s in parse_methods("bilts+:screw, dhb:arclength")] == [
         "bilts+:screw",
         "dhb:arclength",
@@ -87,6 +105,7 @@ def test_parse_methods() -> None:
         "bilts:angle",
         "bilts:screw",
         "bilts+:screw",
+        "recommended",
     ]
     with pytest.raises(ValueError, match="progress"):
         parse_methods("dhb:time")

@@ -1,4 +1,6 @@
-"""A slow, literal transcription of ALGORITHMS.md (§1.2, §2, §3.4, §4, §5.7-5.8, §6.2, §6.6) for tests.
+"""A slow, literal transcription of the reference's algorithms for tests: resampling and progress
+(docs/algorithms/progress.md), SE(3) tools (se3.md), Gaussian smoothing (smoothing.md), BILTS
+(bilts.md) and the BILTS distances (dtw.md), all in docs/algorithms/.
 
 Written independently of the package, in plain numpy/scipy and in the reference's own terms
 (1-based formulas shifted, MATLAB-style helpers): matrix exponentials through ``scipy.linalg.expm``

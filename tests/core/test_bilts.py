@@ -127,40 +127,19 @@ pose_strategy = st.tuples(
 ).map(lambda rt: se3.pose_from_twist(np.array(rt[0] + rt[1])))
 
 
-@given(pose_strategy)
-@pytest.mark.parametrize("name", ["bilts", "bilts+"])
-def test_world_frame_changes_leave_descriptors_unchanged(name, Tw):
-    traj = _generic_motion()
-    desc = ff.get_descriptor(name, L=0.5, ds_scale=0.09)
-    np.testing.assert_allclose(
-        desc.compute(traj.transformed(world=Tw)), desc.compute(traj), atol=1e-9
-    )
-
-
 @given(st.integers(0, 10_000))
 def test_body_frame_changes_bilts_nearly_and_bilts_plus_within_tolerance(seed):
     rng = np.random.default_rng(seed)
     Tb = se3.pose_from_twist(np.concatenate([rng.normal(size=3), rng.uniform(-0.05, 0.05, 3)]))
     traj = _generic_motion(1)
     # component-wise smoothing (window 20) and the progress clamp do not commute exactly with a body
-    # change (ALGORITHMS §5.9, §9 item 23): BILTS stays within ~1 %, BILTS+ within a few %
+    # change (docs/algorithms/bilts.md): BILTS stays within ~1 %, BILTS+ within a few %
     for name, tol in (("bilts", 0.03), ("bilts+", 0.10)):
         desc = ff.get_descriptor(name, L=0.5, ds_scale=0.09)
         a = desc.compute(traj)
         b = desc.compute(traj.transformed(body=Tb))
         rel = np.linalg.norm(a[:, :18] - b[:, :18]) / np.linalg.norm(a[:, :18])
         assert rel < tol, (name, rel)
-
-
-@given(st.floats(0.4, 3.0))
-def test_time_rescaling_changes_only_resampling_error(k):
-    traj = _generic_motion(2).resampled(0.02)
-    desc = ff.get_descriptor("bilts+", L=0.5, ds_scale=0.09)
-    a = desc.compute(traj)
-    b = desc.compute(traj.time_scaled(k).resampled(0.02))
-    assert a.shape == b.shape
-    assert np.linalg.norm(a - b) / np.linalg.norm(a) < 0.02
-    assert desc.distance(a, b) < 0.02 * desc.distance(a, desc.compute(_generic_motion(5)))
 
 
 def test_quaternion_sign_flips_in_the_input_change_nothing():

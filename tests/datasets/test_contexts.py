@@ -16,6 +16,7 @@ from framefree.datasets import (
     GESTURES,
     NOISE_POS_STD,
     NOISE_ROT_STD,
+    REPLICA_CONTEXTS,
     WORLD_FRAMES,
     apply_context,
     synthesize_gesture,
@@ -121,9 +122,9 @@ def test_combination(replica, gesture: str) -> None:
 
 
 def test_every_context_present(replica) -> None:
-    assert replica.contexts == CONTEXTS
+    assert replica.contexts == REPLICA_CONTEXTS  # the paper's twelve, then the stress contexts
     for g in GESTURES:
-        for c in CONTEXTS:
+        for c in REPLICA_CONTEXTS:
             assert [t.name for t in replica.select(g, c)] == [f"trial_{k}" for k in range(1, 6)]
 
 

@@ -20,7 +20,7 @@ def test_replica_path_generates_once_and_reuses(tmp_path: Path, monkeypatch) -> 
     p = replica_path(seed=3)
     assert p.name == f"hpm-replica-v{REPLICA_VERSION}-{generator_fingerprint()}-seed3"
     assert p.parent == tmp_path / "cache"
-    assert len(list(p.glob("*/*/trial_*.csv"))) == 420
+    assert len(list(p.glob("*/*/trial_*.csv"))) == 560  # 7 gestures × 16 contexts × 5 trials
     assert len(list((p / "streams").glob("stream_*_labels.csv"))) == 3
     assert [x.name for x in p.parent.iterdir()] == [p.name]  # no temporary folder left behind
     stamp = (p / "go_up" / "original_1" / "trial_1.csv").stat().st_mtime_ns

@@ -1,5 +1,6 @@
-"""DSRF (§5.6) and its rotation-aligned distance (§6.4): golden screw motion, Kabsch rule,
-world-frame invariance of the distance (not of the descriptor), degenerate motions."""
+"""DSRF (docs/algorithms/descriptors.md) and its rotation-aligned distance (docs/algorithms/dtw.md):
+golden screw motion, Kabsch rule, world-frame invariance of the distance (not of the descriptor),
+degenerate motions."""
 
 from __future__ import annotations
 
@@ -26,7 +27,6 @@ from .conftest import (
     rel,
     screw_trajectory,
     standstill_trajectory,
-    time_rescaling_change,
     world_changed,
 )
 
@@ -85,7 +85,9 @@ def test_unequal_lengths_are_refused():
     st.tuples(*[st.floats(-2, 2)] * 3),
     st.sampled_from(["arclength", "angle", "screw"]),
 )
-def test_world_frame_invariance_through_the_distance(rotvec, trans, progress):
+def test_descriptor_rotates_with_the_world_and_the_distance_removes_it(rotvec, trans, progress):
+    """DSRF-specific: the invariance lives in the distance, not the descriptor (the distance
+    part for every descriptor is in test_contract.py)."""
     d = DSRF(progress=progress, L=0.4)
     a = d.compute(GENERIC)
     W = pose(rotvec, trans)
@@ -136,9 +138,3 @@ def test_degenerate_motions():
                 assert np.isfinite(DSRF(progress=progress).compute(real(name))).all()
             except DegenerateMotionError:
                 pass
-
-
-@pytest.mark.parametrize("progress", ["arclength", "angle", "screw"])
-@pytest.mark.parametrize("factor", [0.5, 2.0])
-def test_time_rescaling_changes_only_through_resampling(progress, factor):
-    assert time_rescaling_change("dsrf", progress, factor) < 2e-3

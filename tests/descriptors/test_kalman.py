@@ -1,4 +1,5 @@
-"""Kalman/RTS smoother (§3.2) against the batch MAP solution, and the twists derived from it (§3.3)."""
+"""Kalman/RTS smoother (docs/algorithms/smoothing.md) against the batch MAP solution, and the twists
+derived from it (docs/algorithms/smoothing.md)."""
 
 from __future__ import annotations
 

@@ -11,7 +11,7 @@ or, from a shell, ``framefree benchmark --data path/to/hpm``.
 """
 
 from .backends import BACKENDS, Backend, BackendUnavailableError, make_backend
-from .grids import L_VALUES, TABLE1_ROWS, MethodSpec, parse_methods
+from .grids import L_VALUES, RECOMMENDED, TABLE1_ROWS, MethodSpec, parse_methods
 from .metrics import mean_std, pooled_ratio, ratios_by_context
 from .paper import PAPER_TABLE1
 from .protocol import (
@@ -25,15 +25,16 @@ from .protocol import (
     load_benchmark_data,
     reparameterize_task,
     resample_task,
-    run_benchmark,
     select_best,
 )
+from .runner import run_benchmark
 
 __all__ = [
     "BACKENDS",
     "DEFAULT_MODEL_CONTEXT",
     "L_VALUES",
     "PAPER_TABLE1",
+    "RECOMMENDED",
     "TABLE1_ROWS",
     "Backend",
     "BackendUnavailableError",

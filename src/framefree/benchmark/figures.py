@@ -105,24 +105,19 @@ def plot_confusion(row: RowResult, gestures: list[str], path: str | Path) -> Pat
 
 
 def alignment_columns(descriptor: Descriptor, n_features: int) -> slice:
-    """Feature columns the descriptor's classifier aligns with DTW (§6.7).
+    """Feature columns the descriptor's classifier aligns with DTW (docs/algorithms/dtw.md).
 
     BILTS and BILTS+ align on their six singular values (columns 18–23); the others on all columns.
-    A descriptor may declare ``alignment_columns`` (a slice) itself.
+    Declared by the descriptor (:meth:`~framefree.descriptors.base.Descriptor.alignment_columns`).
     """
-    cols = getattr(descriptor, "alignment_columns", None)
-    if isinstance(cols, slice):
-        return cols
-    if descriptor.name in ("bilts", "bilts+") and n_features == 24:
-        return slice(18, 24)
-    return slice(0, n_features)
+    return descriptor.alignment_columns(n_features)
 
 
 def prealign(descriptor: Descriptor, model: np.ndarray, query: np.ndarray) -> np.ndarray:
     """The model sequence as the classifier compares it with the query.
 
-    DSRF rotates the model by one global Kabsch rotation before DTW (§6.4); every other descriptor
-    compares the sequences as they are.
+    DSRF rotates the model by one global Kabsch rotation before DTW (docs/algorithms/dtw.md); every
+    other descriptor compares the sequences as they are.
 
     Parameters
     ----------
@@ -132,12 +127,7 @@ def prealign(descriptor: Descriptor, model: np.ndarray, query: np.ndarray) -> np
     -------
     ndarray, shape (K, F)
     """
-    if descriptor.name == "dsrf" and model.shape == query.shape and model.shape[1] == 6:
-        from ..descriptors.dsrf import dsrf_alignment
-
-        R = dsrf_alignment(model, query)
-        return np.hstack([model[:, :3] @ R.T, model[:, 3:] @ R.T])
-    return model
+    return descriptor.prealign(model, query)
 
 
 def plot_aligned_signals(

@@ -1,68 +1,36 @@
-"""The method/progress rows of Table I and their training grids (ALGORITHMS.md §7.2, §7.5).
+"""The rows of Table I, the recommended row, and their training grids.
 
-A :class:`MethodSpec` names one row of the paper's Table I (a descriptor and a progress type) and
-knows its 2-D training grid over ``(x, L)``: ``x`` is the descriptor-specific parameter (λ for DHB,
-eFS and ISA; the window scale ``ds_scale`` for BILTS and BILTS+; nothing for RRV and DSRF), ``L``
-[m] the scale length. The grids are exactly those of the reference, and
-:meth:`MethodSpec.grid` lists the points in the order in which the tie rule of §7.3 scans them:
-smallest ``x`` first, then smallest ``L``.
+A :class:`MethodSpec` names one row: a registered descriptor, a progress type and, for rows beyond
+the paper, fixed options (pre-smoothing of the 50 Hz poses, descriptor arguments such as
+``open_end``). Everything else — the trained parameter and its values, whether L is trained, the
+display name — is declared by the descriptor class itself (:mod:`framefree.descriptors.base`), so
+a new descriptor needs no entry here. The 2-D training grid is ``(x, L)``: ``x`` is the
+descriptor's trained parameter (λ for DHB, eFS and ISA; the window scale ``ds_scale`` for BILTS and
+BILTS+; nothing for RRV and DSRF), ``L`` [m] the scale length. :meth:`MethodSpec.grid` lists the
+points in the order in which the tie rule scans them: smallest ``x`` first, then smallest ``L``
+(``docs/algorithms/table1-protocol.md``).
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from ..descriptors.base import L_GRID, Descriptor, descriptor_class
+
 __all__ = [
     "L_VALUES",
+    "RECOMMENDED",
+    "RECOMMENDED_PRESMOOTH",
     "TABLE1_ROWS",
-    "X_VALUES",
     "MethodSpec",
     "parse_methods",
     "row_key",
 ]
 
 #: scale lengths L [m] of every 2-D grid (``linspace(0.1, 0.9, 5)``)
-L_VALUES: tuple[float, ...] = (0.1, 0.3, 0.5, 0.7, 0.9)
-
-#: x values per (descriptor, progress); ``"*"`` matches any progress type
-X_VALUES: dict[tuple[str, str], tuple[float, ...]] = {
-    ("dhb", "*"): (0.01, 0.1, 1.0, 10.0, 100.0),
-    ("efs", "*"): (0.001, 0.01, 0.1, 1.0, 10.0),
-    ("isa", "*"): (0.0001, 0.001, 0.01, 0.1, 1.0),
-    ("bilts", "angle"): tuple(math.radians(d) for d in (1.0, 10.0, 20.0, 30.0, 40.0)),
-    ("bilts", "screw"): (0.03, 0.06, 0.09, 0.12, 0.15),
-    ("bilts+", "angle"): tuple(math.radians(d) for d in (1.0, 10.0, 20.0, 30.0, 40.0)),
-    ("bilts+", "screw"): (0.03, 0.06, 0.09, 0.12, 0.15),
-}
-
-#: the descriptor constructor argument that ``x`` sets (None: no x parameter)
-X_PARAM: dict[str, str | None] = {
-    "dhb": "lam",
-    "efs": "lam",
-    "isa": "lam",
-    "bilts": "ds_scale",
-    "bilts+": "ds_scale",
-    "rrv": None,
-    "dsrf": None,
-}
-
-#: global descriptors: positions normalized by the arclength of the time trajectory (§4.7); L
-#: is trained only with screw-path progress
-GLOBAL_METHODS: frozenset[str] = frozenset({"rrv", "dsrf"})
-
-#: display names as printed in Table I
-DISPLAY_NAMES: dict[str, str] = {
-    "dhb": "DHB",
-    "efs": "eFS",
-    "isa": "ISA",
-    "bilts": "BILTS",
-    "bilts+": "BILTS+",
-    "rrv": "RRV",
-    "dsrf": "DSRF",
-}
+L_VALUES: tuple[float, ...] = L_GRID
 
 #: progress names as printed in Table I
 PROGRESS_NAMES: dict[str, str] = {"arclength": "arclength", "angle": "angle", "screw": "screw path"}
@@ -70,6 +38,11 @@ PROGRESS_NAMES: dict[str, str] = {"arclength": "arclength", "angle": "angle", "s
 #: placeholder L passed to descriptors whose progress and descriptor do not use L (RRV, DSRF with
 #: arclength or angle progress: the reference's "x = L = 1" dummies)
 DUMMY_L = 1.0
+
+#: Gaussian window [samples] of the recommended row's pre-smoothing of the 50 Hz poses. A fixed
+#: design constant, not searched: the value the issue reported for BILTS+ on an independent
+#: held-out data set (``docs/algorithms/recommended.md``)
+RECOMMENDED_PRESMOOTH = 5
 
 
 def row_key(method: str, progress: str) -> str:
@@ -79,7 +52,7 @@ def row_key(method: str, progress: str) -> str:
 
 @dataclass(frozen=True)
 class MethodSpec:
-    """One row of Table I: a registered descriptor name and a progress type.
+    """One benchmark row: a registered descriptor and a progress type, plus fixed options.
 
     Parameters
     ----------
@@ -88,46 +61,78 @@ class MethodSpec:
         ``"rrv"``, ``"dsrf"``, or any other registered name).
     progress : {"arclength", "angle", "screw"}
         Progress type used to reparameterize the trajectories.
+    presmooth : int, optional
+        Gaussian window [samples] applied to the 50 Hz poses before progress is computed (None:
+        the reference's raw poses, or the run's ``--presmooth``).
+    options : tuple of (str, value) pairs
+        Fixed descriptor arguments added to every grid point (e.g. ``(("open_end", True),)``).
+    name : str, optional
+        Row identifier replacing ``"<method>:<progress>"`` (e.g. ``"recommended"``).
+    title : str, optional
+        Row label replacing the descriptor's display name.
     """
 
     method: str
     progress: str
+    presmooth: int | None = None
+    options: tuple[tuple[str, Any], ...] = ()
+    name: str | None = None
+    title: str | None = None
+
+    @property
+    def descriptor(self) -> type[Descriptor]:
+        """The registered descriptor class."""
+        return descriptor_class(self.method)
 
     @property
     def key(self) -> str:
-        """``"<method>:<progress>"``."""
-        return row_key(self.method, self.progress)
+        """``name`` or ``"<method>:<progress>"``."""
+        return self.name or row_key(self.method, self.progress)
+
+    @property
+    def method_name(self) -> str:
+        """What the JSON and CSV call the row's method: ``name`` or the descriptor name."""
+        return self.name or self.method
+
+    @property
+    def display_name(self) -> str:
+        """``title`` or the descriptor's display name (e.g. ``"BILTS+"``)."""
+        return self.title or self.descriptor.label()
+
+    @property
+    def progress_name(self) -> str:
+        """Progress type as printed in Table I (e.g. ``"screw path"``)."""
+        return PROGRESS_NAMES.get(self.progress, self.progress)
 
     @property
     def label(self) -> str:
         """Human-readable row label, e.g. ``"BILTS+ screw path"``."""
-        name = DISPLAY_NAMES.get(self.method, self.method)
-        return f"{name} {PROGRESS_NAMES.get(self.progress, self.progress)}"
+        return f"{self.display_name} {self.progress_name}"
 
     @property
     def x_param(self) -> str | None:
         """Descriptor argument set by ``x`` (``"lam"``, ``"ds_scale"`` or None)."""
-        return X_PARAM.get(self.method)
+        return self.descriptor.trained_parameter
 
     @property
     def trains_L(self) -> bool:
         """Whether L is a trained parameter (False for RRV/DSRF without screw progress)."""
-        return not (self.method in GLOBAL_METHODS and self.progress != "screw")
+        return self.descriptor.trains_scale_length(self.progress)
 
     @property
     def x_values(self) -> tuple[float, ...]:
         """Grid values of ``x`` (one dummy ``None`` when the method has no x parameter)."""
         if self.x_param is None:
             return (None,)  # type: ignore[return-value]
-        for key in ((self.method, self.progress), (self.method, "*")):
-            if key in X_VALUES:
-                return X_VALUES[key]
-        raise ValueError(f"no grid for {self.key}")
+        values = self.descriptor.parameter_grid(self.progress)
+        if not values:
+            raise ValueError(f"no grid for {self.key}")
+        return values
 
     @property
     def L_values(self) -> tuple[float, ...]:
         """Grid values of L [m] (a single dummy when L is not trained)."""
-        return L_VALUES if self.trains_L else (DUMMY_L,)
+        return self.descriptor.scale_length_grid(self.progress) or (DUMMY_L,)
 
     @property
     def reparameterization_uses_L(self) -> bool:
@@ -139,6 +144,9 @@ class MethodSpec:
         out: dict[str, Any] = {"progress": self.progress, "L": float(L)}
         if self.x_param is not None:
             out[self.x_param] = float(x)  # type: ignore[arg-type]
+        if self.presmooth is not None and "presmooth" in self.descriptor.param_names:
+            out["presmooth"] = int(self.presmooth)
+        out.update(self.options)
         return out
 
     def grid(self) -> list[tuple[float | None, float]]:
@@ -176,6 +184,17 @@ TABLE1_ROWS: tuple[MethodSpec, ...] = (
     MethodSpec("dsrf", "screw"),
 )
 
+#: the recommended offline method: BILTS+ with screw-path progress on pre-smoothed 50 Hz poses,
+#: open-end alignment; ds_scale and L trained by the same grid search as the paper's rows
+RECOMMENDED = MethodSpec(
+    "bilts+",
+    "screw",
+    presmooth=RECOMMENDED_PRESMOOTH,
+    options=(("open_end", True),),
+    name="recommended",
+    title="framefree (recommended)",
+)
+
 _PROGRESS_ALIASES = {
     "arclength": "arclength",
     "arc": "arclength",
@@ -195,8 +214,9 @@ def parse_methods(
     Parameters
     ----------
     text : str or sequence of str or None
-        ``"all"`` / None (the 17 rows of Table I), or comma-separated items ``method:progress``;
-        an item without ``:progress`` selects every Table I row of that method.
+        ``"all"`` / None (the 17 rows of Table I and the recommended row), ``"paper"`` (the 17
+        rows), or comma-separated items ``method:progress``; an item without ``:progress``
+        selects every Table I row of that method; ``recommended`` selects :data:`RECOMMENDED`.
     available : sequence of str, optional
         Registered descriptor names; rows of other descriptors raise (or, for ``"all"``, are
         dropped). Default: no check.
@@ -204,7 +224,8 @@ def parse_methods(
     Returns
     -------
     list of MethodSpec
-        In the order given (``"all"``: Table I order), without duplicates.
+        In the order given (``"all"``: Table I order, then the recommended row), without
+        duplicates.
 
     Raises
     ------
@@ -212,14 +233,20 @@ def parse_methods(
         For an unknown progress type, or a descriptor that is not registered.
     """
     avail = None if available is None else {a.lower() for a in available}
-    if text is None or (isinstance(text, str) and text.strip().lower() in ("", "all")):
+    if text is None or (isinstance(text, str) and text.strip().lower() in ("", "all", "paper")):
         rows = list(TABLE1_ROWS)
+        if not (isinstance(text, str) and text.strip().lower() == "paper"):
+            rows.append(RECOMMENDED)
         return rows if avail is None else [r for r in rows if r.method in avail]
     items = text.split(",") if isinstance(text, str) else list(text)
     out: list[MethodSpec] = []
     for raw in items:
         item = raw.strip().lower()
         if not item:
+            continue
+        if item == RECOMMENDED.name:
+            if RECOMMENDED not in out:
+                out.append(RECOMMENDED)
             continue
         method, _, prog = item.partition(":")
         method = method.strip()

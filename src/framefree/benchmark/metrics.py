@@ -1,4 +1,4 @@
-"""Recognition metrics of the protocol (ALGORITHMS.md §7.4).
+"""Recognition metrics of the protocol (docs/algorithms/table1-protocol.md).
 
 * recognition ratio (RR) per context = correct / number of test trials of that context, in percent;
 * the pooled Δ{b} and Δ{w} columns of Table I = RR over all trials of the body-frame (world-frame)
@@ -14,7 +14,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ..datasets.layout import CONTEXTS, MODEL_CONTEXT
+from ..datasets.layout import MODEL_CONTEXT, REPLICA_CONTEXTS
 
 __all__ = [
     "CONTEXT_ORDER",
@@ -28,7 +28,7 @@ __all__ = [
 ]
 
 #: Table I's order of the HPM test contexts; others follow in sorted order
-CONTEXT_ORDER: tuple[str, ...] = tuple(c for c in CONTEXTS if c != MODEL_CONTEXT)
+CONTEXT_ORDER: tuple[str, ...] = tuple(c for c in REPLICA_CONTEXTS if c != MODEL_CONTEXT)
 
 #: pooled columns of Table I: column name -> context-name pattern
 GROUP_PATTERNS: dict[str, re.Pattern[str]] = {
@@ -101,7 +101,8 @@ def pooled_ratio(
 
 
 def mean_std(per_context: Sequence[float] | Mapping[str, float]) -> tuple[float, float]:
-    """Mean and sample standard deviation over contexts of RRs rounded to one decimal (§7.4).
+    """Mean and sample standard deviation over contexts of RRs rounded to one decimal
+    (docs/algorithms/table1-protocol.md).
 
     Parameters
     ----------

@@ -1,8 +1,9 @@
 """The published numbers: Table I of Verduyn, Vochten & De Schutter (arXiv 2503.11352).
 
-Recognition ratios in percent on the HPM test set, copied as printed (ALGORITHMS.md §7.5). Keys of
-each row: the seven printed columns (``original_2``, ``slower``, ``faster``, ``first_half``, the
-pooled ``body_frame`` and ``world_frame`` columns, ``combination``) plus ``mean`` and ``std``.
+Recognition ratios in percent on the HPM test set, copied as printed
+(docs/algorithms/table1-protocol.md). Keys of each row: the seven printed columns (``original_2``,
+``slower``, ``faster``, ``first_half``, the pooled ``body_frame`` and ``world_frame`` columns,
+``combination``) plus ``mean`` and ``std``.
 
 A few printed values are not multiples of 1/21 or 1/63 (RRV arclength Δ{w} 85.4, RRV angle
 combination 80.9, RRV screw Δ{w} 69.9); they are kept as printed and are not exact targets.

@@ -1,10 +1,10 @@
-"""The offline training/testing protocol of the paper (ALGORITHMS.md §7) as pure task functions.
+"""The offline training/testing protocol of the paper (docs/algorithms/table1-protocol.md) as pure
+task functions, and the results of a run.
 
-Sets (§7.1): the **models** (1-NN neighbours) are all trials of the model context; every other
-context contributes its trials whose file stem ends in ``1`` or ``2`` to the **training** set and
-the rest to the **test** set. For every method/progress row, the grid of §7.2 is searched for the
-point with the highest pooled training recognition ratio (ties: smallest x, then smallest L, §7.3),
-and the test trials are classified with that point.
+The sets (models, training and test queries) are built in :mod:`framefree.benchmark.data` (and
+re-exported here). For every method/progress row, the grid is
+searched for the point with the highest pooled training recognition ratio (ties: smallest x, then
+smallest L, docs/algorithms/table1-protocol.md), and the test trials are classified with that point.
 
 Work is organized so that nothing is computed twice:
 
@@ -20,24 +20,29 @@ All three task functions are pure (numpy arrays and small values in, results out
 
 from __future__ import annotations
 
-import inspect
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..classifier import round_significant
-from ..descriptors.base import Descriptor, available_descriptors, get_descriptor
-from ..errors import DatasetError, FramefreeError
+from ..descriptors.base import Descriptor, get_descriptor
+from ..errors import FramefreeError
 from ..progress import cumulative_progress, reparameterize_poses, uniform_time_poses
 from ..trajectory import Trajectory
-from .backends import Backend, SerialBackend
+from .data import (
+    DEFAULT_MODEL_CONTEXT,
+    BenchmarkData,
+    TrialRecord,
+    build_benchmark_data,
+    is_training_trial,
+    load_benchmark_data,
+)
 from .grids import MethodSpec
-from .metrics import context_groups, mean_std, order_contexts, pooled_ratio, ratios_by_context
+from .metrics import context_groups, mean_std, pooled_ratio, ratios_by_context
 
 __all__ = [
     "DEFAULT_MODEL_CONTEXT",
@@ -47,204 +52,19 @@ __all__ = [
     "PointResult",
     "RowResult",
     "TrialRecord",
+    "build_benchmark_data",
     "evaluate_task",
     "is_training_trial",
     "load_benchmark_data",
     "predict_from_distances",
     "reparameterize_task",
     "resample_task",
-    "run_benchmark",
     "select_best",
 ]
 
-#: default model context of the HPM dataset (§1.3)
-DEFAULT_MODEL_CONTEXT = "original_1"
 
 #: trials per resampling / reparameterization task
 CHUNK = 40
-
-
-# ------------------------------------------------------------------------------------------- sets
-def is_training_trial(name: str) -> bool:
-    """Split rule of §1.3: a trial is a training trial iff the last character of its file stem is
-    ``1`` or ``2`` (so ``trial_11`` is a training trial, ``trial_3`` a test trial).
-
-    Parameters
-    ----------
-    name : str
-        File name (``trial_1.csv``) or stem (``trial_1``).
-    """
-    stem = Path(name).stem if name.lower().endswith(".csv") else name
-    return stem[-1:] in ("1", "2")
-
-
-@dataclass(frozen=True)
-class TrialRecord:
-    """One recorded trial as the benchmark needs it.
-
-    Attributes
-    ----------
-    gesture : str
-        Class label (gesture folder name).
-    context : str
-        Context folder name.
-    name : str
-        File stem, e.g. ``"trial_3"``.
-    data : ndarray, shape (N, 8)
-        ``t [s], x, y, z [m], qw, qx, qy, qz``.
-    source : str
-        Path of the file (for messages).
-    """
-
-    gesture: str
-    context: str
-    name: str
-    data: np.ndarray = field(repr=False)
-    source: str = ""
-
-
-@dataclass
-class BenchmarkData:
-    """Models, training and test queries of a dataset.
-
-    Attributes
-    ----------
-    root : str
-        Dataset folder.
-    gestures : list of str
-        Class labels, sorted (the reference's label order).
-    model_context : str
-    contexts : list of str
-        The query contexts (all contexts except the model context), in Table I order.
-    models, train, test : list of TrialRecord
-        Models: all trials of the model context, ordered by gesture then trial name (the 1-NN tie
-        rule picks the first). Train/test: the other contexts split by :func:`is_training_trial`.
-    """
-
-    root: str
-    gestures: list[str]
-    model_context: str
-    contexts: list[str]
-    models: list[TrialRecord]
-    train: list[TrialRecord]
-    test: list[TrialRecord]
-
-    @property
-    def all_trials(self) -> list[TrialRecord]:
-        """Models, then training trials, then test trials."""
-        return [*self.models, *self.train, *self.test]
-
-    def summary(self) -> str:
-        """One line: counts of gestures, contexts and trials."""
-        return (
-            f"{len(self.gestures)} gestures, model context {self.model_context!r} "
-            f"({len(self.models)} models), {len(self.contexts)} query contexts, "
-            f"{len(self.train)} training / {len(self.test)} test trials"
-        )
-
-
-def _records_from_layout(root: Path) -> list[TrialRecord]:
-    """Scan ``<root>/<gesture>/<context>/<trial>.csv`` (names starting with '.' skipped)."""
-    out = []
-    for g in sorted(p for p in root.iterdir() if p.is_dir() and not p.name.startswith(".")):
-        # folders without context subfolders (e.g. ``streams/``) are not gestures
-        for c in sorted(p for p in g.iterdir() if p.is_dir() and not p.name.startswith(".")):
-            files = sorted(p for p in c.iterdir() if p.suffix.lower() == ".csv")
-            for f in files:
-                if f.name.startswith(".") or f.stem.endswith("_labels"):
-                    continue
-                traj = Trajectory.from_csv(f)
-                out.append(TrialRecord(g.name, c.name, f.stem, traj.to_array(), str(f)))
-    return out
-
-
-def _records_from_dataset(ds: Any) -> list[TrialRecord]:
-    out = []
-    for tr in ds.trials:
-        traj = tr.trajectory
-        src = str(getattr(tr, "path", "") or getattr(traj, "source", "") or "")
-        name = Path(str(tr.name)).stem
-        out.append(TrialRecord(str(tr.gesture), str(tr.context), name, traj.to_array(), src))
-    return out
-
-
-def build_benchmark_data(
-    records: Sequence[TrialRecord], model_context: str, root: str = ""
-) -> BenchmarkData:
-    """Split trial records into models, training and test queries (§7.1).
-
-    Raises
-    ------
-    DatasetError
-        If the model context has no trials, or there are no query trials.
-    """
-    records = list(records)
-    if not records:
-        raise DatasetError(f"{root}: no trials found (expected <gesture>/<context>/<trial>.csv)")
-    contexts = {r.context for r in records}
-    if model_context not in contexts:
-        raise DatasetError(
-            f"{root}: model context {model_context!r} not found; contexts on disk: "
-            f"{', '.join(sorted(contexts))}"
-        )
-    gestures = sorted({r.gesture for r in records})
-    gi = {g: i for i, g in enumerate(gestures)}
-    key = lambda r: (gi[r.gesture], r.context, r.name)  # noqa: E731
-    models = sorted((r for r in records if r.context == model_context), key=key)
-    queries = sorted((r for r in records if r.context != model_context), key=key)
-    train = [r for r in queries if is_training_trial(r.name)]
-    test = [r for r in queries if not is_training_trial(r.name)]
-    if not queries:
-        raise DatasetError(f"{root}: no trials outside the model context {model_context!r}")
-    return BenchmarkData(
-        root=root,
-        gestures=gestures,
-        model_context=model_context,
-        contexts=order_contexts(sorted(contexts - {model_context})),
-        models=models,
-        train=train,
-        test=test,
-    )
-
-
-def load_benchmark_data(
-    root: str | Path | None = None, model_context: str = DEFAULT_MODEL_CONTEXT
-) -> BenchmarkData:
-    """Load a dataset folder laid out as ``<root>/<gesture>/<context>/<trial>.csv``.
-
-    Parameters
-    ----------
-    root : str or Path, optional
-        Dataset folder; default: the HPM replica (``framefree.datasets.replica_path()``).
-    model_context : str
-        Context whose trials are the models.
-
-    Raises
-    ------
-    DatasetError
-        If the folder is missing or has no usable layout.
-    """
-    if root is None:
-        try:
-            from ..datasets import replica_path
-        except ImportError as exc:
-            raise DatasetError(
-                "no --data given and the HPM replica is not available in this installation "
-                f"({exc}); pass --data DIR"
-            ) from None
-        root = replica_path()
-    root = Path(root)
-    if not root.is_dir():
-        raise DatasetError(f"{root}: dataset folder does not exist")
-    try:
-        from ..datasets import load_dataset
-    except ImportError:
-        load_dataset = None
-    if load_dataset is not None:
-        records = _records_from_dataset(load_dataset(root, model_context=model_context))
-    else:
-        records = _records_from_layout(root)
-    return build_benchmark_data(records, model_context, str(root))
 
 
 # ------------------------------------------------------------------------------------------ tasks
@@ -259,9 +79,8 @@ class DescriptorInput:
     ds : float
         Progress step of ``poses`` [m or rad].
     arclength : float
-        Total arclength ℓ [m] of the 50 Hz trajectory (the normalization of RRV and DSRF, §4.7).
-    data : ndarray or None
-        ``(M, 8)`` time trajectory, for descriptors that can only start from a trajectory.
+        Total arclength ℓ [m] of the 50 Hz trajectory (the normalization of the global
+        descriptors).
     error : str or None
         Why no descriptor can be computed (e.g. no progress of this type); then the trial gets no
         class and counts as misrecognized.
@@ -270,12 +89,11 @@ class DescriptorInput:
     poses: np.ndarray | None = None
     ds: float = float("nan")
     arclength: float = float("nan")
-    data: np.ndarray | None = None
     error: str | None = None
 
 
 def resample_task(arrays: Sequence[np.ndarray], presmooth: int | None = None) -> list[np.ndarray]:
-    """Resample trials at 50 Hz with ScLERP (§1.2).
+    """Resample trials at 50 Hz with ScLERP (docs/algorithms/progress.md).
 
     Parameters
     ----------
@@ -296,7 +114,7 @@ def resample_task(arrays: Sequence[np.ndarray], presmooth: int | None = None) ->
 def reparameterize_task(
     poses_list: Sequence[np.ndarray], progress: str, L: float, n: int = 50
 ) -> list[DescriptorInput]:
-    """Reparameterize 50 Hz pose sequences at ``n`` equidistant progress values (§4.5).
+    """Reparameterize 50 Hz pose sequences at ``n`` equidistant progress values (docs/algorithms/progress.md).
 
     Parameters
     ----------
@@ -348,21 +166,6 @@ class PointResult:
     failures: list[str] = field(default_factory=list)
 
 
-def _takes_arclength(desc: Descriptor) -> bool:
-    fn = getattr(desc, "from_reparameterized", None)
-    if fn is None:
-        return False
-    return "arclength" in inspect.signature(fn).parameters
-
-
-def _shares_representation(desc: Descriptor) -> bool:
-    """Whether the descriptor splits into a parameter-free ``representation(poses, ds)`` and a
-    cheap ``weight(representation)`` (DHB, eFS, ISA: L and λ only weight the rows)."""
-    return callable(getattr(desc, "representation", None)) and callable(
-        getattr(desc, "weight", None)
-    )
-
-
 def _describe(
     desc: Descriptor,
     inp: DescriptorInput,
@@ -372,30 +175,27 @@ def _describe(
 ) -> np.ndarray | str:
     """Descriptor (K, F) of one input, or the reason it cannot be computed.
 
-    With ``cache``, descriptors that share a representation between parameter points compute it
-    once per input (``key``) and only re-weight it.
+    With ``cache``, descriptors that declare ``shares_representation`` compute their
+    representation once per input (``key``) and only re-weight it per grid point.
     """
     if inp.error is not None:
         return inp.error
+    errors = (FramefreeError, FloatingPointError, np.linalg.LinAlgError)
     try:
-        if inp.data is not None:
-            d = desc.compute(Trajectory.from_array(inp.data))
-        elif cache is not None and _shares_representation(desc):
+        if cache is not None and desc.shares_representation:
             raw = cache.get(key)
             if raw is None:
                 try:
-                    raw = desc.representation(inp.poses, inp.ds)  # type: ignore[attr-defined]
-                except (FramefreeError, FloatingPointError, np.linalg.LinAlgError) as exc:
+                    raw = desc.representation(inp.poses, inp.ds, inp.arclength)
+                except errors as exc:
                     raw = str(exc)
                 cache[key] = raw
             if isinstance(raw, str):
                 return raw
-            d = desc.weight(raw)  # type: ignore[attr-defined]
-        elif _takes_arclength(desc):  # RRV, DSRF: normalized by the 50 Hz arclength (§4.7)
-            d = desc.from_reparameterized(inp.poses, inp.ds, inp.arclength)  # type: ignore[attr-defined]
+            d = desc.weight(raw)
         else:
-            d = desc.from_reparameterized(inp.poses, inp.ds)  # type: ignore[attr-defined]
-    except (FramefreeError, FloatingPointError, np.linalg.LinAlgError) as exc:
+            d = desc.from_reparameterized(inp.poses, inp.ds, inp.arclength)
+    except errors as exc:
         return str(exc)
     d = np.asarray(d, dtype=np.float64)
     if not np.isfinite(d).all():
@@ -429,7 +229,8 @@ def evaluate_task(
     threads : int, optional
         Numba threads for the distance kernels in this worker (None: unchanged).
     round_digits : int, optional
-        Round descriptors to this many significant digits, as the reference's CSV storage (§6.8).
+        Round descriptors to this many significant digits, as the reference's CSV storage
+        (docs/algorithms/dtw.md).
 
     Returns
     -------
@@ -466,7 +267,8 @@ def evaluate_task(
 
 # ------------------------------------------------------------------------------------- selection
 def predict_from_distances(distances: np.ndarray, model_labels: Sequence[str]) -> list[str | None]:
-    """1-NN labels: the first model with the smallest distance (§6.1); None if all are infinite.
+    """1-NN labels: the first model with the smallest distance (docs/algorithms/dtw.md); None if all
+    are infinite.
 
     Parameters
     ----------
@@ -484,7 +286,7 @@ def predict_from_distances(distances: np.ndarray, model_labels: Sequence[str]) -
 
 
 def select_best(scores: Sequence[tuple[float | None, float, float]]) -> int:
-    """Index of the selected grid point (§7.3).
+    """Index of the selected grid point (docs/algorithms/table1-protocol.md).
 
     Parameters
     ----------
@@ -529,7 +331,7 @@ class RowResult:
     pooled : dict
         Pooled columns (``body_frame``, ``world_frame``) [%].
     mean, std : float
-        Over the individual test contexts, from RRs rounded to 0.1 (§7.4).
+        Over the individual test contexts, from RRs rounded to 0.1 (docs/algorithms/table1-protocol.md).
     overall : float
         Recognition ratio over all test trials [%].
     confusion : ndarray, shape (n_gestures, n_gestures + 1)
@@ -607,7 +409,7 @@ def score_row(
     predictions: Sequence[str | None],
     data: BenchmarkData,
 ) -> dict[str, Any]:
-    """Test metrics of one row from its test predictions (§7.4)."""
+    """Test metrics of one row from its test predictions (docs/algorithms/table1-protocol.md)."""
     from .metrics import confusion_matrix
 
     labels = [r.gesture for r in data.test]
@@ -635,233 +437,3 @@ def score_row(
         "confusion": conf,
         "confusion_by_context": conf_ctx,
     }
-
-
-# ----------------------------------------------------------------------------------------- driver
-def _chunks(n: int, size: int) -> list[range]:
-    return [range(i, min(n, i + size)) for i in range(0, n, size)]
-
-
-def _needs_time_trajectory(spec: MethodSpec) -> bool:
-    """True for descriptors that cannot start from reparameterized poses: no
-    ``from_reparameterized``, or one that needs more than poses, step and arclength."""
-    x, L = spec.grid()[0]
-    fn = getattr(get_descriptor(spec.method, **spec.params(x, L)), "from_reparameterized", None)
-    if fn is None:
-        return True
-    required = [
-        p.name
-        for p in inspect.signature(fn).parameters.values()
-        if p.default is inspect.Parameter.empty and p.kind is not p.VAR_KEYWORD
-    ]
-    return not set(required) <= {"poses", "ds", "arclength"}
-
-
-def _rep_key(spec: MethodSpec, L: float) -> tuple[str, float]:
-    return (spec.progress, float(L) if spec.reparameterization_uses_L else 0.0)
-
-
-def run_benchmark(
-    data: BenchmarkData,
-    methods: Sequence[MethodSpec],
-    backend: Backend | None = None,
-    progress: Callable[[int], None] | None = None,
-    on_total: Callable[[int], None] | None = None,
-    round_digits: int | None = None,
-    n_samples: int = 50,
-    presmooth: int | None = None,
-) -> BenchmarkResult:
-    """Run the protocol for each method/progress row.
-
-    Parameters
-    ----------
-    data : BenchmarkData
-        Models, training and test trials (:func:`load_benchmark_data`).
-    methods : sequence of MethodSpec
-        Rows to compute (e.g. :data:`~framefree.benchmark.grids.TABLE1_ROWS`).
-    backend : Backend, optional
-        Where tasks run; default in-process.
-    progress : callable, optional
-        Called with the number of tasks just finished (e.g. ``tqdm.update``).
-    on_total : callable, optional
-        Called once per stage with the number of tasks that stage adds (to size a progress bar).
-    round_digits : int, optional
-        Round descriptors to this many significant digits (§6.8); default full precision.
-    n_samples : int
-        Progress samples per trajectory (50).
-    presmooth : int, optional
-        framefree extension, off by default (not the paper's protocol): Gaussian-smooth the 50 Hz
-        poses with this window [samples] before progress and descriptors are computed.
-
-    Returns
-    -------
-    BenchmarkResult
-    """
-    backend = backend or SerialBackend()
-    methods = list(methods)
-    missing = sorted({m.method for m in methods} - set(available_descriptors()))
-    if missing:
-        raise ValueError(f"descriptor(s) not registered: {', '.join(missing)}")
-    tick = progress or (lambda n: None)
-    total_cb = on_total or (lambda n: None)
-    timing: dict[str, float] = {}
-    t_start = time.perf_counter()
-
-    trials = data.all_trials
-    n_models, n_train = len(data.models), len(data.train)
-    idx_models = list(range(n_models))
-    idx_train = list(range(n_models, n_models + n_train))
-    idx_test = list(range(n_models + n_train, len(trials)))
-    model_labels = [r.gesture for r in data.models]
-
-    from_time = [_needs_time_trajectory(spec) for spec in methods]
-    if presmooth and any(from_time):
-        names = ", ".join(m.key for m, f in zip(methods, from_time, strict=True) if f)
-        raise ValueError(f"presmoothing needs descriptors with from_reparameterized; not: {names}")
-
-    # the full tally of tasks, so a progress bar knows its length up front
-    rep_keys: list[tuple[str, float]] = []
-    grid_jobs: list[tuple[int, float, list[tuple[float | None, float]]]] = []  # (row, L, points)
-    for ri, spec in enumerate(methods):
-        for L in spec.L_values:
-            pts = [(x, L) for x in spec.x_values]
-            grid_jobs.append((ri, L, pts))
-            if not from_time[ri] and _rep_key(spec, L) not in rep_keys:
-                rep_keys.append(_rep_key(spec, L))
-    needs_poses = bool(rep_keys)
-    chunks = _chunks(len(trials), CHUNK)
-    n_resample = len(chunks) if needs_poses else 0
-    total_cb(n_resample + len(rep_keys) * len(chunks) + len(grid_jobs) + len(methods))
-
-    # 1. 50 Hz resampling, once per trial
-    t = time.perf_counter()
-    poses50: list[np.ndarray | None] = [None] * len(trials)
-    if needs_poses:
-        tasks = [([trials[i].data for i in ch], presmooth) for ch in chunks]
-        for k, res in backend.run(resample_task, tasks):
-            for i, P in zip(chunks[k], res, strict=True):
-                poses50[i] = P
-            tick(1)
-    timing["resample"] = time.perf_counter() - t
-
-    # 2. reparameterization, once per (trial, progress, L)
-    t = time.perf_counter()
-    reps: dict[tuple[str, float], list[DescriptorInput]] = {}
-    tasks, where = [], []
-    for key in rep_keys:
-        reps[key] = [DescriptorInput()] * len(trials)
-        for ch in chunks:
-            L_rep = key[1] if key[1] > 0 else 0.3  # any L: only screw progress uses it
-            tasks.append(([poses50[i] for i in ch], key[0], L_rep, n_samples))
-            where.append((key, ch))
-    for k, res in backend.run(reparameterize_task, tasks):
-        key, ch = where[k]
-        for i, inp in zip(ch, res, strict=True):
-            reps[key][i] = inp
-        tick(1)
-    timing["reparameterize"] = time.perf_counter() - t
-    raw_inputs = [DescriptorInput(data=r.data) for r in trials]
-
-    def inputs(ri: int, L: float, idx: list[int]) -> list[DescriptorInput]:
-        src = raw_inputs if from_time[ri] else reps[_rep_key(methods[ri], L)]
-        return [src[i] for i in idx]
-
-    # 3. grid search on the training trials
-    t = time.perf_counter()
-    threads = backend.task_threads
-    tasks = []
-    for ri, L, pts in grid_jobs:
-        spec = methods[ri]
-        tasks.append(
-            (
-                spec.method,
-                [spec.params(x, L) for x, _ in pts],
-                inputs(ri, L, idx_models),
-                inputs(ri, L, idx_train),
-                threads,
-                round_digits,
-            )
-        )
-    grid_scores: list[list[tuple[float | None, float, float]]] = [[] for _ in methods]
-    row_desc = [0.0] * len(methods)
-    row_match = [0.0] * len(methods)
-    train_labels = [r.gesture for r in data.train]
-    for k, res in backend.run(evaluate_task, tasks):
-        ri, L, pts = grid_jobs[k]
-        for (x, _), pr in zip(pts, res, strict=True):
-            pred = predict_from_distances(pr.distances, model_labels)
-            ok = sum(a == b for a, b in zip(pred, train_labels, strict=True))
-            score = 100.0 * ok / len(train_labels) if train_labels else 0.0
-            grid_scores[ri].append((x, L, score))
-            row_desc[ri] += pr.descriptor_seconds
-            row_match[ri] += pr.matching_seconds
-        tick(1)
-    timing["grid"] = time.perf_counter() - t
-
-    # 4. test at the selected point
-    t = time.perf_counter()
-    selected: list[tuple[float | None, float, float]] = []
-    tasks = []
-    for ri, spec in enumerate(methods):
-        scores = grid_scores[ri]
-        if not scores:  # no training trials: take the first grid point
-            scores = [(x, L, float("nan")) for x, L in spec.grid()]
-        best = scores[select_best([(x, L, 0.0 if math.isnan(s) else s) for x, L, s in scores])]
-        selected.append(best)
-        tasks.append(
-            (
-                spec.method,
-                [spec.params(best[0], best[1])],
-                inputs(ri, best[1], idx_models),
-                inputs(ri, best[1], idx_test),
-                threads,
-                round_digits,
-            )
-        )
-    test_out: dict[int, PointResult] = {}
-    for k, res in backend.run(evaluate_task, tasks):
-        test_out[k] = res[0]
-        row_desc[k] += res[0].descriptor_seconds
-        row_match[k] += res[0].matching_seconds
-        tick(1)
-    timing["test"] = time.perf_counter() - t
-
-    rows = []
-    for ri, spec in enumerate(methods):
-        x, L, score = selected[ri]
-        pr = test_out[ri]
-        pred = predict_from_distances(pr.distances, model_labels)
-        metrics = score_row(spec, pr.params, pred, data)
-        scan = sorted(grid_scores[ri], key=lambda e: (-math.inf if e[0] is None else e[0], e[1]))
-        grid = [{"x": gx, "L": gL, "train_ratio": s} for gx, gL, s in scan]
-        rows.append(
-            RowResult(
-                spec=spec,
-                trained=spec.trained(x, L),
-                params=pr.params,
-                train_ratio=score,
-                grid=grid,
-                descriptor_seconds=row_desc[ri],
-                matching_seconds=row_match[ri],
-                failures=pr.failures,
-                test_predictions=pred,
-                **metrics,
-            )
-        )
-    timing["descriptors"] = float(sum(row_desc))
-    timing["matching"] = float(sum(row_match))
-    timing["total"] = time.perf_counter() - t_start
-    return BenchmarkResult(
-        rows=rows,
-        gestures=list(data.gestures),
-        contexts=list(data.contexts),
-        model_context=data.model_context,
-        data_root=data.root,
-        counts={"models": n_models, "train": n_train, "test": len(idx_test)},
-        timing=timing,
-        backend=backend.describe(),
-        test_labels=[r.gesture for r in data.test],
-        test_contexts=[r.context for r in data.test],
-        test_names=[r.name for r in data.test],
-        settings={"round_digits": round_digits, "presmooth": presmooth, "n_samples": n_samples},
-    )

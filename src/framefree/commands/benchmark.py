@@ -7,6 +7,8 @@ from pathlib import Path
 
 import click
 
+from .inputs import writable_file, writable_folder
+
 __all__ = ["benchmark_command", "register"]
 
 
@@ -28,14 +30,27 @@ __all__ = ["benchmark_command", "register"]
     "--methods",
     default="all",
     show_default=True,
-    help="'all' (the 17 rows of Table I) or e.g. 'bilts+:screw,dhb:arclength,rrv'.",
+    help="'all' (the 17 rows of Table I and the recommended row), 'paper' (the 17 rows), or "
+    "e.g. 'bilts+:screw,dhb:arclength,rrv,recommended'.",
+)
+@click.option(
+    "--contexts",
+    default=None,
+    help="Query contexts to use, comma-separated, or 'paper' (the paper's eleven query "
+    "contexts); default: every context on disk. Training and test trials both come from them.",
+)
+@click.option(
+    "--early",
+    is_flag=True,
+    help="Also measure early recognition (test trials cut to 25/50/75/100 %) for BILTS+ screw "
+    "and the recommended row: early.json, early.md, early.png.",
 )
 @click.option(
     "--jobs",
     "-j",
-    type=int,
-    default=0,
-    help="Parallel workers (default: all cores; 1 runs in this process).",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Parallel workers, at least 1 (default: all cores; 1 runs in this process).",
 )
 @click.option(
     "--backend",
@@ -45,7 +60,17 @@ __all__ = ["benchmark_command", "register"]
     help="Where tasks run; dask and ray need the optional extras.",
 )
 @click.option(
-    "--address", default=None, help="Scheduler address of an existing Dask or Ray cluster."
+    "--address",
+    default=None,
+    help="Scheduler address of an existing Dask or Ray cluster (the only way framefree reaches "
+    "beyond 127.0.0.1; Ray needs one).",
+)
+@click.option(
+    "--connect-timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    default=10.0,
+    show_default=True,
+    help="Seconds to wait for the cluster at --address.",
 )
 @click.option(
     "--out",
@@ -87,9 +112,12 @@ def benchmark_command(
     data_dir: Path | None,
     model_context: str,
     methods: str,
-    jobs: int,
+    contexts: str | None,
+    early: bool,
+    jobs: int | None,
     backend: str,
     address: str | None,
+    connect_timeout: float,
     out_dir: Path,
     json_file: Path | None,
     round_digits: int | None,
@@ -108,43 +136,36 @@ def benchmark_command(
     """
     from tqdm import tqdm
 
-    from ..benchmark import load_benchmark_data, make_backend, parse_methods, run_benchmark
-    from ..benchmark.results import write_csv, write_json, write_markdown
-    from ..descriptors import available_descriptors
+    from ..benchmark import load_benchmark_data, make_backend, run_benchmark
 
-    try:
-        specs = parse_methods(methods, available_descriptors())
-    except ValueError as exc:
-        raise click.BadParameter(str(exc), param_hint="--methods") from None
-    if methods.strip().lower() == "all":
-        from ..benchmark.grids import TABLE1_ROWS
+    specs = _method_specs(methods)
+    if early:
+        from ..benchmark import parse_methods
 
-        skipped = [r.key for r in TABLE1_ROWS if r not in specs]
-        if skipped:
-            msg = f"not registered in this installation, skipped: {', '.join(skipped)}"
-            click.secho(msg, fg="yellow", err=True)
-    try:
-        bk = make_backend(backend, jobs or None, address)
-    except ValueError as exc:
-        raise click.BadParameter(str(exc), param_hint="--backend") from None
+        specs += [s for s in parse_methods("bilts+:screw,recommended") if s not in specs]
+    if json_file is not None:
+        writable_file(json_file, "--json")
+    writable_folder(out_dir)
+    bk = make_backend(backend, jobs, address, connect_timeout)
     t0 = time.perf_counter()
     try:
-        data = load_benchmark_data(data_dir, model_context)
+        data = load_benchmark_data(data_dir, model_context, _parse_contexts(contexts))
     except BaseException:
         bk.close()
         raise
     load_s = time.perf_counter() - t0
     if not quiet:
         click.echo(f"{data.root}: {data.summary()}", err=True)
-    bar = tqdm(total=0, desc="benchmark", unit="task", disable=quiet, leave=False)
+        click.echo(f"running {len(specs)} row(s) on {bk.describe()}", err=True)
+    # created after the lines above, and shown once the first tasks are known: a bar printed
+    # before them would share their line
+    bar = tqdm(total=0, desc="benchmark", unit="task", disable=quiet, leave=False, delay=0.5)
 
     def grow(n: int) -> None:
         bar.total = (bar.total or 0) + n
         bar.refresh()
 
     with bk:
-        if not quiet:
-            click.echo(f"running {len(specs)} row(s) on {bk.describe()}", err=True)
         result = run_benchmark(
             data,
             specs,
@@ -158,7 +179,33 @@ def benchmark_command(
     result.timing["load"] = load_s
     result.timing["total"] += load_s
 
-    out_dir.mkdir(parents=True, exist_ok=True)
+    _write_outputs(result, data, out_dir, json_file, figures, early, presmooth)
+
+
+def _method_specs(methods: str) -> list:
+    """The rows ``--methods`` names; says which Table I rows this installation lacks."""
+    from ..benchmark import parse_methods
+    from ..descriptors import available_descriptors
+
+    try:
+        specs = parse_methods(methods, available_descriptors())
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--methods") from None
+    if methods.strip().lower() == "all":
+        from ..benchmark.grids import TABLE1_ROWS
+
+        skipped = [r.key for r in TABLE1_ROWS if r not in specs]
+        if skipped:
+            msg = f"not registered in this installation, skipped: {', '.join(skipped)}"
+            click.secho(msg, fg="yellow", err=True)
+    return specs
+
+
+def _write_outputs(result, data, out_dir: Path, json_file: Path | None, figures: bool,  # type: ignore[no-untyped-def]
+                   early: bool = False, presmooth: int | None = None) -> None:
+    """Table I (Markdown, CSV, JSON), the figures, and the table and timing on stdout."""
+    from ..benchmark.results import markdown_table, write_csv, write_json, write_markdown
+
     written = [
         write_markdown(result, out_dir / "table1.md"),
         write_csv(result, out_dir / "table1.csv"),
@@ -168,8 +215,8 @@ def benchmark_command(
         written.append(write_json(result, json_file))
     if figures:
         written += _figures(result, data, out_dir)
-    from ..benchmark.results import markdown_table
-
+    if early:
+        written += _early(result, data, out_dir, presmooth)
     click.echo(markdown_table(result))
     t = result.timing
     click.echo(
@@ -178,6 +225,35 @@ def benchmark_command(
     )
     for p in written:
         click.echo(f"wrote {p}", err=True)
+
+
+def _parse_contexts(text: str | None) -> list[str] | None:
+    """``--contexts``: None (all), ``paper`` (the paper's query contexts) or a comma list."""
+    if text is None:
+        return None
+    if text.strip().lower() == "paper":
+        from ..datasets.layout import CONTEXTS, MODEL_CONTEXT
+
+        return [c for c in CONTEXTS if c != MODEL_CONTEXT]
+    names = [c.strip() for c in text.split(",") if c.strip()]
+    if not names:
+        raise click.BadParameter("no context named", param_hint="--contexts")
+    return names
+
+
+def _early(result, data, out_dir: Path, presmooth: int | None) -> list[Path]:  # type: ignore[no-untyped-def]
+    """Early recognition of BILTS+ screw and the recommended row."""
+    from ..benchmark.early import early_markdown, early_recognition, plot_early, write_early_json
+
+    rows = [r for r in result.rows if r.spec.key in ("bilts+:screw", "recommended")]
+    res = early_recognition(data, rows, presmooth=presmooth)
+    (out_dir / "early.md").write_text(early_markdown(res), encoding="utf-8")
+    click.echo(early_markdown(res))
+    return [
+        write_early_json(res, out_dir / "early.json"),
+        out_dir / "early.md",
+        plot_early(res, out_dir / "early.png"),
+    ]
 
 
 def _figures(result, data, out_dir: Path) -> list[Path]:  # type: ignore[no-untyped-def]

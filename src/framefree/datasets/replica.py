@@ -1,5 +1,5 @@
-"""The synthetic HPM replica: 7 gestures × 12 contexts × 5 trials, plus labelled streams, written in
-the dataset layout and cached on demand."""
+"""The synthetic HPM replica: 7 gestures × (12 paper + 4 stress) contexts × 5 trials, plus labelled
+streams, written in the dataset layout and cached on demand."""
 
 from __future__ import annotations
 
@@ -11,10 +11,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .contexts import apply_context
+from ..trajectory import Trajectory
+from .contexts import OTHER_PERSON, apply_context
 from .gestures import default_world, synthesize_gesture
-from .layout import CONTEXTS, GESTURES, STREAMS_DIR
+from .layout import GESTURES, REPLICA_CONTEXTS, STREAMS_DIR
 from .motion import make_pose, rot
+from .people import person
 from .recording import write_recording
 from .streams import make_stream, save_stream
 
@@ -84,13 +86,34 @@ def make_replica(out_dir: str | Path, seed: int = 0, n_streams: int = 3) -> Path
             stance = make_pose(rot([0, 0, 1], rng.normal(0.0, STANCE_STD[1])),
                                [*rng.normal(0.0, STANCE_STD[0], 2), 0.0])
             orig = synthesize_gesture(gesture, rng, world=world @ stance, source=f"{gesture}/trial_{k}")
-            for ci, context in enumerate(CONTEXTS):
-                traj = apply_context(orig, context, _rng(seed, 2, gi, k, ci))
+            for ci, context in enumerate(REPLICA_CONTEXTS):
+                if context == "other_person":
+                    traj = _other_person_trial(gesture, seed, gi, k, world)
+                else:
+                    traj = apply_context(orig, context, _rng(seed, 2, gi, k, ci))
                 write_recording(out / gesture / context / f"trial_{k}.csv", traj, _rng(seed, 3, gi, k, ci))
     for i in range(1, n_streams + 1):
         traj, segments = make_stream(seed * 1000 + i)
         save_stream(out / STREAMS_DIR / f"stream_{i}.csv", traj, segments, _rng(seed, 4, i))
     return out
+
+
+def _other_person_trial(
+    gesture: str, seed: int, gi: int, k: int, world: np.ndarray
+) -> Trajectory:
+    """Trial ``k`` of ``gesture`` recorded by the second person (:data:`OTHER_PERSON`): the same
+    tracker world, their own stance, style and grip (random draws of their own)."""
+    rng = _rng(seed, 5, gi, k)
+    stance = make_pose(
+        rot([0, 0, 1], rng.normal(0.0, STANCE_STD[1])), [*rng.normal(0.0, STANCE_STD[0], 2), 0.0]
+    )
+    return synthesize_gesture(
+        gesture,
+        rng,
+        world=world @ stance,
+        source=f"{gesture}/other_person/trial_{k}",
+        person=person(OTHER_PERSON),
+    )
 
 
 def replica_path(seed: int = 0) -> Path:

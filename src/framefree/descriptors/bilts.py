@@ -1,6 +1,6 @@
-"""BILTS and BILTS+: bi-invariant local trajectory-shape descriptors (§5.7, §5.8).
+"""BILTS and BILTS+: bi-invariant local trajectory-shape descriptors (docs/algorithms/bilts.md).
 
-Pipeline per trajectory (Appendix C of ALGORITHMS.md):
+Pipeline per trajectory (docs/algorithms/bilts.md):
 
 1. resample at 50 Hz, reparameterize to N = 50 equidistant progress samples, step Δs;
 2. window spacing ``m = min(23, max(1, round(ds_scale / Δs)))``;
@@ -49,7 +49,7 @@ __all__ = [
 
 #: Largest window spacing m (leaves at least 4 of 50 samples).
 MAX_WINDOW_SPACING = 23
-#: Standard deviation of the perturbation added to every twist entry (reference, §5.7 step 5).
+#: Standard deviation of the perturbation added to every twist entry (reference, docs/algorithms/bilts.md).
 TWIST_NOISE = 1e-12
 #: Number of columns of a BILTS sample.
 N_FEATURES = 24
@@ -236,7 +236,7 @@ def _seeded_perturbation(seed: int, shape: tuple[int, int]) -> np.ndarray:
 
 
 def twist_perturbation(seed: int | None, shape: tuple[int, int]) -> np.ndarray:
-    """The 1e-12 twist perturbation of §5.7 step 5: reproducible for an integer seed (cached),
+    """The 1e-12 twist perturbation of docs/algorithms/bilts.md: reproducible for an integer seed (cached),
     fresh for ``None`` (unseeded, as the reference)."""
     if seed is None:
         return np.random.default_rng().normal(0.0, TWIST_NOISE, shape)
@@ -245,7 +245,18 @@ def twist_perturbation(seed: int | None, shape: tuple[int, int]) -> np.ndarray:
 
 class _BILTSBase(Descriptor):
     progress_types = ("screw", "angle")
-    param_names = ("progress", "L", "ds_scale", "window", "n_samples", "seed", "presmooth")
+    trained_parameter = "ds_scale"
+    supports_open_end = True
+    param_names = (
+        "progress",
+        "L",
+        "ds_scale",
+        "window",
+        "n_samples",
+        "seed",
+        "presmooth",
+        "open_end",
+    )
     regularized: bool = False
     default_window: int = 20
     feature_names = FEATURE_NAMES
@@ -259,6 +270,7 @@ class _BILTSBase(Descriptor):
         n_samples: int = DEFAULT_SAMPLES,
         seed: int | None = 0,
         presmooth: int | None = None,
+        open_end: bool = False,
     ) -> None:
         self.progress = self._check_progress(progress)
         if not L > 0:
@@ -275,6 +287,14 @@ class _BILTSBase(Descriptor):
         if presmooth is not None and presmooth < 1:
             raise ValueError(f"presmooth must be a window of at least 1 sample, got {presmooth}")
         self.presmooth = presmooth
+        self.open_end = bool(open_end)
+
+    @classmethod
+    def parameter_grid(cls, progress: str) -> tuple[float, ...]:
+        """Window scales searched by the benchmark: 0.03..0.15 m (screw), 1°..40° (angle)."""
+        if progress == "angle":
+            return tuple(math.radians(d) for d in (1.0, 10.0, 20.0, 30.0, 40.0))
+        return (0.03, 0.06, 0.09, 0.12, 0.15)
 
     def _max_spacing(self) -> int:
         return min(MAX_WINDOW_SPACING, (self.n_samples - 1) // 2)
@@ -290,8 +310,11 @@ class _BILTSBase(Descriptor):
         rep = reparameterize(traj, self.progress, self.L, self.n_samples, presmooth=self.presmooth)
         return self.from_reparameterized(rep.poses, rep.ds)
 
-    def from_reparameterized(self, poses: np.ndarray, ds: float) -> np.ndarray:
-        """Descriptor from poses (N, 4, 4) already at equidistant progress with step ``ds``."""
+    def from_reparameterized(
+        self, poses: np.ndarray, ds: float, arclength: float | None = None
+    ) -> np.ndarray:
+        """Descriptor from poses (N, 4, 4) already at equidistant progress with step ``ds``
+        (``arclength`` is not used)."""
         m = window_spacing(self.ds_scale, ds, self._max_spacing())
         smoothed = smooth_poses(poses, self.window)
         twists = se3.central_spatial_twists(smoothed, ds)
@@ -301,18 +324,23 @@ class _BILTSBase(Descriptor):
 
     _pointwise: int = POINTWISE_SQUARED
 
+    def alignment_columns(self, n_features: int) -> slice:
+        """DTW aligns on the six singular values (columns 18–23)."""
+        return slice(18, 24) if n_features == N_FEATURES else slice(0, n_features)
+
     def distance(self, model: np.ndarray, query: np.ndarray) -> float:
         """Distance between one model and one query sequence (both (K, 24))."""
         X = np.ascontiguousarray(model, dtype=np.float64)
         Y = np.ascontiguousarray(query, dtype=np.float64)
         if X.ndim != 2 or Y.ndim != 2 or X.shape[1] != N_FEATURES or Y.shape[1] != N_FEATURES:
             raise ValueError(f"BILTS sequences are (K, {N_FEATURES}) arrays")
-        return float(path_distance_kernel(X, Y, 18, 24, self._pointwise))
+        return float(path_distance_kernel(X, Y, 18, 24, self._pointwise, self.open_end))
 
     def distance_matrix(
         self, queries: Sequence[np.ndarray], models: Sequence[np.ndarray]
     ) -> np.ndarray:
-        """DTW on the singular values, pointwise sum of the twist part along the path (§6.5-6.6).
+        """DTW on the singular values, pointwise sum of the twist part along the path
+        (docs/algorithms/dtw.md).
 
         Returns
         -------
@@ -322,13 +350,13 @@ class _BILTSBase(Descriptor):
         md, mo = pack_sequences(list(models))
         if qd.shape[1] != N_FEATURES or md.shape[1] != N_FEATURES:
             raise ValueError(f"BILTS sequences have {N_FEATURES} columns")
-        return path_distance_matrix_kernel(qd, qo, md, mo, 18, 24, self._pointwise)
+        return path_distance_matrix_kernel(qd, qo, md, mo, 18, 24, self._pointwise, self.open_end)
 
 
 @register
 class BILTS(_BILTSBase):
     """BILTS (``BILTS_discrete``): Gaussian window 20, ISA-based frame origin, squared-Euclidean
-    distance along the DTW path (§5.7, §6.5).
+    distance along the DTW path (docs/algorithms/bilts.md, docs/algorithms/dtw.md).
 
     Parameters
     ----------
@@ -350,6 +378,7 @@ class BILTS(_BILTSBase):
     """
 
     name = "bilts"
+    display_name = "BILTS"
     regularized = False
     default_window = 20
     _pointwise = POINTWISE_SQUARED
@@ -358,12 +387,14 @@ class BILTS(_BILTSBase):
 @register
 class BILTSPlus(_BILTSBase):
     """BILTS+ (``BILTS_discrete_reg``): Gaussian window 10, frame origin clamped within L of the
-    body origin, per-pair Kabsch-aligned distance along the DTW path (§5.8, §6.6).
+    body origin, per-pair Kabsch-aligned distance along the DTW path (docs/algorithms/bilts.md,
+    docs/algorithms/dtw.md).
 
     Parameters are those of :class:`BILTS` (default window 10).
     """
 
     name = "bilts+"
+    display_name = "BILTS+"
     regularized = True
     default_window = 10
     _pointwise = POINTWISE_KABSCH

@@ -1,9 +1,10 @@
-"""DSRF: Dual Square-Root Function, a global descriptor in world coordinates (§5.6), with its
-rotation-aligned classifier distance (§6.4).
+"""DSRF: Dual Square-Root Function, a global descriptor in world coordinates
+(docs/algorithms/descriptors.md), with its rotation-aligned classifier distance
+(docs/algorithms/dtw.md).
 
-Descriptor (reference ``calculate_DSRF_descriptor.m``): normalize and reparameterize (§4.7), smooth
-(window 3), and for k = 1..N-1 with ``ω_k`` and ``u_k`` as for RRV:
-``σ^ω_k = ω_k/(sqrt|ω_k| + 1e-10)``, ``σ^v_k = u_k/(sqrt|u_k| + 1e-10)``; output (N-1, 6).
+Descriptor (reference ``calculate_DSRF_descriptor.m``): normalize and reparameterize
+(docs/algorithms/progress.md), smooth (window 3), and for k = 1..N-1 with ``ω_k`` and ``u_k`` as for
+RRV: ``σ^ω_k = ω_k/(sqrt|ω_k| + 1e-10)``, ``σ^v_k = u_k/(sqrt|u_k| + 1e-10)``; output (N-1, 6).
 
 Distance (reference ``classify_descriptor_DSRF.m``), for a model M and a query Q of equal length:
 
@@ -25,7 +26,7 @@ from numba import njit, prange
 
 from ..dtw import accumulated_cost_kernel, pack_sequences
 from .base import register
-from .rrv import RATE_OFFSET, GlobalDescriptor
+from .families import RATE_OFFSET, GlobalDescriptor
 
 __all__ = ["DSRF", "dsrf_alignment", "dsrf_distance", "dsrf_from_rates"]
 
@@ -47,7 +48,8 @@ def dsrf_kernel(w, u):
 
 
 def dsrf_from_rates(omega: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """DSRF descriptor (K, 6) from angular rates (K, 3) and velocities (K, 3) (§5.6 step 2)."""
+    """DSRF descriptor (K, 6) from angular rates (K, 3) and velocities (K, 3)
+    (docs/algorithms/descriptors.md)."""
     return dsrf_kernel(
         np.ascontiguousarray(omega, dtype=np.float64), np.ascontiguousarray(u, dtype=np.float64)
     )
@@ -114,7 +116,7 @@ def _check_pair(model: np.ndarray, query: np.ndarray) -> tuple[np.ndarray, np.nd
 
 
 def dsrf_alignment(model: np.ndarray, query: np.ndarray) -> np.ndarray:
-    """The rotation R (3, 3) that best maps the model's 3-vectors onto the query's (§6.4 step 2).
+    """The rotation R (3, 3) that best maps the model's 3-vectors onto the query's (docs/algorithms/dtw.md).
 
     Parameters
     ----------
@@ -126,14 +128,15 @@ def dsrf_alignment(model: np.ndarray, query: np.ndarray) -> np.ndarray:
 
 
 def dsrf_distance(model: np.ndarray, query: np.ndarray) -> float:
-    """DSRF classifier distance (§6.4) between a model and a query sequence (K, 6) each."""
+    """DSRF classifier distance (docs/algorithms/dtw.md) between a model and a query sequence (K, 6) each."""
     M, Q = _check_pair(model, query)
     return float(dsrf_distance_kernel(M, Q))
 
 
 @register
 class DSRF(GlobalDescriptor):
-    """Dual Square-Root Function (§5.6) with the globally rotation-aligned DTW distance (§6.4).
+    """Dual Square-Root Function (docs/algorithms/descriptors.md) with the globally rotation-aligned
+    DTW distance (docs/algorithms/dtw.md).
 
     Parameters
     ----------
@@ -151,16 +154,24 @@ class DSRF(GlobalDescriptor):
     """
 
     name = "dsrf"
+    display_name = "DSRF"
     n_features = 6
 
     def from_rates(self, omega: np.ndarray, u: np.ndarray) -> np.ndarray:
         """DSRF (K, 6) from normalized rates."""
         return dsrf_from_rates(omega, u)
 
+    def prealign(self, model: np.ndarray, query: np.ndarray) -> np.ndarray:
+        """The model rotated by the distance's global Kabsch rotation onto the query."""
+        if model.shape != query.shape or model.shape[1] != 6:
+            return model
+        R = dsrf_alignment(model, query)
+        return np.hstack([model[:, :3] @ R.T, model[:, 3:] @ R.T])
+
     def distance_matrix(
         self, queries: Sequence[np.ndarray], models: Sequence[np.ndarray]
     ) -> np.ndarray:
-        """Rotation-aligned Euclidean DTW distances (§6.4).
+        """Rotation-aligned Euclidean DTW distances (docs/algorithms/dtw.md).
 
         Returns
         -------

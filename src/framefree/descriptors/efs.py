@@ -1,9 +1,11 @@
-"""eFS: extended Frenet–Serret invariants of the rotational and translational motion (§5.2).
+"""eFS: extended Frenet–Serret invariants of the rotational and translational motion
+(docs/algorithms/descriptors.md).
 
-Pipeline (reference ``calculate_eFS_descriptor.m``): reparameterize (§4.5), Kalman/RTS-smooth
-(§3.2) and take the pose twist ``(ω, ṗ)`` with its first two progress derivatives (§3.3); add the
-constant 1e-12 to every entry of the twist and of its first derivative; then per block
-(``x = ω, ẋ = ω̇, ẍ = ω̈`` and ``x = ṗ, ẋ = p̈, ẍ = p⃛``) and per sample:
+Pipeline (reference ``calculate_eFS_descriptor.m``): reparameterize (docs/algorithms/progress.md),
+Kalman/RTS-smooth (docs/algorithms/smoothing.md) and take the pose twist ``(ω, ṗ)`` with its first
+two progress derivatives (docs/algorithms/smoothing.md); add the constant 1e-12 to every entry of
+the twist and of its first derivative; then per block (``x = ω, ẋ = ω̇, ẍ = ω̈`` and ``x = ṗ, ẋ =
+p̈, ẍ = p⃛``) and per sample:
 
 * ``r₁ = |x|``;
 * ``r₂ = |x × ẋ| / |x|²`` (curvature rate);
@@ -21,7 +23,7 @@ from numba import njit
 
 from ..kalman import PoseKinematics
 from .base import register
-from .dhb import KalmanDescriptor
+from .families import KalmanDescriptor
 
 __all__ = ["EFS", "efs_representation"]
 
@@ -90,7 +92,8 @@ def efs_representation(pose_twists: np.ndarray, offset: float = EFS_OFFSET) -> n
 
 @register
 class EFS(KalmanDescriptor):
-    """Extended Frenet–Serret invariants (§5.2), Euclidean DTW distance (§6.3).
+    """Extended Frenet–Serret invariants (docs/algorithms/descriptors.md), Euclidean DTW distance
+    (docs/algorithms/dtw.md).
 
     Parameters
     ----------
@@ -111,7 +114,9 @@ class EFS(KalmanDescriptor):
     """
 
     name = "efs"
+    display_name = "eFS"
     default_lam = 0.1
+    lam_grid = (0.001, 0.01, 0.1, 1.0, 10.0)
 
     @staticmethod
     def row_weights_for(L: float, lam: float) -> np.ndarray:

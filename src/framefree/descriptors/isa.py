@@ -1,9 +1,11 @@
-"""ISA: instantaneous-screw-axis invariants (De Schutter 2010), analytic version (§5.3).
+"""ISA: instantaneous-screw-axis invariants (De Schutter 2010), analytic version
+(docs/algorithms/descriptors.md).
 
 Pipeline (reference ``calculate_ISA_descriptor.m``): reparameterize with angle or screw progress
-(§4.5), Kalman/RTS-smooth (§3.2), form the spatial screw twist ``(Ω, V)`` and its first two
-derivatives with the smoothed positions (§3.3 step 6); add 1e-12 to every entry of the twist and of
-its first derivative; then per sample
+(docs/algorithms/progress.md), Kalman/RTS-smooth (docs/algorithms/smoothing.md), form the spatial
+screw twist ``(Ω, V)`` and its first two derivatives with the smoothed positions
+(docs/algorithms/smoothing.md); add 1e-12 to every entry of the twist and of its first derivative;
+then per sample
 
 * ``ω₁ = |Ω|``, ``e_x = Ω/ω₁``, ``e_y = (Ω × Ω̇)/|Ω × Ω̇|``, ``e_z = e_x × e_y``;
 * ``c = -Ω̇·e_z`` (= ω₁ω₂), ``ω₂ = c/ω₁``, ``ω₃ = (Ω̈·e_y)/c``;
@@ -26,7 +28,7 @@ from numba import njit
 
 from ..kalman import PoseKinematics
 from .base import register
-from .dhb import KalmanDescriptor
+from .families import KalmanDescriptor
 
 __all__ = ["ISA", "isa_representation"]
 
@@ -118,7 +120,8 @@ def isa_representation(spatial_twists: np.ndarray, offset: float = ISA_OFFSET) -
 
 @register
 class ISA(KalmanDescriptor):
-    """Analytic ISA invariants (§5.3), Euclidean DTW distance (§6.3).
+    """Analytic ISA invariants (docs/algorithms/descriptors.md), Euclidean DTW distance
+    (docs/algorithms/dtw.md).
 
     Parameters
     ----------
@@ -137,8 +140,10 @@ class ISA(KalmanDescriptor):
     """
 
     name = "isa"
+    display_name = "ISA"
     progress_types = ("angle", "screw")
     default_lam = 0.01
+    lam_grid = (0.0001, 0.001, 0.01, 0.1, 1.0)
 
     @staticmethod
     def row_weights_for(L: float, lam: float) -> np.ndarray:

@@ -16,7 +16,6 @@ from typing import Any
 
 import numpy as np
 
-from ..grids import DISPLAY_NAMES, PROGRESS_NAMES
 from ..metrics import GROUP_PATTERNS
 from ..paper import PAPER_COLUMNS, PAPER_TABLE1
 from ..protocol import BenchmarkResult, RowResult
@@ -38,6 +37,10 @@ _HEADERS = {
     "body_frame": "Δ{b}",
     "world_frame": "Δ{w}",
     "combination": "comb.",
+    "heavy_noise": "noise ×3",
+    "slower_3x": "slower ×3",
+    "random_frames": "random frames",
+    "other_person": "other person",
 }
 
 
@@ -106,8 +109,7 @@ def markdown_table(result: BenchmarkResult, with_paper: bool = True) -> str:
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for row in result.rows:
         paper = PAPER_TABLE1.get(row.spec.key) if with_paper else None
-        name = DISPLAY_NAMES.get(row.spec.method, row.spec.method)
-        cells = [name, PROGRESS_NAMES.get(row.spec.progress, row.spec.progress)]
+        cells = [row.spec.display_name, row.spec.progress_name]
         for c in cols:
             ours = _fmt(_value(row, c))
             if paper is not None and c in paper:
@@ -122,9 +124,8 @@ def markdown_table(result: BenchmarkResult, with_paper: bool = True) -> str:
     out += "\n| method | progress | trained parameters | training RR | test RR (all) | seconds |\n"
     out += "|---|---|---|---|---|---|\n"
     for row in result.rows:
-        name = DISPLAY_NAMES.get(row.spec.method, row.spec.method)
         out += (
-            f"| {name} | {PROGRESS_NAMES.get(row.spec.progress, row.spec.progress)} | "
+            f"| {row.spec.display_name} | {row.spec.progress_name} | "
             f"{_fmt_params(row)} | {_fmt(row.train_ratio)} | {_fmt(row.overall)} | "
             f"{row.seconds:.1f} |\n"
         )
@@ -140,7 +141,10 @@ def _settings_lines(result: BenchmarkResult) -> list[str]:
             f"Gaussian-smoothed (window {st['presmooth']} samples) before progress and descriptors."
         )
     if st.get("round_digits"):
-        notes.append(f"Descriptors rounded to {st['round_digits']} significant digits (§6.8).")
+        notes.append(
+            f"Descriptors rounded to {st['round_digits']} significant digits, as the reference "
+            "stores them (docs/algorithms/dtw.md)."
+        )
     if st.get("n_samples", 50) != 50:
         notes.append(f"{st['n_samples']} progress samples per trajectory (the paper: 50).")
     return [*(n + "\n" for n in notes)]
@@ -190,9 +194,11 @@ def row_to_dict(row: RowResult, gestures: list[str]) -> dict[str, Any]:
     """JSON-ready description of one row (percentages, parameters, seconds)."""
     return _jsonable(
         {
-            "method": row.spec.method,
+            "method": row.spec.method_name,
+            "descriptor": row.spec.method,
             "progress": row.spec.progress,
             "label": row.spec.label,
+            "presmooth": row.spec.presmooth,
             "trained_parameters": row.trained,
             "descriptor_parameters": row.params,
             "training_ratio": row.train_ratio,
@@ -257,7 +263,7 @@ def write_csv(result: BenchmarkResult, path: str | Path) -> Path:
         for r in result.rows:
             paper = PAPER_TABLE1.get(r.spec.key, {})
             rec: dict[str, Any] = {
-                "method": r.spec.method,
+                "method": r.spec.method_name,
                 "progress": r.spec.progress,
                 "lam": r.trained.get("lam", ""),
                 "ds_scale": r.trained.get("ds_scale", ""),
