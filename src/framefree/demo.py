@@ -10,16 +10,15 @@
    gestures. Who performs depends on the seed, and is always someone no parameter was tuned on
    (:func:`demo_person`);
 3. the live recognizer (``method="segments"``, framefree's segment-spotting :class:`Recognizer`, or
-   ``"paper"``, the paper's :class:`PaperRecognizer`; see ``docs/online.md``) turns the pose stream
-   into events, sample by sample;
+   ``"paper"``, the paper's :class:`PaperRecognizer`, described in ``docs/online-paper.md``) turns
+   the pose stream into events, sample by sample;
 4. the planner, the Jacobian velocity controller and the joint impedance controller drive a
    simulated Franka Panda (MuJoCo) that should end with the green block stacked on the red one.
 
 Each stage is a function of its own: :func:`build_recognizer`, :func:`build_loop` (the person and
 the robot), :func:`~framefree.closed_loop.run_commands` (the closed loop, module
 :mod:`framefree.closed_loop`), :func:`evaluate_loop` and :func:`write_outputs`; :func:`run_demo`
-chains them. The robot side needs the ``robot`` extra
-(MuJoCo); ``make demo`` installs it.
+chains them. The robot side needs the ``robot`` extra (MuJoCo); ``make demo`` installs it.
 """
 
 from __future__ import annotations
@@ -33,7 +32,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .closed_loop import ClosedLoop, PersonPolicy, run_commands
+from .closed_loop import ClosedLoop, PersonPolicy, _say, run_commands
 
 if TYPE_CHECKING:
     from .datasets.people import Person
@@ -171,11 +170,6 @@ def person_style(who: Person) -> dict[str, Any]:
         "stature_m": who.stature,
         "walk_speed_m_s": who.walk_speed,
     }
-
-
-def _say(echo: Callable[[str], None] | None, text: str) -> None:
-    if echo is not None:
-        echo(text)
 
 
 def build_recognizer(method: str = "segments", replica_seed: int = 0) -> Any:

@@ -30,7 +30,8 @@ from ..demo import DEMO_PEOPLE, METHODS, PAPER_RESULT
     type=click.Choice(METHODS),
     default=METHODS[0],
     show_default=True,
-    help="Recognizer: framefree's segment spotting, or the paper's.",
+    help="segments: framefree's recognizer (whole gestures spotted and classified as offline); "
+    "paper: the paper's recognizer (fixed windows).",
 )
 @click.option("--no-render", is_flag=True, help="Skip the MuJoCo images even if OpenGL works.")
 def demo(out, seed, method, no_render):
