@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ..demo import PAPER_RESULT
+from ..demo import DEMO_PEOPLE, METHODS, PAPER_RESULT
 
 
 @click.command()
@@ -18,13 +18,23 @@ from ..demo import PAPER_RESULT
 )
 @click.option(
     "--seed",
-    type=int,
+    type=click.IntRange(min=0),
     default=0,
     show_default=True,
-    help="Seed of the person's session (the models come from the replica of seed 0).",
+    help=f"Session seed k: the person is the held-out person "
+    f"{DEMO_PEOPLE.start} + (k mod {len(DEMO_PEOPLE)}), never used for tuning (the models always "
+    "come from the replica of seed 0).",
+)
+@click.option(
+    "--method",
+    type=click.Choice(METHODS),
+    default=METHODS[0],
+    show_default=True,
+    help="segments: framefree's recognizer (whole gestures spotted and classified as offline); "
+    "paper: the paper's recognizer (fixed windows).",
 )
 @click.option("--no-render", is_flag=True, help="Skip the MuJoCo images even if OpenGL works.")
-def demo(out, seed, no_render):
+def demo(out, seed, method, no_render):
     """Replica dataset → gesture models → a person gives the paper's stacking commands by hand
     gestures → live recognition → planner → simulated Panda stacking blocks.
     """
@@ -37,14 +47,14 @@ def demo(out, seed, no_render):
         raise click.ClickException(str(exc)) from None
     from ..demo import run_demo
 
-    result = run_demo(out, seed=seed, render=not no_render, echo=click.echo)
+    result = run_demo(out, seed=seed, render=not no_render, echo=click.echo, method=method)
     rec = result.recognition
     click.echo("")
     click.echo(
         f"  commands obeyed    {result.obeyed:5d} of {result.commands}  (the person repeats an "
         "ignored command up to twice)"
     )
-    click.echo("                      framefree     paper ([P2] Table II)")
+    click.echo(f"                      {method:<9}     paper ([P2] Table II)")
     for key in ("precision", "recall", "f1"):
         click.echo(f"  {key:<18} {100 * rec[key]:9.1f} %  {100 * PAPER_RESULT[key]:9.1f} %")
     click.echo(f"  false positives    {rec['fp']:9d}    {0:9d}")
@@ -59,6 +69,8 @@ def demo(out, seed, no_render):
         "SUCCESS: green block stacked on red" if result.stacked else "FAILED: green not on red"
     )
     click.echo(f"  task               {verdict} ({where})")
+    for miss in result.missed:
+        click.echo(f"  missed             {miss['label']} at {miss['start_t']:.1f} s")
     click.echo("")
     for name, path in result.files.items():
         click.echo(f"  {name:<22} {path}")
