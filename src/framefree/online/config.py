@@ -211,3 +211,16 @@ class RecognizerConfig:
         d = dataclasses.asdict(self)
         d["calibration_negatives"] = list(self.calibration_negatives)
         return d
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> RecognizerConfig:
+        """The inverse of :meth:`to_dict` (list fields become tuples).
+
+        Raises
+        ------
+        TypeError
+            For a key that is not a field of this version's configuration.
+        """
+        tuple_fields = {f.name for f in dataclasses.fields(cls) if "tuple" in str(f.type)}
+        return cls(**{k: tuple(v) if k in tuple_fields and isinstance(v, list) else v
+                      for k, v in d.items()})
