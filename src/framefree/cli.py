@@ -15,7 +15,7 @@ from . import __version__
 from .errors import FramefreeError
 
 #: command modules, each exposing ``register(group)``
-COMMAND_MODULES = ("core", "dataset", "benchmark", "online", "robot", "demo")
+COMMAND_MODULES = ("core", "dataset", "benchmark", "online", "robot", "demo", "library")
 
 
 class _Group(click.Group):

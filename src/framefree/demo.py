@@ -125,6 +125,7 @@ def run_demo(
     commands: Sequence[tuple[float, str]] | None = None,
     policy: PersonPolicy | None = None,
     replica_seed: int = 0,
+    models: str | Path | None = None,
 ) -> DemoResult:
     """Run the whole pipeline and write figures and a JSON summary into ``out_dir``.
 
@@ -149,6 +150,9 @@ def run_demo(
         How the person reacts to the robot.
     replica_seed : int
         Seed of the HPM replica whose ``original_1`` trials are the gesture models.
+    models : str or Path, optional
+        A gesture library file (``framefree enroll``) to use instead of the replica's models; it
+        must contain the seven HPM gestures.
     """
     from tqdm import tqdm
 
@@ -170,8 +174,9 @@ def run_demo(
 
     tic = time.perf_counter()
     _say(echo, "1/3  gesture models: HPM replica (generated once, then cached) ...")
-    root = replica_path(replica_seed)
-    recognizer = Recognizer.from_dataset(root, model_context="original_1")
+    root = replica_path(replica_seed) if models is None else Path(models)
+    recognizer = (Recognizer.from_dataset(root, model_context="original_1") if models is None
+                  else Recognizer.load(models))
     recognizer.warmup()
     seconds["models_and_calibration"] = time.perf_counter() - tic
     _say(echo, f"     {len(recognizer.labels)} models from {root}, thresholds calibrated")

@@ -24,7 +24,9 @@ from ..demo import PAPER_RESULT
     help="Seed of the person's session (the models come from the replica of seed 0).",
 )
 @click.option("--no-render", is_flag=True, help="Skip the MuJoCo images even if OpenGL works.")
-def demo(out, seed, no_render):
+@click.option("--models", type=click.Path(exists=True, dir_okay=False), default=None,
+              help="Gesture library file (framefree enroll) with the seven HPM gestures.")
+def demo(out, seed, no_render, models):
     """Replica dataset → gesture models → a person gives the paper's stacking commands by hand
     gestures → live recognition → planner → simulated Panda stacking blocks.
     """
@@ -37,7 +39,7 @@ def demo(out, seed, no_render):
         raise click.ClickException(str(exc)) from None
     from ..demo import run_demo
 
-    result = run_demo(out, seed=seed, render=not no_render, echo=click.echo)
+    result = run_demo(out, seed=seed, render=not no_render, echo=click.echo, models=models)
     rec = result.recognition
     click.echo("")
     click.echo(

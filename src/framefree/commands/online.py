@@ -16,8 +16,9 @@ __all__ = ["register"]
 
 def _model_options(f):
     opts = [
-        click.option("--models", "models", required=True, type=click.Path(exists=True, file_okay=False),
-                     help="Dataset folder <gesture>/<context>/*.csv with the model recordings."),
+        click.option("--models", "models", required=True, type=click.Path(exists=True),
+                     help="Dataset folder <gesture>/<context>/*.csv with the model recordings, or a "
+                          "gesture library file from `framefree enroll` (no recalibration)."),
         click.option("--model-context", default="original_1", show_default=True,
                      help="Context folder holding the model recordings."),
         click.option("--threshold", type=float, default=None,
@@ -42,9 +43,16 @@ def _recognizer(models: str, model_context: str, **kw: Any):
     overrides = {k: v for k, v in kw.items() if v is not None}
     if "latency_min" in overrides:
         overrides["latency_min"] = int(overrides["latency_min"])
-    click.echo(f"building models from {models}/<gesture>/{model_context} ...", err=True)
     t0 = time.perf_counter()
-    rec = Recognizer.from_dataset(models, model_context=model_context, **overrides)
+    if Path(models).is_file():  # a gesture library (framefree.library): thresholds stored
+        if overrides:
+            raise click.UsageError(f"--{next(iter(overrides)).replace('_', '-')} does not apply to a library "
+                                   "file; set it when enrolling: framefree enroll ... --set KEY=VALUE")
+        click.echo(f"loading gesture library {models} ...", err=True)
+        rec = Recognizer.load(models)
+    else:
+        click.echo(f"building models from {models}/<gesture>/{model_context} ...", err=True)
+        rec = Recognizer.from_dataset(models, model_context=model_context, **overrides)
     rec.warmup()
     click.echo(
         f"{len(rec.labels)} models, {len(rec.gestures)} gestures, threshold {rec.threshold:.4g}, "

@@ -11,11 +11,13 @@ recognizes the take iff ``min_h other_i(h) > same_i``.
 * **margin** of ``g`` against ``h``: the median over ``g``'s takes of ``other_i(h)``, divided by the
   spread of ``g`` — how much farther the other gesture lies than a repetition of the same one. The
   **nearest other gesture** is the one with the smallest margin;
-* the same under random changes of world frame, grip and speed (:func:`~framefree.library.probes.perturbed`):
-  a perturbed copy of each take is compared with the other (original) takes;
-* **stop**: the margin of ``g`` against fast wrist rotations (:func:`~framefree.library.probes.stop_rotations`),
-  and whether ``g`` itself rotates nearly as fast as a stop signal (then the stop threshold, set
-  above the fastest gesture, would miss slow stop signals);
+* the same under random changes of world frame, grip and speed
+  (:func:`~framefree.library.probes.perturbed`): a perturbed copy of each take is compared with
+  the other (original) takes;
+* **stop**: the margin of ``g`` against fast wrist rotations
+  (:func:`~framefree.library.probes.stop_rotations`), and whether ``g`` itself rotates nearly as
+  fast as a stop signal (then the stop threshold, set above the fastest gesture, would miss slow
+  stop signals);
 * **everyday**: the margin of ``g`` against reaching and repositioning moves
   (:func:`~framefree.library.probes.everyday_motions`).
 
@@ -192,7 +194,7 @@ def _margins(near: np.ndarray, labels: np.ndarray, gestures: list[str], spread: 
              ) -> dict[str, tuple[str | None, float]]:
     """Nearest other gesture and its margin, for each gesture."""
     out: dict[str, tuple[str | None, float]] = {}
-    for k, g in enumerate(gestures):
+    for g in gestures:
         rows = near[labels == g]
         best: tuple[str | None, float] = (None, math.inf)
         for h_idx, h in enumerate(gestures):
@@ -247,7 +249,8 @@ def check_takes(
     spread = {g: max(float(np.median(same[labels == g])), 1e-12) for g in gestures}
     margins = _margins(near, labels, gestures, spread)
 
-    pert = [perturbed(tr, rng, speed_range=s.speed_range) for tr in takes.takes for _ in range(s.perturbations)]
+    pert = [perturbed(tr, rng, speed_range=s.speed_range)
+            for tr in takes.takes for _ in range(s.perturbations)]
     Dp = desc.distance_matrix(_describe(desc, pert, progress, "changed frames and speed"), base)
     owner = np.repeat(np.arange(len(labels)), s.perturbations)
     Dp[np.arange(owner.size), owner] = np.inf
@@ -274,7 +277,7 @@ def check_takes(
             _probe_margin(Ds, labels, g, spread[g], s.probe_quantile),
             _probe_margin(De, labels, g, spread[g], s.probe_quantile),
             str(ekinds[int(np.argmin(ecol))]) if ecol.size else "-",
-            max(debounced_peak_rate(tr, config.stop_samples) for tr in np.array(takes.takes, dtype=object)[sel]),
+            max(debounced_peak_rate(takes.takes[k], config.stop_samples) for k in np.flatnonzero(sel)),
         )
     report = CheckReport(list(takes.names), list(takes.labels), D, list(predicted),
                          [str(x) for x in ppred[:: max(s.perturbations, 1)]], checks)
@@ -310,17 +313,19 @@ def _findings(r: CheckReport, s: CheckSettings, config: RecognizerConfig) -> lis
             out.append(Finding("warning", g, f"{c.takes - c.perturbed_correct} of {c.takes} takes of {g} are "
                                              "not recognized after a change of frames, grip or speed"))
         if c.stop_margin < s.warn_margin:
-            out.append(Finding("warning", g, f"{g} is within {c.stop_margin:.2f}x of a stop "
-                                                        "rotation (fast wrist back-and-forth): give it another shape"))
+            out.append(Finding("warning", g, f"{g} is within {c.stop_margin:.2f}x of a stop rotation "
+                                             "(fast wrist back-and-forth): give it another shape"))
         if c.peak_rate * config.stop_margin > STOP_PEAK_RATE:
             out.append(Finding("warning", g, f"{g} turns almost as fast as a stop signal (peak |dq/dt| "
                                              f"{c.peak_rate:.2f}/s): the stop threshold becomes "
-                                             f"{c.peak_rate * config.stop_margin:.2f}/s, above the slowest stop "
-                                             f"signals ({STOP_PEAK_RATE:.2f}/s): perform it more slowly"))
+                                             f"{c.peak_rate * config.stop_margin:.2f}/s, above the "
+                                             f"slowest stop signals ({STOP_PEAK_RATE:.2f}/s): "
+                                             "perform it more slowly"))
         if c.everyday_margin < s.warn_margin:
             out.append(Finding("warning", g,
-                               f"{g} is within {c.everyday_margin:.2f}x of everyday motion ({c.everyday_nearest}): "
-                               "it may fire while the hand just moves; add a rotation or a distinctive turn"))
+                               f"{g} is within {c.everyday_margin:.2f}x of everyday motion "
+                               f"({c.everyday_nearest}): it may fire while the hand just moves; "
+                               "add a rotation or a distinctive turn"))
     return out
 
 

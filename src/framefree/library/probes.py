@@ -155,7 +155,9 @@ def _duration(A: np.ndarray, B: np.ndarray, rng: np.random.Generator) -> float:
     return float(np.clip(0.5 + dist / 0.35 + ang / 2.5, 0.6, 2.5)) * rng.uniform(0.8, 1.2)
 
 
-def everyday_motions(take: Trajectory, rng: np.random.Generator, L: float = 0.2) -> list[tuple[str, Trajectory]]:
+def everyday_motions(
+    take: Trajectory, rng: np.random.Generator, L: float = 0.2
+) -> list[tuple[str, Trajectory]]:
     """Reaching and repositioning moves from the take's start pose, labelled by kind.
 
     Kinds: ``reach`` (one unhurried minimum-jerk screw move to a nearby pose: up to ≈ 20 cm and
@@ -168,8 +170,9 @@ def everyday_motions(take: Trajectory, rng: np.random.Generator, L: float = 0.2)
     reach = np.concatenate([_hold(T0, 0.4), _move(T0, B, _duration(T0, B, rng)), _hold(B, 0.4)])
     out.append(("reach", _noisy(reach, take, rng, f"reach from {take.source}")))
     B = _nearby(T0, rng)
-    back = np.concatenate([_hold(T0, 0.4), _move(T0, B, _duration(T0, B, rng)), _hold(B, rng.uniform(0.1, 0.4)),
-                           _move(B, T0, _duration(B, T0, rng)), _hold(T0, 0.4)])
+    back = np.concatenate([_hold(T0, 0.4), _move(T0, B, _duration(T0, B, rng)),
+                           _hold(B, rng.uniform(0.1, 0.4)), _move(B, T0, _duration(B, T0, rng)),
+                           _hold(T0, 0.4)])
     out.append(("reach and return", _noisy(back, take, rng, f"reach and return from {take.source}")))
     seed = int(rng.integers(2**31))
     out += [(kind, tr) for kind, tr in non_gesture_motions([take], ["take"], L, ("moves",), seed=seed)]

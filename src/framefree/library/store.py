@@ -63,6 +63,10 @@ OWN_CONTEXT = "own"
 _PREFERRED_CONTEXTS = (OWN_CONTEXT, "original_1")
 
 
+def _now() -> str:
+    return datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
+
+
 class LibraryError(FramefreeError):
     """A gesture library file or folder cannot be used (the message says why and what to do)."""
 
@@ -117,8 +121,8 @@ class TakeSet:
         """
         drop = np.zeros(len(self), dtype=bool)
         for pat in patterns:
-            hit = np.array([_matches(pat, lab, name) for lab, name in zip(self.labels, self.names, strict=True)],
-                           dtype=bool)
+            hit = np.array([_matches(pat, lab, name)
+                            for lab, name in zip(self.labels, self.names, strict=True)], dtype=bool)
             if not hit.any():
                 raise LibraryError(f"--remove {pat}: no such gesture or take (gestures: "
                                    f"{', '.join(self.gestures)})")
@@ -147,7 +151,8 @@ def _choose_context(gdir: Path, context: str | None) -> Path:
             return gdir / pref
     if len(found) == 1:
         return gdir / found[0]
-    raise LibraryError(f"{gdir}: several context folders ({', '.join(found) or 'none'}); choose one with --context")
+    raise LibraryError(f"{gdir}: several context folders ({', '.join(found) or 'none'}); "
+                       "choose one with --context")
 
 
 def read_takes(folder: str | Path, context: str | None = None) -> TakeSet:
@@ -175,7 +180,8 @@ def read_takes(folder: str | Path, context: str | None = None) -> TakeSet:
     """
     root = Path(folder).expanduser()
     if not root.is_dir():
-        raise LibraryError(f"{root}: no such library folder (expected <folder>/<gesture>/<context>/<trial>.csv)")
+        raise LibraryError(f"{root}: no such library folder "
+                           "(expected <folder>/<gesture>/<context>/<trial>.csv)")
     takes: list[Trajectory] = []
     labels: list[str] = []
     names: list[str] = []
@@ -272,7 +278,7 @@ class GestureLibrary:
     built_from: tuple[str, ...] = ()
     framefree_version: str = __version__
     format_version: int = FORMAT_VERSION
-    created: str = field(default_factory=lambda: datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"))
+    created: str = field(default_factory=lambda: _now())
 
     @property
     def gestures(self) -> list[str]:
@@ -330,7 +336,8 @@ class GestureLibrary:
     def summary(self) -> str:
         """One line per gesture: takes and threshold."""
         counts = self.takes.counts()
-        lines = [f"{len(self.takes)} takes of {len(counts)} gestures, stop |dq/dt| > {self.stop_threshold:.3g}/s"]
+        lines = [f"{len(self.takes)} takes of {len(counts)} gestures, "
+                 f"stop |dq/dt| > {self.stop_threshold:.3g}/s"]
         lines += [f"  {g:<16} {n:3d} takes  τ = {self.gesture_thresholds.get(g, float('nan')):.4g}"
                   for g, n in counts.items()]
         return "\n".join(lines)
@@ -358,7 +365,8 @@ def load_library(path: str | Path) -> GestureLibrary:
             if fmt != FORMAT_VERSION:
                 raise LibraryError(
                     f"{path}: gesture library format {fmt} (framefree {meta.get('framefree_version')}), "
-                    f"this framefree {__version__} reads format {FORMAT_VERSION}; {_rebuild_hint(path, meta)}")
+                    f"this framefree {__version__} reads format {FORMAT_VERSION}; "
+                    f"{_rebuild_hint(path, meta)}")
             arrays = {n: np.lib.format.read_array(io.BytesIO(zf.read(f"{n}.npy")), allow_pickle=False)
                       for n in ("samples", "offsets")}
     except (OSError, KeyError, zipfile.BadZipFile, json.JSONDecodeError, ValueError) as exc:
@@ -423,6 +431,7 @@ def enroll(
     rec = Recognizer.from_trajectories(list(takes.takes), list(takes.labels), config)
     calib = rec.calibration.summary() if getattr(rec, "calibration", None) is not None else None
     return GestureLibrary(
-        takes, config.to_dict(), rec.config.to_dict(), {g: float(v) for g, v in rec.gesture_thresholds.items()},
+        takes, config.to_dict(), rec.config.to_dict(),
+        {g: float(v) for g, v in rec.gesture_thresholds.items()},
         float(rec.stop_threshold), calib, tuple(str(s) for s in built_from),
     )

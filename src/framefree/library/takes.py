@@ -16,8 +16,10 @@ with the hand still), and dropped when it is too short or too small to be a gest
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterator
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -26,7 +28,17 @@ from ..progress import progress_increments
 from ..smoothing import smooth_poses
 from ..trajectory import MIN_SAMPLES, Trajectory
 
-__all__ = ["TakeRecorder", "TakeSettings", "TakeSpan", "find_takes", "motion_speed", "split_takes"]
+__all__ = [
+    "TakeRecorder",
+    "TakeSettings",
+    "TakeSpan",
+    "cut_take",
+    "find_takes",
+    "motion_speed",
+    "rest_level",
+    "split_takes",
+    "write_take",
+]
 
 #: Sample period of the speed signal [s] (poses are resampled by ScLERP on this grid).
 SPEED_PERIOD = 0.02
@@ -130,7 +142,8 @@ def motion_speed(traj: Trajectory, L: float = 0.2, smoothing: float = 0.1) -> tu
         Screw-path rate [m/s] (rotation contributes ``L`` × angular speed).
     """
     if traj.duration < MIN_SAMPLES * SPEED_PERIOD:
-        raise FramefreeError(f"{traj.source or 'recording'}: {traj.duration:.2f} s is too short to find takes")
+        raise FramefreeError(f"{traj.source or 'recording'}: {traj.duration:.2f} s is too short "
+                             "to find takes")
     tq, T = traj.uniform_poses(SPEED_PERIOD)
     window = max(1, round(smoothing / SPEED_PERIOD))
     if window > 1:
@@ -235,6 +248,39 @@ def split_takes(traj: Trajectory, settings: TakeSettings | None = None) -> list[
             for k, sp in enumerate(find_takes(traj, settings))]
 
 
+_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
+
+
+def write_take(take: Trajectory, library: str | Path, gesture: str, context: str = "own") -> Path:
+    """Write a take as ``<library>/<gesture>/<context>/trial_<k>.csv`` (the dataset layout).
+
+    ``k`` is one more than the largest trial number already there, so existing takes are never
+    overwritten.
+
+    Parameters
+    ----------
+    take : Trajectory
+    library : str or Path
+        The library folder (created if needed).
+    gesture, context : str
+        Folder names: letters, digits, ``_``, ``-`` and ``.``, not starting with ``.`` or ``-``.
+
+    Returns
+    -------
+    Path
+        The written file.
+    """
+    for what, name in (("gesture", gesture), ("context", context)):
+        if not _NAME.match(name) or name == "streams":
+            raise FramefreeError(f"{what} name {name!r}: use letters, digits, _ - . (e.g. wave_twice)")
+    folder = Path(library) / gesture / context
+    found = (re.fullmatch(r"trial_(\d+)", f.stem) for f in folder.glob("trial_*.csv"))
+    numbers = [int(m.group(1)) for m in found if m]
+    path = folder / f"trial_{max(numbers, default=0) + 1}.csv"
+    take.to_csv(path)
+    return path
+
+
 class TakeRecorder:
     """Cuts takes out of a live pose stream as soon as the rest after them is long enough.
 
@@ -256,7 +302,8 @@ class TakeRecorder:
 
     def push(self, t: float, p: np.ndarray, q: np.ndarray) -> None:
         """Buffer one pose sample (time [s], position (3,) [m], quaternion (4,) w, x, y, z)."""
-        row = np.concatenate([[float(t)], np.asarray(p, dtype=float).ravel(), np.asarray(q, dtype=float).ravel()])
+        row = np.concatenate([[float(t)], np.asarray(p, dtype=float).ravel(),
+                              np.asarray(q, dtype=float).ravel()])
         if not np.isfinite(row).all() or (self._rows and row[0] <= self._rows[-1][0]):
             return
         self._rows.append(row)
