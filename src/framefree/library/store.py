@@ -83,15 +83,38 @@ class TakeSet:
         Gesture of each take.
     names : tuple of str
         ``<gesture>/<context>/<trial>`` of each take (its place in a library folder).
+    arrays : tuple of ndarray, shape (N_k, 8), optional
+        The rows ``t, x, y, z, qw, qx, qy, qz`` the takes were built from, when known (a library
+        file stores these; see :meth:`as_stored`).
     """
 
     takes: tuple[Trajectory, ...]
     labels: tuple[str, ...]
     names: tuple[str, ...]
+    arrays: tuple[np.ndarray, ...] = ()
 
     def __post_init__(self) -> None:
         if not len(self.takes) == len(self.labels) == len(self.names):
             raise ValueError(f"{len(self.takes)} takes, {len(self.labels)} labels, {len(self.names)} names")
+        if self.arrays and len(self.arrays) != len(self.takes):
+            raise ValueError(f"{len(self.takes)} takes but {len(self.arrays)} arrays")
+
+    def rows(self) -> tuple[np.ndarray, ...]:
+        """The rows of every take as stored in a library file, (N_k, 8) each."""
+        return self.arrays or tuple(tr.to_array() for tr in self.takes)
+
+    def as_stored(self) -> TakeSet:
+        """The takes exactly as a library file gives them back.
+
+        Building a trajectory renormalizes its quaternions, which can change their last bit (and
+        does not settle: it may alternate). A library stores the rows and every reader rebuilds the
+        trajectories from them, so enrolment calibrates on these, and a loaded library rebuilds
+        bit-identical models.
+        """
+        rows = self.rows()
+        takes = tuple(Trajectory.from_array(r, source=tr.source)
+                      for r, tr in zip(rows, self.takes, strict=True))
+        return TakeSet(takes, self.labels, self.names, rows)
 
     def __len__(self) -> int:
         return len(self.takes)
@@ -106,7 +129,8 @@ class TakeSet:
         return {g: self.labels.count(g) for g in self.gestures}
 
     def __add__(self, other: TakeSet) -> TakeSet:
-        return TakeSet(self.takes + other.takes, self.labels + other.labels, self.names + other.names)
+        return TakeSet(self.takes + other.takes, self.labels + other.labels, self.names + other.names,
+                       self.rows() + other.rows())
 
     def without(self, patterns: Iterable[str]) -> TakeSet:
         """A copy without the takes matching any pattern.
@@ -128,8 +152,9 @@ class TakeSet:
                                    f"{', '.join(self.gestures)})")
             drop |= hit
         keep = np.flatnonzero(~drop)
+        rows = self.rows()
         return TakeSet(tuple(self.takes[k] for k in keep), tuple(self.labels[k] for k in keep),
-                       tuple(self.names[k] for k in keep))
+                       tuple(self.names[k] for k in keep), tuple(rows[k] for k in keep))
 
 
 def _matches(pattern: str, label: str, name: str) -> bool:
@@ -210,12 +235,12 @@ def _natural(name: str) -> list:
 
 
 def fingerprint(takes: TakeSet, settings: dict[str, Any]) -> str:
-    """SHA-256 (hex) of the takes, labels, names, settings and format version."""
+    """SHA-256 (hex) of the takes (their stored rows), labels, names, settings and format version."""
     h = hashlib.sha256()
     h.update(json.dumps({"format": FORMAT_VERSION, "labels": list(takes.labels), "names": list(takes.names),
                          "settings": settings}, sort_keys=True).encode())
-    for tr in takes.takes:
-        h.update(np.ascontiguousarray(tr.to_array()).tobytes())
+    for rows in takes.rows():
+        h.update(np.ascontiguousarray(rows).tobytes())
     return h.hexdigest()
 
 
@@ -319,7 +344,7 @@ class GestureLibrary:
     def save(self, path: str | Path) -> Path:
         """Write the library file (see the module docstring); parent folders are created."""
         path = Path(path)
-        arrays = [tr.to_array() for tr in self.takes.takes]
+        arrays = list(self.takes.rows())
         samples = np.concatenate(arrays) if arrays else np.zeros((0, 8))
         offsets = np.concatenate([[0], np.cumsum([a.shape[0] for a in arrays])]).astype(np.int64)
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -375,10 +400,10 @@ def load_library(path: str | Path) -> GestureLibrary:
         raise LibraryError(f"{path}: not a framefree gesture library ({type(exc).__name__}: {exc})") from None
     samples, offsets = arrays["samples"], arrays["offsets"]
     names, labels = meta["names"], meta["labels"]
-    takes = tuple(Trajectory.from_array(samples[offsets[k]:offsets[k + 1]], source=f"{path}:{names[k]}")
-                  for k in range(len(names)))
+    rows = tuple(samples[offsets[k]:offsets[k + 1]] for k in range(len(names)))
+    takes = tuple(Trajectory.from_array(r, source=f"{path}:{n}") for r, n in zip(rows, names, strict=True))
     lib = GestureLibrary(
-        TakeSet(takes, tuple(labels), tuple(names)), meta["settings"], meta["config"],
+        TakeSet(takes, tuple(labels), tuple(names), rows), meta["settings"], meta["config"],
         {str(k): float(v) for k, v in meta["gesture_thresholds"].items()}, float(meta["stop_threshold"]),
         meta.get("calibration"), tuple(meta.get("built_from") or ()), meta.get("framefree_version", "?"),
         int(fmt), meta.get("created", ""),
@@ -428,6 +453,7 @@ def enroll(
         raise LibraryError(f"gesture {few[0]!r} has {takes.counts()[few[0]]} take; record at least 2 "
                            "(3–5 recommended) so that its threshold can be calibrated")
     config = (config or RecognizerConfig()).replace(**overrides)
+    takes = takes.as_stored()
     rec = Recognizer.from_trajectories(list(takes.takes), list(takes.labels), config)
     calib = rec.calibration.summary() if getattr(rec, "calibration", None) is not None else None
     return GestureLibrary(
