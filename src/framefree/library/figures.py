@@ -6,7 +6,6 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import se3
 from .check import CheckReport, CheckSettings
 from .store import TakeSet
 
@@ -63,9 +62,11 @@ def plot_distance_map(report: CheckReport, path: str | Path, settings: CheckSett
     n = len(gestures)
     fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(7 + 0.5 * n, 4 + 0.25 * n),
                                    gridspec_kw={"width_ratios": [1.15, 1]})
-    pos = D[D > 0]
+    off = ~np.eye(D.shape[0], dtype=bool)
+    pos = D[off & (D > 0)]
     floor = pos.min() if pos.size else 1.0
-    im = ax0.imshow(np.log10(np.maximum(D, floor)), cmap="viridis_r", interpolation="nearest")
+    im = ax0.imshow(np.where(off, np.log10(np.maximum(D, floor)), np.nan), cmap="viridis_r",
+                    interpolation="nearest")
     fig.colorbar(im, ax=ax0, fraction=0.046, label="log10 distance (BILTS+ DTW)")
     edges = np.cumsum([0] + [int((labels == g).sum()) for g in gestures])
     for e in edges[1:-1]:
@@ -98,9 +99,27 @@ def plot_distance_map(report: CheckReport, path: str | Path, settings: CheckSett
     return path
 
 
+def _aligned_paths(mine: list, n: int = 100) -> list[np.ndarray]:
+    """Tracker paths (n, 3) of takes, each moved rigidly onto the first (least squares over ``n``
+    time-normalized samples), so that the world frame does not matter."""
+    paths = []
+    for tr in mine:
+        u = (tr.t - tr.t[0]) / max(tr.duration, 1e-9)
+        paths.append(np.column_stack([np.interp(np.linspace(0, 1, n), u, tr.p[:, k]) for k in range(3)]))
+    ref = paths[0] - paths[0][0]
+    out = [ref]
+    for P in paths[1:]:
+        P = P - P[0]
+        U, _, Vt = np.linalg.svd(P.T @ ref)
+        d = np.sign(np.linalg.det(U @ Vt))
+        R = U @ np.diag([1.0, 1.0, d]) @ Vt
+        out.append(P @ R)
+    return out
+
+
 def plot_take_gallery(takes: TakeSet, path: str | Path, max_takes: int = 8) -> Path:
-    """One 3D panel per gesture with its takes' tracker paths overlaid, each seen from its own start
-    pose (so the world frame does not matter); a dot marks the start.
+    """One 3D panel per gesture with its takes' tracker paths overlaid, each rotated onto the
+    first take about its start point (so the world frame does not matter); a dot marks the start.
 
     Parameters
     ----------
@@ -122,14 +141,10 @@ def plot_take_gallery(takes: TakeSet, path: str | Path, max_takes: int = 8) -> P
     for i, g in enumerate(gestures):
         ax = fig.add_subplot(rows, cols, i + 1, projection="3d")
         mine = [tr for tr, lab in zip(takes.takes, takes.labels, strict=True) if lab == g]
-        pts = []
-        for k, tr in enumerate(mine[:max_takes]):
-            T = tr.poses()
-            rel = se3.transform_inverse(T[0])[None] @ T
-            p = rel[:, :3, 3]
-            pts.append(p)
+        pts = _aligned_paths(mine[:max_takes])
+        for k, p in enumerate(pts):
             ax.plot(p[:, 0], p[:, 1], p[:, 2], lw=0.9, color=plt.get_cmap("tab10")(k % 10))
-            ax.scatter([0.0], [0.0], [0.0], s=8, color="k")
+        ax.scatter([0.0], [0.0], [0.0], s=8, color="k")
         allp = np.concatenate(pts)
         half = max(float(np.ptp(allp, axis=0).max()) / 2, 0.01)
         mid = 0.5 * (allp.max(axis=0) + allp.min(axis=0))
@@ -137,7 +152,7 @@ def plot_take_gallery(takes: TakeSet, path: str | Path, max_takes: int = 8) -> P
             setter(c - half, c + half)
         ax.tick_params(labelsize=5)
         ax.set_title(f"{g} ({len(mine)} takes)", fontsize=9)
-    fig.suptitle("takes, each in the tracker frame of its start pose [m]", fontsize=10)
+    fig.suptitle("tracker paths of the takes, rotated onto the first take [m]", fontsize=10)
     fig.tight_layout()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
