@@ -20,6 +20,9 @@ import numpy as np
 from numba import njit
 
 __all__ = [
+    "NEAREST_SIGN",
+    "REFERENCE_SIGN_THRESHOLD",
+    "align_quaternion_sign",
     "central_spatial_twists",
     "hat",
     "interpolate_poses",
@@ -31,6 +34,7 @@ __all__ = [
     "quaternion_continuity",
     "quaternion_from_matrix",
     "quaternion_multiply",
+    "quaternion_sign",
     "relative_displacement_twists",
     "rotation_from_vector",
     "sclerp",
@@ -45,6 +49,11 @@ __all__ = [
 _SMALL_ANGLE = 1e-4
 #: Below this value of cos θ the rotation logarithm reads the axis from the symmetric part (θ near π).
 _NEAR_PI_COS = -0.99
+#: Sign-continuity threshold of the reference batch converter: Euclidean distance in R^4 (§2.3).
+REFERENCE_SIGN_THRESHOLD = 0.5
+#: Sign-continuity threshold that picks the nearer of ``q`` and ``-q`` (unit quaternions:
+#: ``|q - ref| > √2`` exactly when ``q · ref < 0``).
+NEAREST_SIGN = math.sqrt(2.0)
 
 
 # --------------------------------------------------------------------------------------------------
@@ -380,14 +389,25 @@ def _quaternion_from_matrix_batch(R):
 
 
 @njit(cache=True)
+def sign_flip_one(q, ref, threshold):
+    """The sign-continuity rule: True when ``q`` is farther than ``threshold`` from ``ref`` (R^4).
+
+    Every sign correction of the package goes through this rule; ``threshold`` is
+    :data:`REFERENCE_SIGN_THRESHOLD` in the reference batch path and :data:`NEAREST_SIGN`
+    (negate when ``q · ref < 0``) in the streaming paths.
+    """
+    d = 0.0
+    for c in range(4):
+        diff = q[c] - ref[c]
+        d += diff * diff
+    return d > threshold * threshold
+
+
+@njit(cache=True)
 def continuity_inplace(q, threshold):
     """Negate every quaternion farther than ``threshold`` (Euclidean, R^4) from its predecessor."""
     for i in range(1, q.shape[0]):
-        d = 0.0
-        for c in range(4):
-            diff = q[i, c] - q[i - 1, c]
-            d += diff * diff
-        if math.sqrt(d) > threshold:
+        if sign_flip_one(q[i], q[i - 1], threshold):
             for c in range(4):
                 q[i, c] = -q[i, c]
 
@@ -537,17 +557,34 @@ def quaternion_from_matrix(R: np.ndarray, continuous: bool = True) -> np.ndarray
     f, lead = _flat(R, (3, 3))
     q = _quaternion_from_matrix_batch(f)
     if continuous and len(lead) == 1:
-        continuity_inplace(q, 0.5)
+        continuity_inplace(q, REFERENCE_SIGN_THRESHOLD)
     return q.reshape((*lead, 4))
 
 
-def quaternion_continuity(q: np.ndarray, threshold: float = 0.5) -> np.ndarray:
+def quaternion_continuity(q: np.ndarray, threshold: float = REFERENCE_SIGN_THRESHOLD) -> np.ndarray:
     """Copy of a quaternion sequence (N, 4) with sign flips removed (§2.3 step 5)."""
     q = np.array(q, dtype=np.float64, copy=True)
     if q.ndim != 2 or q.shape[1] != 4:
         raise ValueError(f"expected quaternions of shape (N, 4), got {q.shape}")
     continuity_inplace(q, threshold)
     return q
+
+
+def quaternion_sign(q: np.ndarray, ref: np.ndarray, threshold: float = NEAREST_SIGN) -> float:
+    """``-1.0`` when quaternion ``q`` (4,) must be negated to stay continuous with ``ref`` (4,), else 1.0.
+
+    The rule is :func:`sign_flip_one`; the default threshold keeps the nearer of ``q`` and ``-q``.
+    """
+    q = np.ascontiguousarray(q, dtype=np.float64)
+    ref = np.ascontiguousarray(ref, dtype=np.float64)
+    return -1.0 if sign_flip_one(q, ref, float(threshold)) else 1.0
+
+
+def align_quaternion_sign(
+    q: np.ndarray, ref: np.ndarray, threshold: float = NEAREST_SIGN
+) -> np.ndarray:
+    """``q`` or ``-q`` (4,), whichever the sign-continuity rule keeps next to ``ref`` (4,)."""
+    return quaternion_sign(q, ref, threshold) * np.asarray(q, dtype=np.float64)
 
 
 def quaternion_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:

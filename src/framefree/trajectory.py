@@ -226,8 +226,7 @@ class Trajectory:
     # ----------------------------------------------------------------------------- transformations
     def _with_poses(self, t: np.ndarray, T: np.ndarray) -> Trajectory:
         p, q = se3.pq_from_poses(T)
-        if np.dot(q[0], self.q[0]) < 0:
-            q = -q
+        q = q * se3.quaternion_sign(q[0], self.q[0])
         return Trajectory(t, p, q, source=self.source)
 
     def transformed(

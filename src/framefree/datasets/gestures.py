@@ -22,7 +22,9 @@ go_home         pure translation along a circular arc of ≈ 150° (radius ≈ 1
 Pairs that differ only in shape: open/close gripper (sign of the pitch), go_left/go_home (line vs
 arc), go_down/go_up (rotation about a near vs a far axis), go_down/close_gripper (with or without
 the advance). Human variation per trial: size, speed, start pose, heading, slight asymmetry of the
-speed profiles, mid-path deviations, pause length, and an imperfect return to the start.
+speed profiles, mid-path deviations, pause length, and an imperfect return to the start. Variation
+between people (:mod:`~framefree.datasets.people`) enters through the ``person`` argument; two more
+shapes that are no HPM gesture (*figure_eight*, *push_twist*) are in :data:`EXTRA_SHAPES`.
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -51,12 +54,17 @@ from .motion import (
 )
 from .recording import measure, random_grip, sample_times
 
+if TYPE_CHECKING:
+    from .people import Person
+
 __all__ = [
     "ANTHROPOMETRY",
+    "EXTRA_SHAPES",
     "GESTURE_SHAPES",
     "PALM_DOWN",
     "PALM_LEFT",
     "PALM_UP",
+    "SKEW_RANGE",
     "VARIATION",
     "GesturePlan",
     "default_world",
@@ -189,104 +197,182 @@ def _arc_offset(r: float, angle: float, e1: np.ndarray, e2: np.ndarray) -> Calla
     return offset
 
 
-def plan_gesture(gesture: str, rng: np.random.Generator, speed: float = 1.0) -> GesturePlan:
+#: Gestures beyond the HPM seven (not part of the replica), e.g. to teach a user's own gesture:
+#: *figure_eight*: the hand traces a horizontal figure eight (lemniscate, ``size`` wide, ``height``
+#: tall) in the frontal plane, starting and ending at its crossing, palm down; no reverse.
+#: *push_twist*: from a handshake pose (palm left), push forward ``size`` metres while turning
+#: the wrist ``twist`` radians about the forearm (supination); pause, back.
+EXTRA_SHAPES = {
+    "figure_eight": {"size": 0.30, "height": 0.12, "duration": 2.6},
+    "push_twist": {"size": 0.22, "duration": 1.2, "twist": (math.radians(90.0), math.radians(8.0))},
+}
+
+
+def _lemniscate_offset(width: float, height: float, e1: np.ndarray, e2: np.ndarray
+                       ) -> Callable[[np.ndarray], np.ndarray]:
+    """Offsets (n, 3) along a figure eight (lemniscate of Gerono) through its crossing point: one
+    lobe towards ``e1`` for ``s`` in [0, ½], the other for [½, 1]."""
+
+    def offset(s: np.ndarray) -> np.ndarray:
+        a = 2 * math.pi * np.asarray(s, dtype=np.float64)
+        return (width / 2) * np.sin(a)[:, None] * e1 + (height / 2) * np.sin(2 * a)[:, None] * e2
+
+    return offset
+
+
+def _resolve(person: Person | None) -> Person:
+    from .people import DEFAULT_PERSON  # people.py builds on this module's constants
+
+    return DEFAULT_PERSON if person is None else person
+
+
+class _Performance:
+    """The random draws of one performance, in the order the replica has always made them."""
+
+    def __init__(self, gesture: str, rng: np.random.Generator, speed: float, who: Person) -> None:
+        V = who.variation()
+        self.rng, self.who, self.V = rng, who, V
+        self.shape = GESTURE_SHAPES.get(gesture) or EXTRA_SHAPES[gesture]
+        self.scale = who.size * math.exp(_clipped(rng, 0.0, V["size"]))
+        self.tempo = math.exp(_clipped(rng, 0.0, V["speed"])) / speed / who.tempo
+        # geometry frame of this performance: heading about the vertical, small tilt
+        self.Rg = rot([0, 0, 1], who.heading + _clipped(rng, 0.0, V["heading"])) @ _small_rotation(
+            rng, V["tilt"]
+        )
+        self.fwd, self.left, self.up = self.Rg[:, 0], self.Rg[:, 1], self.Rg[:, 2]
+        std_p = ANTHROPOMETRY["hand_position"][1] * who.variability
+        self.p0 = np.asarray(who.hand_position) + std_p * np.clip(rng.standard_normal(3), -2.5, 2.5)
+        self.size = self.shape["size"] * self.scale
+
+    def anatomy(self, name: str) -> float:
+        """A body dimension or joint excursion of this trial: the person's value ± trial std."""
+        return _clipped(self.rng, getattr(self.who, name), ANTHROPOMETRY[name][1] * self.who.variability)
+
+    def duration(self) -> float:
+        return self.shape["duration"] * self.tempo * math.exp(_clipped(self.rng, 0.0, self.V["stroke_speed"]))
+
+    def skew(self) -> float:
+        a = math.exp(self.who.skew + _clipped(self.rng, 0.0, self.V["skew"]))
+        return min(max(a, SKEW_RANGE[0]), SKEW_RANGE[1])
+
+    def bulge(self) -> tuple[np.ndarray, np.ndarray]:
+        b = self.V["bulge_rel"] * self.size + self.V["bulge_abs"]
+        return self.rng.normal(0.0, b, 3), self.rng.normal(0.0, self.V["bulge_rot"], 3)
+
+    def hand(self, R_base: np.ndarray) -> np.ndarray:
+        R = _small_rotation(self.rng, self.V["hand_tilt"]) @ self.Rg @ R_base
+        if any(self.who.hand_tilt):
+            R = R @ se3.rotation_from_vector(np.asarray(self.who.hand_tilt, dtype=np.float64))
+        return make_pose(R, self.p0)
+
+    def forearm_screw(self, start: np.ndarray, sign: float, advance: float, angle: float | None = None
+                      ) -> Path:
+        angle = sign * (self.anatomy("forearm_rotation") if angle is None else angle)
+        angle = float(np.clip(angle, -math.radians(185), math.radians(185)))
+        off_dir = np.cross(self.fwd, self.rng.standard_normal(3))
+        off = off_dir / np.linalg.norm(off_dir) * max(0.01, self.anatomy("pronation_axis_offset"))
+        return screw_path(start, self.fwd, start[:3, 3] + off, angle, advance)
+
+    def end_error(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.rng.normal(0.0, self.V["return_pos"], 3), self.rng.normal(0.0, self.V["return_rot"], 3)
+
+
+#: Limits of the time-warp exponent of a stroke (peak speed at 0.35–0.65 of the stroke).
+SKEW_RANGE = (0.67, 1.6)
+
+
+def _outward(gesture: str, g: _Performance) -> tuple[np.ndarray, Path]:
+    """Start pose and outward path of an out-and-back gesture."""
+    rng = g.rng
+    if gesture == "go_left":
+        start = g.hand(PALM_LEFT)
+        return start, translation_path(start, lambda s: s[:, None] * g.size * g.left)
+    if gesture == "go_up":
+        start = g.hand(PALM_DOWN)
+        elbow = g.p0 - g.anatomy("elbow_to_palm") * g.fwd
+        angle = g.anatomy("elbow_flexion") * math.sqrt(g.scale)
+        return start, screw_path(start, g.left, elbow, -angle)
+    if gesture == "go_down":
+        start = g.hand(PALM_UP)
+        return start, g.forearm_screw(start, -1.0, 0.0)
+    if gesture == "open_gripper":
+        start = g.hand(PALM_DOWN)
+        return start, g.forearm_screw(start, +1.0, g.size)
+    if gesture == "close_gripper":
+        start = g.hand(PALM_UP)
+        return start, g.forearm_screw(start, -1.0, g.size)
+    if gesture == "push_twist":
+        start = g.hand(PALM_LEFT)
+        twist = _clipped(rng, g.shape["twist"][0], g.shape["twist"][1] * g.who.variability)
+        return start, g.forearm_screw(start, +1.0, g.size, twist)
+    # go_home
+    start = g.hand(PALM_DOWN)
+    arc = _clipped(rng, g.shape["arc"][0], g.shape["arc"][1] * g.who.variability)
+    arc = float(np.clip(arc, math.radians(120), math.radians(180)))
+    return start, translation_path(start, _arc_offset(g.size, arc, g.left, g.up))
+
+
+def _once(gesture: str, g: _Performance) -> tuple[np.ndarray, Path]:
+    """Start pose and path of a gesture made once, without a reverse (go_right, figure_eight)."""
+    rng = g.rng
+    start = g.hand(PALM_DOWN)
+    if gesture == "figure_eight":
+        height = g.shape["height"] * g.scale
+        return start, translation_path(start, _lemniscate_offset(g.size, height, g.left, g.up))
+    center = g.p0 + g.size * g.up
+    roll = rng.uniform(*g.shape["roll"])
+    return start, _circle_path(start, center, g.fwd, -2 * math.pi, roll, g.fwd, rng.uniform(0, 2 * math.pi))
+
+
+#: Gestures made once, without a reverse stroke.
+_ONCE = ("go_right", "figure_eight")
+
+
+def plan_gesture(
+    gesture: str, rng: np.random.Generator, speed: float = 1.0, person: Person | None = None
+) -> GesturePlan:
     """Draw one human performance of ``gesture``: its start pose and its timed strokes.
 
     Parameters
     ----------
     gesture : str
-        One of :data:`~framefree.datasets.GESTURES`.
+        One of :data:`~framefree.datasets.GESTURES` or of :data:`EXTRA_SHAPES`.
     rng : numpy.random.Generator
     speed : float
         Extra speed factor (2 = twice as fast as this person would normally move).
+    person : Person, optional
+        Whose style (:mod:`~framefree.datasets.people`); default: the replica's person (the
+        draws and results are then exactly those of the replica).
 
     Returns
     -------
     GesturePlan
     """
-    if gesture not in GESTURE_SHAPES:
-        raise ValueError(f"unknown gesture {gesture!r}; expected one of {', '.join(GESTURES)}")
+    if gesture not in GESTURE_SHAPES and gesture not in EXTRA_SHAPES:
+        expected = ", ".join([*GESTURES, *EXTRA_SHAPES])
+        raise ValueError(f"unknown gesture {gesture!r}; expected one of {expected}")
     if not speed > 0:
         raise ValueError(f"speed must be positive, got {speed}")
-    V = VARIATION
-    A = ANTHROPOMETRY
-    shape = GESTURE_SHAPES[gesture]
-    scale = math.exp(_clipped(rng, 0.0, V["size"]))
-    tempo = math.exp(_clipped(rng, 0.0, V["speed"])) / speed
-    # geometry frame of this performance: heading about the vertical, small tilt
-    Rg = rot([0, 0, 1], _clipped(rng, 0.0, V["heading"])) @ _small_rotation(rng, V["tilt"])
-    fwd, left, up = Rg[:, 0], Rg[:, 1], Rg[:, 2]
-    mean_p, std_p = A["hand_position"]
-    p0 = np.asarray(mean_p) + std_p * np.clip(rng.standard_normal(3), -2.5, 2.5)
-    size = shape["size"] * scale
-
-    def duration() -> float:
-        return shape["duration"] * tempo * math.exp(_clipped(rng, 0.0, V["stroke_speed"]))
-
-    def skew() -> float:
-        return math.exp(_clipped(rng, 0.0, V["skew"]))
-
-    def bulge() -> tuple[np.ndarray, np.ndarray]:
-        b = V["bulge_rel"] * size + V["bulge_abs"]
-        return rng.normal(0.0, b, 3), rng.normal(0.0, V["bulge_rot"], 3)
-
-    def hand(R_base: np.ndarray) -> np.ndarray:
-        return make_pose(_small_rotation(rng, V["hand_tilt"]) @ Rg @ R_base, p0)
-
-    def forearm_screw(start: np.ndarray, sign: float, advance: float) -> Path:
-        angle = sign * _clipped(rng, *A["forearm_rotation"])
-        angle = float(np.clip(angle, -math.radians(185), math.radians(185)))
-        off_dir = np.cross(fwd, rng.standard_normal(3))
-        off = off_dir / np.linalg.norm(off_dir) * max(0.01, _clipped(rng, *A["pronation_axis_offset"]))
-        return screw_path(start, fwd, start[:3, 3] + off, angle, advance)
-
-    if gesture == "go_left":
-        start = hand(PALM_LEFT)
-        fwd_path = translation_path(start, lambda s: s[:, None] * size * left)
-    elif gesture == "go_up":
-        start = hand(PALM_DOWN)
-        r = _clipped(rng, *A["elbow_to_palm"])
-        elbow = p0 - r * fwd
-        angle = _clipped(rng, *A["elbow_flexion"]) * math.sqrt(scale)
-        fwd_path = screw_path(start, left, elbow, -angle)
-    elif gesture == "go_down":
-        start = hand(PALM_UP)
-        fwd_path = forearm_screw(start, -1.0, 0.0)
-    elif gesture == "open_gripper":
-        start = hand(PALM_DOWN)
-        fwd_path = forearm_screw(start, +1.0, size)
-    elif gesture == "close_gripper":
-        start = hand(PALM_UP)
-        fwd_path = forearm_screw(start, -1.0, size)
-    elif gesture == "go_home":
-        start = hand(PALM_DOWN)
-        arc = _clipped(rng, *shape["arc"])
-        arc = float(np.clip(arc, math.radians(120), math.radians(180)))
-        fwd_path = translation_path(start, _arc_offset(size, arc, left, up))
-    else:  # go_right: one full circle, no reverse
-        start = hand(PALM_DOWN)
-        center = p0 + size * up
-        roll = rng.uniform(*shape["roll"])
-        path = _circle_path(start, center, fwd, -2 * math.pi, roll, fwd, rng.uniform(0, 2 * math.pi))
-        bp, br = bulge()
-        end_p = rng.normal(0.0, V["return_pos"], 3)
-        end_r = rng.normal(0.0, V["return_rot"], 3)
-        return GesturePlan(gesture, start, [stroke(deviated(path, bp, br, end_p, end_r), duration(), skew())])
-
-    bp, br = bulge()
+    g = _Performance(gesture, rng, speed, _resolve(person))
+    if gesture in _ONCE:
+        start, path = _once(gesture, g)
+        bp, br = g.bulge()
+        end_p, end_r = g.end_error()
+        once = stroke(deviated(path, bp, br, end_p, end_r), g.duration(), g.skew())
+        return GesturePlan(gesture, start, [once])
+    start, fwd_path = _outward(gesture, g)
+    bp, br = g.bulge()
     there = deviated(fwd_path, bp, br)
-    bp, br = bulge()
-    back = deviated(
-        reversed_path(there), bp, br, rng.normal(0.0, V["return_pos"], 3), rng.normal(0.0, V["return_rot"], 3)
-    )
-    first = stroke(there, duration(), skew())
-    pause = hold(first.end, rng.uniform(*V["pause"]))
-    return GesturePlan(gesture, start, [first, pause, stroke(back, duration(), skew())])
+    bp, br = g.bulge()
+    back = deviated(reversed_path(there), bp, br, *g.end_error())
+    first = stroke(there, g.duration(), g.skew())
+    pause = hold(first.end, rng.uniform(*g.V["pause"]))
+    return GesturePlan(gesture, start, [first, pause, stroke(back, g.duration(), g.skew())])
 
 
-def gesture_motion(plan: GesturePlan, rng: np.random.Generator) -> Motion:
-    """The hand motion of a recorded trial: rest, the gesture, rest."""
-    rest = VARIATION["rest"]
+def gesture_motion(plan: GesturePlan, rng: np.random.Generator, person: Person | None = None) -> Motion:
+    """The hand motion of a recorded trial: rest, the gesture, rest (rest ranges of ``person``)."""
+    rest = _resolve(person).rest
     return Motion([hold(plan.start, rng.uniform(*rest)), *plan.strokes, hold(plan.end, rng.uniform(*rest))])
 
 
@@ -305,13 +391,14 @@ def synthesize_gesture(
     world: np.ndarray | None = None,
     grip: np.ndarray | None = None,
     source: str | None = None,
+    person: Person | None = None,
 ) -> Trajectory:
     """One realistic recorded trial of ``gesture`` (the *Original 1* recording of the replica).
 
     Parameters
     ----------
     gesture : str
-        One of :data:`~framefree.datasets.GESTURES`.
+        One of :data:`~framefree.datasets.GESTURES` or of :data:`EXTRA_SHAPES`.
     rng : numpy.random.Generator
         All randomness comes from here.
     speed : float
@@ -319,20 +406,34 @@ def synthesize_gesture(
     world : ndarray, shape (4, 4), optional
         User frame in the tracker world (default: :func:`default_world`).
     grip : ndarray, shape (4, 4), optional
-        Tracker in the hand frame (default: :func:`~framefree.datasets.recording.random_grip`).
+        Tracker in the hand frame (default: :func:`~framefree.datasets.recording.random_grip`, or
+        the person's grip style, :func:`~framefree.datasets.people.person_grip`).
     source : str, optional
         Label for the trajectory.
+    person : Person, optional
+        Who performs it (:mod:`~framefree.datasets.people`): size, tempo, skew, pauses, rests,
+        tremor, posture, body dimensions, grip style, consistency. Default: the replica's person
+        (then the result is bit for bit the replica's).
 
     Returns
     -------
     Trajectory
-        About 3–5 s at 50 Hz (with jitter): rest, the gesture (and its return), rest.
+        Rest, the gesture (and its return), rest, at 50 Hz (with jitter); about 3–5 s for the
+        replica's person.
     """
-    plan = plan_gesture(gesture, rng, speed)
-    motion = gesture_motion(plan, rng)
+    plan = plan_gesture(gesture, rng, speed, person)
+    motion = gesture_motion(plan, rng, person)
     if world is None:
         world = default_world(rng)
+    source = source or f"synthetic {gesture}"
+    if person is None:
+        if grip is None:
+            grip = random_grip(rng)
+        t = sample_times(motion.duration, rng)
+        return measure(t, motion.at(t), grip, world, rng, source=source)
+    from .people import person_grip, record
+
     if grip is None:
-        grip = random_grip(rng)
+        grip = person_grip(person, rng)
     t = sample_times(motion.duration, rng)
-    return measure(t, motion.at(t), grip, world, rng, source=source or f"synthetic {gesture}")
+    return record(t, motion.at(t), grip, world, rng, person, source=source)

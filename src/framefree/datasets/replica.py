@@ -24,7 +24,9 @@ __all__ = ["N_TRIALS", "REPLICA_VERSION", "cache_dir", "make_replica", "replica_
 #: (:func:`generator_fingerprint`), so a cached replica is never reused after the code changed.
 REPLICA_VERSION = 1
 #: Modules whose source defines the replica's content.
-_GENERATOR_MODULES = ("contexts", "gestures", "motion", "recording", "replica", "streams")
+_GENERATOR_MODULES = (
+    "activities", "contexts", "gestures", "motion", "people", "recording", "replica", "streams"
+)
 #: Trials per gesture and context.
 N_TRIALS = 5
 #: Variation of the user's stance between the trials of one session: position [m], heading [rad].

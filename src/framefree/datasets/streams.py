@@ -4,7 +4,11 @@ A session is a few minutes of tracker data in which gestures are performed one a
 separated by everything a person does in between: holding still, repositioning the hand, walking
 to another spot (the user frame moves in the tracker world), re-gripping the tracker (the tracker
 moves in the hand) and distractor motions that are no gesture; plus stop signals (a fast
-back-and-forth wrist rotation, peak angular speed above 5 rad/s).
+back-and-forth wrist rotation, peak angular speed above 5 rad/s). The activities are in
+:mod:`~framefree.datasets.activities`; a session performed by a simulated
+:class:`~framefree.datasets.people.Person` uses that person's style and a richer repertoire
+(reach-and-stay, walk-and-turn, scratching-like loops; see
+:mod:`~framefree.datasets.people_streams` for sessions of many people).
 
 Labels (``<name>_labels.csv``, header ``label,start_t,end_t``) span the gesture's movement, from
 the onset of its first stroke to the end of its last stroke (the rest before and after is not
@@ -25,8 +29,19 @@ import numpy as np
 from .. import se3
 from ..errors import DatasetError
 from ..trajectory import Trajectory
-from .gestures import ANTHROPOMETRY, GESTURE_SHAPES, default_world, plan_gesture
-from .motion import Motion, Piece, hold, make_pose, minimum_jerk, rot, sclerp_path, stroke
+from .activities import (
+    ACTIVITIES,
+    PERSON_ACTIVITIES,
+    STOP_SIGNAL,
+    WALK,
+    Activity,
+    Session,
+    interlude,
+    reposition,
+    stop_signal,
+)
+from .gestures import EXTRA_SHAPES, GESTURE_SHAPES, default_world, plan_gesture
+from .people import Person, person_grip, record, scaled_noise
 from .recording import (
     measure,
     measurement_noise,
@@ -37,8 +52,12 @@ from .recording import (
 )
 
 __all__ = [
+    "ACTIVITIES",
+    "PERSON_ACTIVITIES",
     "STOP",
     "STOP_SIGNAL",
+    "WALK",
+    "Activity",
     "LivePerson",
     "Segment",
     "StreamItem",
@@ -51,25 +70,6 @@ __all__ = [
 #: Label of a stop signal.
 STOP = "stop"
 
-#: Stop signal: wrist rotation amplitude [rad] and stroke duration [s] ranges (uniform); three
-#: strokes (+A, −2A, +A). Minimum peak speed 1.875 · 50° / 0.3 s ≈ 5.5 rad/s.
-STOP_SIGNAL = {"amplitude": (math.radians(50), math.radians(80)), "stroke": (0.2, 0.3)}
-
-#: Interlude activities and their probabilities when no timing is imposed.
-ACTIVITIES = {"hold": 0.3, "reposition": 0.25, "distractor": 0.2, "walk": 0.15, "regrip": 0.1}
-
-#: Walking: step frequency [Hz] (about 1.8–2 steps/s at normal speed), vertical bob and lateral sway
-#: amplitude [m] of a hand carried in front of the body (centre-of-mass excursion of walking is
-#: ≈ 2–3 cm each way), distance [m] and turn [rad] ranges.
-WALK = {
-    "step_hz": (1.7, 2.1),
-    "bob": 0.02,
-    "sway": 0.015,
-    "distance": (0.5, 2.0),
-    "turn": (-math.pi / 2, math.pi / 2),
-}
-
-_MIN_APPROACH = 0.6  # shortest move to a gesture's start pose [s]
 _MIN_SETTLE = 0.2  # shortest rest before a gesture [s]
 _FILL_MARGIN = 3.0  # time kept free before a scripted onset for the approach and the settling [s]
 
@@ -115,167 +115,20 @@ class StreamItem:
     speed: float = 1.0
 
 
-class _Session:
-    """The three time-aligned motions of a session: hand (user frame), grip, world placement."""
-
-    def __init__(self, hand: np.ndarray, grip: np.ndarray, world: np.ndarray) -> None:
-        self.hand = Motion()
-        self.grip = Motion()
-        self.world = Motion()
-        self._h, self._g, self._w = hand, grip, world
-        self.time = 0.0
-
-    def add(
-        self,
-        hand: Piece | None = None,
-        grip: Piece | None = None,
-        world: Piece | None = None,
-        duration: float | None = None,
-    ) -> None:
-        d = (
-            next(p.duration for p in (hand, grip, world) if p is not None)
-            if duration is None
-            else duration
-        )
-        for attr, piece in (("hand", hand), ("grip", grip), ("world", world)):
-            current = getattr(self, "_" + attr[0])
-            piece = piece if piece is not None else hold(current, d)
-            getattr(self, attr).append(piece)
-            setattr(self, "_" + attr[0], piece.end)
-        self.time += d
-
-    @property
-    def hand_pose(self) -> np.ndarray:
-        return self._h
-
-
-def _move_duration(A: np.ndarray, B: np.ndarray) -> float:
-    """Time [s] for an unhurried move between hand poses (grows with distance and turn)."""
-    dist = float(np.linalg.norm(B[:3, 3] - A[:3, 3]))
-    ang = float(np.linalg.norm(_rotvec(A[:3, :3].T @ B[:3, :3])))
-    return float(np.clip(0.5 + dist / 0.35 + ang / 2.5, _MIN_APPROACH, 2.5))
-
-
-def _rotvec(R: np.ndarray) -> np.ndarray:
-    return se3.vector_from_rotation(R)
-
-
-def _random_hand_pose(rng: np.random.Generator, around: np.ndarray) -> np.ndarray:
-    """A comfortable hand pose near the usual working position."""
-    mean_p, _ = ANTHROPOMETRY["hand_position"]
-    p = np.asarray(mean_p) + rng.uniform([-0.15, -0.2, -0.25], [0.15, 0.2, 0.15])
-    R = rot(rng.standard_normal(3), rng.uniform(0, math.radians(70))) @ around[:3, :3]
-    return make_pose(R, p)
-
-
-def _reposition(
-    s: _Session,
-    rng: np.random.Generator,
-    target: np.ndarray | None = None,
-    duration: float | None = None,
-) -> None:
-    target = _random_hand_pose(rng, s.hand_pose) if target is None else target
-    d = _move_duration(s.hand_pose, target) if duration is None else duration
-    s.add(hand=stroke(sclerp_path(s.hand_pose, target), d, math.exp(rng.normal(0, 0.1))))
-
-
-def _distractor(s: _Session, rng: np.random.Generator) -> None:
-    """A few via-point movements that are no gesture (scratching, pointing, looking at the tracker)."""
-    for _ in range(rng.integers(2, 5)):
-        mean_p = np.asarray(ANTHROPOMETRY["hand_position"][0])
-        target = s.hand_pose.copy()
-        lo, hi = mean_p - np.array([0.2, 0.3, 0.4]), mean_p + np.array([0.2, 0.3, 0.3])
-        target[:3, 3] = np.clip(target[:3, 3] + rng.normal(0, 0.12, 3), lo, hi)
-        target[:3, :3] = (
-            rot(rng.standard_normal(3), rng.uniform(0, math.radians(70))) @ target[:3, :3]
-        )
-        d = _move_duration(s.hand_pose, target) * rng.uniform(0.8, 1.2)
-        s.add(hand=stroke(sclerp_path(s.hand_pose, target), d, math.exp(rng.normal(0, 0.1))))
-        if rng.random() < 0.5:
-            s.add(duration=rng.uniform(0.05, 0.3))
-
-
-def _walk(s: _Session, rng: np.random.Generator) -> None:
-    """Walk to another spot: the user frame moves and turns in the world, with gait bob and sway."""
-    W0 = s._w
-    heading = rng.uniform(-math.pi, math.pi)
-    dist = rng.uniform(*WALK["distance"])
-    direction = np.array([math.cos(heading), math.sin(heading), 0.0])
-    step = make_pose(rot([0, 0, 1], rng.uniform(*WALK["turn"])), dist * direction)
-    W1 = W0 @ step
-    d = 1.0 + dist / 1.0  # ≈ 1 m/s plus starting and stopping
-    f = rng.uniform(*WALK["step_hz"])
-    base = sclerp_path(W0, W1)
-
-    def world(t: np.ndarray) -> np.ndarray:
-        t = np.asarray(t, dtype=np.float64)
-        T = base(minimum_jerk(t / d))
-        env = np.sin(np.pi * t / d) ** 2
-        bob = np.zeros((t.shape[0], 4, 4))
-        bob[:] = np.eye(4)
-        bob[:, 2, 3] = WALK["bob"] * env * np.sin(2 * math.pi * f * t)
-        bob[:, 1, 3] = WALK["sway"] * env * np.sin(math.pi * f * t)
-        return T @ bob
-
-    s.add(world=Piece(d, world))
-
-
-def _regrip(s: _Session, rng: np.random.Generator) -> None:
-    """Re-grip the tracker: it turns and shifts in the hand while the hand stays roughly still."""
-    G0 = s._g
-    G1 = random_grip(rng)
-    turn = float(np.linalg.norm(_rotvec(G0[:3, :3].T @ G1[:3, :3])))
-    # a deliberate handling movement: peak tracker rotation speed at most ≈ 3 rad/s
-    d = max(rng.uniform(1.0, 2.0), 1.875 * turn / 3.0)
-    s.add(grip=stroke(sclerp_path(G0, G1), d))
-
-
-def _stop(s: _Session, rng: np.random.Generator) -> tuple[float, float]:
-    """A fast back-and-forth rotation of the wrist about the forearm axis; returns (start, end)."""
-    a = rng.uniform(*STOP_SIGNAL["amplitude"])
-    start = s.time
-    for k, frac in enumerate((1.0, -2.0, 1.0)):
-        H = s.hand_pose
-        axis = H[:3, 0]
-        target = H.copy()
-        target[:3, :3] = rot(axis, frac * a) @ H[:3, :3]
-        dur = rng.uniform(*STOP_SIGNAL["stroke"]) * (1.6 if k == 1 else 1.0)
-        s.add(hand=stroke(sclerp_path(H, target), dur))
-    return start, s.time
-
-
-def _interlude(s: _Session, rng: np.random.Generator) -> None:
-    names = list(ACTIVITIES)
-    probs = np.array([ACTIVITIES[n] for n in names])
-    for _ in range(rng.integers(1, 4)):
-        act = names[rng.choice(len(names), p=probs / probs.sum())]
-        if act == "hold":
-            s.add(duration=rng.uniform(1.0, 3.0))
-        elif act == "reposition":
-            _reposition(s, rng)
-        elif act == "distractor":
-            _distractor(s, rng)
-        elif act == "walk":
-            _walk(s, rng)
-        else:
-            _regrip(s, rng)
-
-
-def _fill(s: _Session, rng: np.random.Generator, until: float) -> None:
+def _fill(s: Session, rng: np.random.Generator, until: float) -> None:
     """Random interlude activities as long as they end before time ``until`` [s]."""
     for _ in range(100):
         if until - s.time < 1.0:
             return
-        trial = _Session(s.hand_pose, s._g, s._w)
-        _interlude(trial, rng)
+        trial = s.fork()
+        interlude(trial, rng)
         if s.time + trial.time > until:
             return
-        for h, g, w in zip(trial.hand.pieces, trial.grip.pieces, trial.world.pieces, strict=True):
-            s.add(hand=h, grip=g, world=w)
+        s.extend(trial)
 
 
-def _approach(s: _Session, target: np.ndarray | None) -> float:
-    return 0.0 if target is None else _move_duration(s.hand_pose, target)
+def _approach(s: Session, target: np.ndarray | None) -> float:
+    return 0.0 if target is None else s.move_duration(s.hand_pose, target)
 
 
 def _items(
@@ -283,16 +136,21 @@ def _items(
     n_gestures: int,
     n_stops: int | None,
     rng: np.random.Generator,
+    gestures: Sequence[str] | None = None,
 ) -> list[StreamItem]:
+    known = {STOP, *GESTURE_SHAPES, *EXTRA_SHAPES}
     if sequence is not None:
         items = [x if isinstance(x, StreamItem) else StreamItem(str(x)) for x in sequence]
         for it in items:
-            if it.label != STOP and it.label not in GESTURE_SHAPES:
+            if it.label not in known:
                 raise ValueError(
                     f"unknown stream label {it.label!r}; expected a gesture name or {STOP!r}"
                 )
         return items
-    names = list(GESTURE_SHAPES)
+    names = list(GESTURE_SHAPES) if gestures is None else [str(g) for g in gestures]
+    for g in names:
+        if g not in known - {STOP}:
+            raise ValueError(f"unknown gesture {g!r} in gestures")
     order: list[str] = []
     while len(order) < n_gestures:
         order += [str(x) for x in rng.permutation(names)]
@@ -311,23 +169,33 @@ def make_stream(
     n_gestures: int = 20,
     n_stops: int | None = None,
     world: np.ndarray | None = None,
+    person: Person | None = None,
+    gestures: Sequence[str] | None = None,
 ) -> tuple[Trajectory, list[Segment]]:
     """Generate a continuous labelled session.
 
     Parameters
     ----------
     seed : int
-        Everything is deterministic given the seed.
+        Everything is deterministic given the seed (and the person).
     sequence : sequence of str or StreamItem, optional
-        Script to perform: gesture names and ``"stop"``, or :class:`StreamItem` entries with
-        requested onsets / gaps / speeds. Default: ``n_gestures`` gestures in random order (each
-        gesture equally often) with ``n_stops`` stop signals at random positions.
+        Script to perform: gesture names (HPM or :data:`~framefree.datasets.EXTRA_SHAPES`) and
+        ``"stop"``, or :class:`StreamItem` entries with requested onsets / gaps / speeds. Default:
+        ``n_gestures`` gestures in random order (each gesture equally often) with ``n_stops`` stop
+        signals at random positions.
     n_gestures : int
         Number of gestures without a script.
     n_stops : int, optional
         Number of stop signals without a script (default: 1 or 2 at random).
     world : ndarray, shape (4, 4), optional
         Initial user frame in the tracker world (default: random, y-up).
+    person : Person, optional
+        Who performs (:mod:`~framefree.datasets.people`): their gesture style, tempo, rests,
+        tremor and grip, and the full interlude repertoire (:data:`PERSON_ACTIVITIES`: also
+        reach-and-stay, walk-and-turn, scratching-like loops). Default: the replica's person and
+        repertoire (bit for bit the replica's streams).
+    gestures : sequence of str, optional
+        Gestures drawn without a script (default: the seven HPM gestures).
 
     Returns
     -------
@@ -336,31 +204,53 @@ def make_stream(
     segments : list of Segment
         The performed gestures and stop signals, in time order.
     """
-    rng = np.random.default_rng([int(seed), 0x5EA])
-    items = _items(sequence, n_gestures, n_stops, rng)
-    s = _start_session(seed, world, rng)
-    segments = [_perform(s, it, rng) for it in items]
-    s.add(duration=rng.uniform(1.0, 2.0))
-    t = sample_times(s.time, rng)
-    traj = measure(
-        t, s.hand.at(t), s.grip.at(t), s.world.at(t), rng, source=f"synthetic stream {seed}"
-    )
+    traj, segments, _ = _generate(seed, sequence, n_gestures, n_stops, world, person, gestures)
     return traj, segments
 
 
-def _start_session(seed: int, world: np.ndarray | None, rng: np.random.Generator) -> _Session:
+def _generate(
+    seed: int,
+    sequence: Sequence[str | StreamItem] | None,
+    n_gestures: int,
+    n_stops: int | None,
+    world: np.ndarray | None,
+    who: Person | None,
+    gestures: Sequence[str] | None,
+) -> tuple[Trajectory, list[Segment], list[Activity]]:
+    rng = np.random.default_rng([int(seed), 0x5EA])
+    items = _items(sequence, n_gestures, n_stops, rng, gestures)
+    s = _start_session(seed, world, rng, who)
+    segments = [_perform(s, it, rng) for it in items]
+    start = s.time
+    s.add(duration=rng.uniform(1.0, 2.0))
+    s.log("idle", start)
+    t = sample_times(s.time, rng)
+    source = f"synthetic stream {seed}"
+    if who is None:
+        traj = measure(t, s.hand.at(t), s.grip.at(t), s.world.at(t), rng, source=source)
+    else:
+        traj = record(t, s.hand.at(t), s.grip.at(t), s.world.at(t), rng, who, source=source)
+    return traj, segments, s.activities
+
+
+def _start_session(
+    seed: int, world: np.ndarray | None, rng: np.random.Generator, who: Person | None = None
+) -> Session:
     """A session resting at the first gesture's usual start pose, in a (random) user frame."""
     W0 = default_world(rng) if world is None else np.asarray(world, dtype=np.float64)
-    plan0 = plan_gesture("go_left", np.random.default_rng([int(seed), 1]))
-    s = _Session(plan0.start, random_grip(rng), W0)
+    plan0 = plan_gesture("go_left", np.random.default_rng([int(seed), 1]), person=who)
+    grip = random_grip(rng) if who is None else person_grip(who, rng)
+    s = Session(plan0.start, grip, W0, who)
     s.add(duration=rng.uniform(1.0, 2.0))
+    s.log("idle", 0.0)
     return s
 
 
-def _perform(s: _Session, it: StreamItem, rng: np.random.Generator) -> Segment:
+def _perform(s: Session, it: StreamItem, rng: np.random.Generator, stacklevel: int = 4) -> Segment:
     """Add one scripted item to the session: what comes before it (free activities or a scripted
-    onset), the approach to its start pose, a short rest, and the gesture or stop signal itself."""
-    plan = None if it.label == STOP else plan_gesture(it.label, rng, it.speed)
+    onset), the approach to its start pose, a short rest, and the gesture or stop signal itself
+    (and, for a person, a rest after it)."""
+    plan = None if it.label == STOP else plan_gesture(it.label, rng, it.speed, person=s.person)
     target = None if plan is None else plan.start
     if it.start_t is not None or it.gap is not None:
         onset = float(it.start_t) if it.start_t is not None else s.time + float(it.gap)
@@ -370,27 +260,35 @@ def _perform(s: _Session, it: StreamItem, rng: np.random.Generator) -> Segment:
                 warnings.warn(
                     f"{it.label} requested at {onset:.2f} s cannot start before "
                     f"{s.time + need:.2f} s; starting as early as possible",
-                    stacklevel=3,
+                    stacklevel=stacklevel,
                 )
             onset = s.time + need
         _fill(s, rng, until=onset - _FILL_MARGIN)
         approach = _approach(s, target)
         settle = onset - s.time - approach
     else:
-        _interlude(s, rng)
+        interlude(s, rng)
         approach = _approach(s, target)
-        settle = rng.uniform(0.4, 1.0)
+        settle = rng.uniform(0.4, 1.0) if s.person is None else rng.uniform(*s.person.rest)
+    start = s.time
     if target is not None:
-        _reposition(s, rng, target, approach)
+        reposition(s, rng, target, approach)
+        s.log("approach", start)
     if settle > 1e-9:
+        start = s.time
         s.add(duration=settle)
+        s.log("settle", start)
     if plan is None:
-        a, b = _stop(s, rng)
+        a, b = stop_signal(s, rng)
     else:
         a = s.time
         for piece in plan.strokes:
             s.add(hand=piece)
         b = s.time
+        s.log("gesture", a, it.label)
+    if s.person is not None and it.start_t is None and it.gap is None:
+        s.add(duration=rng.uniform(*s.person.rest))
+        s.log("rest", b)
     return Segment(it.label, a, b)
 
 
@@ -411,6 +309,9 @@ class LivePerson:
         Initial user frame in the tracker world (default: random, y-up).
     max_duration : float
         Longest session [s] (the noise processes are drawn for this span up front).
+    person : Person, optional
+        Who performs (style, repertoire, tremor, grip; see :func:`make_stream`). Default: the
+        replica's person.
 
     Examples
     --------
@@ -420,12 +321,15 @@ class LivePerson:
     >>> t, p, q = person.samples_until()      # everything performed so far, not yet emitted
     """
 
-    def __init__(self, seed: int, world: np.ndarray | None = None, max_duration: float = 1200.0):
+    def __init__(self, seed: int, world: np.ndarray | None = None, max_duration: float = 1200.0,
+                 person: Person | None = None):
         rng = np.random.default_rng([int(seed), 0x11FE])
         self._rng = rng
-        self._session = _start_session(seed, world, rng)
+        self.person = person
+        self._session = _start_session(seed, world, rng, person)
         self._times = sample_times(float(max_duration), rng)
-        self._noise = measurement_noise(self._times, rng)
+        noise = measurement_noise(self._times, rng)
+        self._noise = noise if person is None else scaled_noise(noise, person)
         self._emitted = 0
         self._last_q: np.ndarray | None = None
         self.segments: list[Segment] = []
@@ -458,7 +362,7 @@ class LivePerson:
         Segment
             The labelled span of the gesture (also appended to :attr:`segments`).
         """
-        seg = _perform(self._session, StreamItem(label, start_t, gap, speed), self._rng)
+        seg = _perform(self._session, StreamItem(label, start_t, gap, speed), self._rng, stacklevel=3)
         if seg.end_t > self._times[-1]:
             raise DatasetError(f"the session exceeds its max_duration of {self._times[-1]:.0f} s")
         self.segments.append(seg)
@@ -490,8 +394,8 @@ class LivePerson:
         s = self._session
         T = tracker_poses(s.hand.at(tt), s.grip.at(tt), s.world.at(tt), self._noise[window])
         p, q = se3.pq_from_poses(T)
-        if self._last_q is not None and float(q[0] @ self._last_q) < 0.0:
-            q = -q
+        if self._last_q is not None:
+            q = q * se3.quaternion_sign(q[0], self._last_q)
         self._last_q = q[-1].copy()
         return tt, p, q
 

@@ -10,6 +10,7 @@ Public API::
             print(event)
 """
 
+from .acceptance import Accepted, SampleGate
 from .calibration import Calibration, calibrate_threshold
 from .config import RecognizerConfig
 from .events import STOP, Event
@@ -17,20 +18,24 @@ from .matchers import MatcherBank
 from .models import GestureModels, build_models
 from .preprocess import StreamingBILTSPlus, descriptor_from_samples, replay
 from .recognizer import Recognizer
-from .stop import StopDetector
+from .stop import SampleRateStopDetector, StopDetector, sustained_peak_speed
 
 __all__ = [
     "STOP",
+    "Accepted",
     "Calibration",
     "Event",
     "GestureModels",
     "MatcherBank",
     "Recognizer",
     "RecognizerConfig",
+    "SampleGate",
+    "SampleRateStopDetector",
     "StopDetector",
     "StreamingBILTSPlus",
     "build_models",
     "calibrate_threshold",
     "descriptor_from_samples",
     "replay",
+    "sustained_peak_speed",
 ]

@@ -131,8 +131,8 @@ class CausalPoseFilter:
         """Add a sample (position (3,) [m], unit quaternion (4,)); return the filtered (p, q)."""
         if self.n <= 1:
             return p, q
-        if self._buf and float(np.dot(q, self._buf[-1][3:])) < 0.0:
-            q = -q
+        if self._buf:
+            q = se3.align_quaternion_sign(q, self._buf[-1][3:])
         self._buf.append(np.concatenate([p, q]))
         m = np.mean(np.array(self._buf), axis=0)
         return m[:3], m[3:] / np.linalg.norm(m[3:])
@@ -157,9 +157,7 @@ def geometric_samples(traj: Trajectory, resolution: float, L: float, presmooth: 
     P, Q = filtered_poses(traj, presmooth)
     idx = rep.run(traj.poses() if presmooth <= 1 else se3.poses_from_pq(P, Q))
     y = np.column_stack([P[idx], Q[idx]])
-    for r in range(1, y.shape[0]):
-        if np.dot(y[r, 3:], y[r - 1, 3:]) < 0.0:
-            y[r, 3:] *= -1.0
+    y[:, 3:] = se3.quaternion_continuity(y[:, 3:], se3.NEAREST_SIGN)
     return y
 
 
@@ -288,8 +286,8 @@ class StreamingBILTSPlus:
         return self._accept(p, q)
 
     def _accept(self, p: np.ndarray, q: np.ndarray) -> np.ndarray | None:
-        if self._q_last is not None and float(np.dot(q, self._q_last)) < 0.0:
-            q = -q
+        if self._q_last is not None:
+            q = se3.align_quaternion_sign(q, self._q_last)
         self._q_last = q
         self._raw.append(np.concatenate([p, q]))
         self.n_geometric += 1

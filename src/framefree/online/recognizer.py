@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import se3
 from ..trajectory import Trajectory
 from .calibration import Calibration, calibrate_threshold
 from .config import RecognizerConfig
@@ -32,7 +33,7 @@ from .events import STOP, Event
 from .matchers import MatcherBank
 from .models import GestureModels, build_models, load_model_recordings
 from .preprocess import StreamingBILTSPlus
-from .stop import StopDetector, debounced_peak_rate
+from .stop import SampleRateStopDetector, debounced_peak_rate
 
 __all__ = ["STAT_KEYS", "Recognizer"]
 
@@ -133,7 +134,8 @@ class Recognizer:
                                 c.parallel_models)
         if c.prune_factor is not None:
             self.bank.set_cutoffs(c.prune_factor * self.model_thresholds)
-        self.stop = StopDetector(self.stop_threshold, c.stop_samples, c.stop_rearm, c.stop_refractory)
+        self.stop = SampleRateStopDetector(self.stop_threshold, c.stop_samples, c.stop_rearm,
+                                           c.stop_refractory)
         self.stats: dict[str, int] = dict.fromkeys(STAT_KEYS, 0)
         self.dissimilarities = self.bank.d
         self.last_matched = self.bank.d.copy()
@@ -277,11 +279,10 @@ class Recognizer:
             if dt < 0.0:
                 st["backwards"] += 1
                 return []
-            dot = float(q @ self._q)
-            if dot < 0.0:
+            if se3.quaternion_sign(q, self._q) < 0.0:
                 q = -q
-                dot = -dot
                 st["sign_flips"] += 1
+            dot = float(q @ self._q)
             if dt > c.max_gap:
                 st["gaps"] += 1
                 self._restart()

@@ -1,113 +1,212 @@
-"""Stop detector: a fast rotation of the hand (§8.7).
+"""Stop detector: a fast rotation of the hand, measured over a short time window.
 
-The signal is the magnitude of the quaternion derivative of the raw time stream,
-``|q̇| ≈ |q_k - q_{k-1}| / Δt`` with sign-continuous unit quaternions; for unit quaternions
-``|q̇| = |ω| / 2``, so the threshold is half an angular speed [rad/s].
+The signal is the *windowed angular speed*: the rotation angle between the orientation now and the
+orientation at least ``window`` seconds ago, divided by the actual time between the two samples
+[rad/s]. Measured over 60-100 ms instead of one sample interval, it is not inflated by
+time-stamp jitter (±8 ms on a 20 ms period changes it by at most about 16 ms / window) nor by
+repeated or interpolated samples.
 
-Debouncing (Ambiguity 8.7): the detector fires when ``|q̇|`` has exceeded the threshold on
-``samples`` consecutive samples, then stays silent until ``|q̇|`` has fallen below
-``rearm × threshold`` (one stop per fast rotation).
+The detector fires once the windowed angular speed has stayed above the threshold for
+``min_duration`` seconds, then stays silent until the speed has fallen below ``rearm`` × threshold
+and for ``refractory`` seconds after firing (one stop per stop signal).
+:func:`sustained_peak_speed` calibrates the threshold on recordings that must not fire (the
+threshold is then a margin times the fastest model rotation).
+
+The per-sample detector of the paper's recognizer is :class:`SampleRateStopDetector`.
 """
 
 from __future__ import annotations
 
 import math
+from collections import deque
 from collections.abc import Iterable
 
 import numpy as np
 
-from ..trajectory import Trajectory
+from .sample_rate_stop import SampleRateStopDetector, debounced_peak_rate, quaternion_rates
 
-__all__ = ["StopDetector", "debounced_peak_rate", "quaternion_rates"]
+__all__ = [
+    "SampleRateStopDetector",
+    "StopDetector",
+    "WindowedAngularSpeed",
+    "debounced_peak_rate",
+    "quaternion_rates",
+    "sustained_peak_speed",
+    "windowed_angular_speeds",
+]
 
 
-def quaternion_rates(traj: Trajectory) -> np.ndarray:
-    """``|q_k - q_{k-1}| / (t_k - t_{k-1})`` for k = 1..N-1 (sign-continuous quaternions) [1/s]."""
-    dq = np.linalg.norm(np.diff(traj.q, axis=0), axis=1)
-    return dq / np.diff(traj.t)
+def rotation_angle(a: np.ndarray, b: np.ndarray) -> float:
+    """Angle [rad] of the rotation between unit quaternions ``a`` and ``b`` (4,), either sign."""
+    c = min(1.0, abs(float(np.dot(a, b))))
+    return 2.0 * math.acos(c)
 
 
-def debounced_peak_rate(traj: Trajectory, samples: int) -> float:
-    """Largest value that ``|q̇|`` exceeds on ``samples`` consecutive samples of a recording."""
-    r = quaternion_rates(traj)
-    if r.size < samples:
-        return 0.0
-    if samples == 1:
-        return float(r.max())
-    win = np.lib.stride_tricks.sliding_window_view(r, samples)
-    return float(win.min(axis=1).max())
+class WindowedAngularSpeed:
+    """Streaming angular speed over a time window.
+
+    Parameters
+    ----------
+    window : float
+        Shortest time span [s] the speed is measured over (0.08).
+    max_samples : int
+        Bound on the samples kept (the window holds ``window`` / period + 1 of them).
+
+    Attributes
+    ----------
+    value : float
+        Latest windowed angular speed [rad/s]; NaN until the samples span ``window`` seconds.
+    """
+
+    def __init__(self, window: float = 0.08, max_samples: int = 256) -> None:
+        if not window > 0:
+            raise ValueError(f"window must be positive, got {window}")
+        self.window = float(window)
+        self._buf: deque[tuple[float, np.ndarray]] = deque(maxlen=int(max_samples))
+        self.value = math.nan
+
+    def reset(self) -> None:
+        """Forget the samples."""
+        self._buf.clear()
+        self.value = math.nan
+
+    def update(self, t: float, q: np.ndarray) -> float:
+        """Add a sample (time [s], unit quaternion (4,)); return the windowed speed [rad/s].
+
+        Samples whose time does not increase are ignored (the value is unchanged).
+        """
+        buf = self._buf
+        if buf and t <= buf[-1][0]:
+            return self.value
+        buf.append((float(t), np.asarray(q, dtype=np.float64)))
+        horizon = t - self.window
+        while len(buf) > 1 and buf[1][0] <= horizon:
+            buf.popleft()
+        t0, q0 = buf[0]
+        self.value = rotation_angle(q0, q) / (t - t0) if t0 <= horizon else math.nan
+        return self.value
+
+
+def windowed_angular_speeds(t: np.ndarray, q: np.ndarray, window: float = 0.08) -> np.ndarray:
+    """Windowed angular speed [rad/s] at every sample of a recording (NaN where undefined).
+
+    Parameters
+    ----------
+    t : ndarray, shape (n,)
+        Time stamps [s].
+    q : ndarray, shape (n, 4)
+        Unit quaternions ``(w, x, y, z)``.
+    """
+    w = WindowedAngularSpeed(window, max_samples=max(256, len(t)))
+    return np.array([w.update(float(t[k]), q[k]) for k in range(len(t))])
+
+
+def sustained_peak_speed(
+    t: np.ndarray, q: np.ndarray, window: float = 0.08, min_duration: float = 0.04
+) -> float:
+    """Largest windowed angular speed [rad/s] sustained for ``min_duration`` seconds.
+
+    A :class:`StopDetector` with the same ``window`` and ``min_duration`` and a threshold above
+    this value never fires on the recording.
+    """
+    t = np.asarray(t, dtype=np.float64)
+    s = np.nan_to_num(windowed_angular_speeds(t, q, window), nan=0.0)
+    best = 0.0
+    for k in range(len(t)):
+        start = int(np.searchsorted(t, t[k] - min_duration, side="right")) - 1
+        if start < 0:
+            continue
+        best = max(best, float(s[start : k + 1].min()))
+    return best
 
 
 class StopDetector:
-    """Threshold on ``|q̇|`` with debouncing and re-arming.
+    """Threshold on the windowed angular speed, with a minimum duration and re-arming.
 
     Parameters
     ----------
     threshold : float
-        ``|q̇|`` threshold [1/s] (half the angular speed in rad/s).
-    samples : int
-        Consecutive samples above the threshold needed to fire.
+        Angular speed threshold [rad/s].
+    window : float
+        Time span [s] of the angular speed measurement (0.08).
+    min_duration : float
+        Time [s] the speed must stay above the threshold before the detector fires (0.04).
     rearm : float
-        Fraction of the threshold below which the detector re-arms after firing.
+        Fraction of the threshold below which the detector re-arms after firing (0.7).
     refractory : float
-        Time [s] after firing during which the detector stays silent.
+        Time [s] after firing during which the detector stays silent (1.5).
 
     Attributes
     ----------
-    rate : float
-        The last ``|q̇|`` [1/s] (NaN before two samples).
-    active : bool
-        True while the rotation is fast (at or above the threshold, or not yet re-armed).
+    angular_speed : float
+        Latest windowed angular speed [rad/s] (NaN until the window is filled).
+    armed : bool
+        False from a stop until the speed falls below ``rearm`` × threshold.
     """
 
     def __init__(
-        self, threshold: float, samples: int = 2, rearm: float = 0.7, refractory: float = 1.5
+        self,
+        threshold: float,
+        window: float = 0.08,
+        min_duration: float = 0.04,
+        rearm: float = 0.7,
+        refractory: float = 1.5,
     ) -> None:
         if not threshold > 0:
             raise ValueError(f"stop threshold must be positive, got {threshold}")
+        if not min_duration >= 0:
+            raise ValueError(f"min_duration must be non-negative, got {min_duration}")
         self.threshold = float(threshold)
-        self.samples = int(samples)
+        self.min_duration = float(min_duration)
         self.rearm = float(rearm)
         self.refractory = float(refractory)
+        self._speed = WindowedAngularSpeed(window)
+        self.window = self._speed.window
+        self.armed = True
         self._fired_at = -math.inf
         self.reset()
 
     def reset(self) -> None:
-        """Forget the previous sample (after a gap or a relocation); keep the armed state."""
+        """Forget the samples (after a restart of the stream); keep the armed state."""
+        self._speed.reset()
         self._t: float | None = None
-        self._q: np.ndarray | None = None
-        self._run = 0
-        self.rate = math.nan
-        if not hasattr(self, "armed"):
-            self.armed = True
+        self._run_start: float | None = None
+        self.angular_speed = math.nan
+
+    def rearm_now(self) -> None:
+        """Forget the last stop as well (a new session)."""
+        self.reset()
+        self.armed = True
+        self._fired_at = -math.inf
 
     @property
     def active(self) -> bool:
-        """True while the hand rotates fast or the detector has not re-armed yet."""
-        return self._run > 0 or not self.armed or (
-            self._t is not None and self._t - self._fired_at < self.refractory
-        )
+        """True while the hand rotates fast, until re-armed, and within ``refractory`` of a stop."""
+        if self._run_start is not None or not self.armed:
+            return True
+        return self._t is not None and self._t - self._fired_at < self.refractory
 
     def update(self, t: float, q: np.ndarray) -> bool:
-        """Feed a sample (time [s], unit quaternion (4,) sign-continuous); True when a stop fires."""
-        fired = False
-        if self._q is not None and self._t is not None and t > self._t:
-            d = q - self._q
-            self.rate = math.sqrt(float(d @ d)) / (t - self._t)
-            if self.rate > self.threshold:
-                self._run += 1
-                quiet = t - self._fired_at < self.refractory
-                if self.armed and self._run >= self.samples and not quiet:
-                    fired = True
-                    self.armed = False
-                    self._fired_at = t
-            else:
-                self._run = 0
-                if self.rate < self.rearm * self.threshold:
-                    self.armed = True
+        """Feed a sample (time [s], unit quaternion (4,)); True when a stop fires."""
+        t = float(t)
+        if self._t is not None and t <= self._t:
+            return False
         self._t = t
-        self._q = q
-        return fired
+        speed = self._speed.update(t, q)
+        self.angular_speed = speed
+        if not speed > self.threshold:  # also NaN: window not filled yet
+            self._run_start = None
+            if speed < self.rearm * self.threshold:
+                self.armed = True
+            return False
+        if self._run_start is None:
+            self._run_start = t
+        quiet = t - self._fired_at < self.refractory
+        if self.armed and not quiet and t - self._run_start >= self.min_duration:
+            self.armed = False
+            self._fired_at = t
+            return True
+        return False
 
     def run(self, samples: Iterable[tuple[float, np.ndarray]]) -> list[float]:
         """Times [s] at which the detector fires over a sequence of ``(t, q)``."""

@@ -1,0 +1,371 @@
+"""Cutting a live pose stream into movement units at rests and speed minima.
+
+A hand gesture is made of one or a few *strokes*: bell-shaped bursts of motion whose speed falls
+towards zero where the hand stops or reverses (a straight out-and-back has two strokes, a circle
+one). framefree finds these units in the stream with a **bi-invariant motion speed**, the screw-path
+rate of the hand: the screw path (``framefree.progress``) of the displacement between the pose now
+and the pose ``lag`` samples ago, divided by the time between them. Neither a change of the tracker's
+world frame nor of its placement in the hand changes it, and measuring it over ``lag`` samples of a
+uniform 50 Hz grid averages out tracker jitter and time-stamp jitter.
+
+Three stages, each small and with its own state:
+
+* :class:`UniformResampler`: accepted samples at any (jittered, gappy) times → poses on a uniform
+  grid (ScLERP between consecutive samples), the grid the offline classifier resamples to as well;
+* :class:`PoseBuffer`: a ring buffer of the latest uniform poses (bounded memory);
+* :class:`MotionSegmenter`: the speed signal and the units, with hysteresis between a *rest* level
+  and a *move* level, and a *valley* rule for strokes that follow each other without rest (a
+  local speed minimum below ``valley_ratio`` × the stroke's peak, confirmed when the speed rises
+  again by the same factor).
+
+The rest and move levels come from the model recordings (:func:`speed_levels`): the noise floor of
+their rests and the peak speeds of their strokes.
+
+See ``docs/online.md`` (Segment spotting).
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import se3
+from ..progress import progress_increments, screw_path_increment
+from ..trajectory import Trajectory
+
+__all__ = [
+    "MotionSegmenter",
+    "PoseBuffer",
+    "SpeedLevels",
+    "UniformResampler",
+    "Unit",
+    "closure",
+    "motion_speed",
+    "speed_levels",
+]
+
+
+class UniformResampler:
+    """Poses on a uniform time grid from samples at arbitrary increasing times.
+
+    Grid times are ``t_0 + k·dt`` with ``t_0`` the first sample after a (re)start. Each new sample
+    yields the grid poses in ``(t_prev, t]``, interpolated by ScLERP between the previous and the new
+    sample; a sample that falls between two grid points yields nothing.
+
+    Parameters
+    ----------
+    dt : float
+        Grid step [s] (0.02: the 50 Hz grid of the offline classifier).
+    """
+
+    def __init__(self, dt: float = 0.02) -> None:
+        if not dt > 0:
+            raise ValueError(f"dt must be positive, got {dt}")
+        self.dt = float(dt)
+        self.reset()
+
+    def reset(self) -> None:
+        """Start a new grid at the next sample."""
+        self._t0: float | None = None
+        self._k = 0  # index of the next grid point
+        self._t: float = 0.0
+        self._T: np.ndarray | None = None
+
+    def push(self, t: float, T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Offer a sample at time ``t`` [s] with pose ``T`` (4, 4).
+
+        Returns
+        -------
+        times : ndarray, shape (k,)
+            Grid times [s] covered by this sample (possibly none).
+        poses : ndarray, shape (k, 4, 4)
+        """
+        if self._T is None or self._t0 is None:
+            self._t0, self._t, self._T = float(t), float(t), np.array(T, dtype=np.float64)
+            self._k = 1
+            return np.array([float(t)]), self._T[None].copy()
+        if t <= self._t:
+            return np.empty(0), np.empty((0, 4, 4))
+        k_end = math.floor((t - self._t0) / self.dt + 1e-9)
+        ks = np.arange(self._k, k_end + 1)
+        times = self._t0 + ks * self.dt
+        alpha = (times - self._t) / (t - self._t)
+        B = np.asarray(T, dtype=np.float64)
+        if ks.size:
+            n = ks.size
+            poses = se3.sclerp(np.broadcast_to(self._T, (n, 4, 4)), np.broadcast_to(B, (n, 4, 4)),
+                               alpha)
+        else:
+            poses = np.empty((0, 4, 4))
+        self._k = k_end + 1
+        self._t, self._T = float(t), B.copy()
+        return times, poses
+
+
+class PoseBuffer:
+    """Ring buffer of the latest uniform poses, addressed by a running sample index.
+
+    Parameters
+    ----------
+    capacity : int
+        Number of poses kept; older ones are overwritten (memory stays bounded).
+    """
+
+    def __init__(self, capacity: int) -> None:
+        if capacity < 2:
+            raise ValueError(f"capacity must be at least 2, got {capacity}")
+        self.capacity = int(capacity)
+        self._poses = np.zeros((self.capacity, 4, 4))
+        self._times = np.zeros(self.capacity)
+        self.count = 0  # running index of the next pose
+
+    def reset(self) -> None:
+        """Forget everything (indices keep running, so old units never address new poses)."""
+        self.first = self.count
+
+    @property
+    def oldest(self) -> int:
+        """Running index of the oldest pose still held."""
+        return max(self.count - self.capacity, getattr(self, "first", 0))
+
+    def append(self, t: float, T: np.ndarray) -> int:
+        """Store a pose; return its running index."""
+        i = self.count % self.capacity
+        self._poses[i] = T
+        self._times[i] = t
+        self.count += 1
+        return self.count - 1
+
+    def pose(self, index: int) -> np.ndarray:
+        """Pose (4, 4) at a running index (must still be held)."""
+        return self._poses[index % self.capacity]
+
+    def slice(self, start: int, end: int) -> tuple[np.ndarray, np.ndarray]:
+        """Times (n,) and poses (n, 4, 4) of running indices ``start..end`` inclusive (clipped to
+        what is held)."""
+        start = max(start, self.oldest)
+        end = min(end, self.count - 1)
+        idx = np.arange(start, end + 1) % self.capacity
+        return self._times[idx].copy(), self._poses[idx].copy()
+
+    def time(self, index: int) -> float:
+        """Time [s] at a running index."""
+        return float(self._times[index % self.capacity])
+
+
+@dataclass(frozen=True)
+class Unit:
+    """One movement unit (a stroke, or several strokes without a clear minimum between them).
+
+    Attributes
+    ----------
+    start, end : int
+        Running indices of the uniform poses where the unit starts and ends.
+    start_t, end_t : float
+        The same as times [s].
+    peak : float
+        Peak motion speed [m/s of screw path] within the unit.
+    rest_after : bool
+        True if the hand came to rest after the unit, False if the next unit followed at a speed
+        minimum.
+    """
+
+    start: int
+    end: int
+    start_t: float
+    end_t: float
+    peak: float
+    rest_after: bool
+
+
+@dataclass(frozen=True)
+class SpeedLevels:
+    """Speed thresholds of the segmenter [m/s of screw path].
+
+    Attributes
+    ----------
+    rest : float
+        Below this the hand is at rest.
+    move : float
+        Above this the hand moves (hysteresis: ``move > rest``).
+    """
+
+    rest: float
+    move: float
+
+
+def motion_speed(poses: np.ndarray, dt: float, L: float, lag: int) -> np.ndarray:
+    """Screw-path rate [m/s] of uniform poses (n, 4, 4): ``s(T_{k-lag}, T_k) / (lag·dt)``.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        NaN for the first ``lag`` samples.
+    """
+    n = poses.shape[0]
+    v = np.full(n, np.nan)
+    P = np.ascontiguousarray(poses, dtype=np.float64)
+    for k in range(lag, n):
+        v[k] = screw_path_increment(P[k - lag], P[k], L) / (lag * dt)
+    return v
+
+
+def closure(poses: np.ndarray, L: float) -> float:
+    """How far a motion ends from where it started, relative to its length (bi-invariant).
+
+    ``s(T_0, T_end) / Σ_k s(T_k, T_{k+1})`` with ``s`` the screw path [m]: 0 for a motion that
+    returns to its start pose (every HPM gesture goes out and comes back), 1 for a motion that goes
+    one way (a repositioning move).
+
+    Parameters
+    ----------
+    poses : ndarray, shape (n, 4, 4)
+    L : float
+        Scale length of the screw path [m].
+    """
+    P = np.ascontiguousarray(poses, dtype=np.float64)
+    total = float(progress_increments(P, "screw", L).sum())
+    if not total > 0:
+        return 1.0
+    return min(1.0, screw_path_increment(P[0], P[-1], L) / total)
+
+
+def speed_levels(
+    trajectories: Sequence[Trajectory],
+    L: float,
+    dt: float = 0.02,
+    lag: int = 5,
+    noise_factor: float = 3.0,
+    peak_fraction: float = 0.05,
+) -> SpeedLevels:
+    """Rest and move levels from model recordings (each a gesture between rests).
+
+    The noise floor of a recording is the 10th percentile of its motion speed (its rests make up
+    well over a tenth of it); the rest level is ``noise_factor`` × the largest floor, but at least
+    ``peak_fraction`` × the smallest stroke peak of any recording so that a noiseless recording still
+    separates strokes; the move level is twice the rest level.
+
+    Parameters
+    ----------
+    trajectories : sequence of Trajectory
+        Model recordings.
+    L : float
+        Scale length of the screw path [m].
+    """
+    floors, peaks = [], []
+    for tr in trajectories:
+        _, poses = tr.uniform_poses(dt)
+        v = motion_speed(poses, dt, L, lag)[lag:]
+        if v.size == 0:
+            continue
+        floors.append(float(np.percentile(v, 10)))
+        peaks.append(float(v.max()))
+    if not peaks:
+        raise ValueError("no model recording is long enough to measure its motion speed")
+    rest = max(noise_factor * max(floors), peak_fraction * min(peaks))
+    return SpeedLevels(rest=rest, move=2.0 * rest)
+
+
+class MotionSegmenter:
+    """Movement units of a stream of uniform poses.
+
+    Parameters
+    ----------
+    levels : SpeedLevels
+        Rest and move speeds [m/s].
+    L : float
+        Scale length of the screw path [m].
+    dt : float
+        Grid step [s].
+    lag : int
+        Samples over which the speed is measured (5: 0.1 s).
+    valley_ratio : float
+        A speed minimum between two strokes splits them when it is below ``valley_ratio`` × the
+        preceding peak and the speed then rises to ``1/valley_ratio`` × the minimum.
+    capacity : int
+        Poses kept in the buffer.
+    """
+
+    def __init__(
+        self,
+        levels: SpeedLevels,
+        L: float,
+        dt: float = 0.02,
+        lag: int = 5,
+        valley_ratio: float = 0.5,
+        capacity: int = 1500,
+    ) -> None:
+        if not 0 < valley_ratio < 1:
+            raise ValueError(f"valley_ratio must be in (0, 1), got {valley_ratio}")
+        self.levels = levels
+        self.L = float(L)
+        self.dt = float(dt)
+        self.lag = int(lag)
+        self.valley_ratio = float(valley_ratio)
+        self.buffer = PoseBuffer(capacity)
+        self.speed = math.nan
+        self.units: deque[Unit] = deque(maxlen=16)
+        self.reset()
+
+    def reset(self) -> None:
+        """Start over (after a long gap or a relocation): no unit in progress."""
+        self.buffer.reset()
+        self._since_restart = 0
+        self.moving = False
+        self._start = 0
+        self._peak = 0.0
+        self._vmin = math.inf
+        self._imin = 0
+        self._last_rest = self.buffer.count
+        self.speed = math.nan
+
+    @property
+    def resting(self) -> bool:
+        """True while the hand is at rest (no unit in progress)."""
+        return not self.moving
+
+    def push(self, t: float, T: np.ndarray) -> Unit | None:
+        """Add one uniform pose; return the unit that ended with it, if any."""
+        k = self.buffer.append(t, T)
+        self._since_restart += 1
+        if self._since_restart <= self.lag:
+            self._last_rest = k
+            return None
+        v = screw_path_increment(self.buffer.pose(k - self.lag), self.buffer.pose(k), self.L)
+        v /= self.lag * self.dt
+        self.speed = v
+        c = k - self.lag // 2  # the speed describes the middle of the lag
+        lv = self.levels
+        if not self.moving:
+            if v > lv.move:
+                self.moving = True
+                self._start = self._last_rest
+                self._peak, self._vmin = v, math.inf
+            elif v < lv.rest:
+                self._last_rest = c
+            return None
+        if v < lv.rest:
+            self.moving = False
+            self._last_rest = c
+            return self._close(c, rest_after=True)
+        if v > self._peak and self._vmin == math.inf:
+            self._peak = v
+            return None
+        if v < self.valley_ratio * self._peak and v < self._vmin:
+            self._vmin, self._imin = v, c
+            return None
+        if self._vmin < math.inf and v > self._vmin / self.valley_ratio and v > lv.move:
+            unit = self._close(self._imin, rest_after=False)
+            self._start, self._peak, self._vmin = self._imin, v, math.inf
+            return unit
+        return None
+
+    def _close(self, end: int, rest_after: bool) -> Unit:
+        unit = Unit(self._start, end, self.buffer.time(self._start), self.buffer.time(end),
+                    self._peak, rest_after)
+        self.units.append(unit)
+        return unit

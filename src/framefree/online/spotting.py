@@ -1,0 +1,242 @@
+"""Segment spotting: candidate gestures from movement units, classified offline-identically.
+
+Every time a movement unit ends (:mod:`framefree.online.segmentation`), the candidate segments that
+end with it are formed: the last unit alone, the last two, ... up to ``max_units`` units, as long
+as the candidate lasts at most ``max_duration`` seconds and no rest inside it is longer than
+``max_pause`` (a gesture's own pause at its reversal). Each candidate is cut out of the pose buffer
+with a short margin and classified exactly as the offline 1-NN classifier classifies a recording
+(:class:`SegmentClassifier`: the same descriptor object and the same DTW distance), so a gesture
+seen live gets the label it would get offline.
+
+A candidate is *accepted* when the distance to its nearest model is below the threshold τ of that
+model's gesture; its *ratio* is distance / τ. The best accepted candidate is kept pending while
+the hand may still be inside a longer gesture: a later candidate that contains it and has a lower
+ratio replaces it (a whole out-and-back wins over its first half). The pending candidate fires when
+the hand has rested ``confirm`` seconds after it, or when the next unit ends without a better
+candidate, or at the latest ``max_wait`` seconds after its end.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..descriptors.base import Descriptor
+from ..errors import DegenerateMotionError
+from ..trajectory import Trajectory
+from .segmentation import PoseBuffer, Unit, closure
+
+__all__ = ["Candidate", "SegmentClassifier", "Spotter", "candidate_spans"]
+
+
+class SegmentClassifier:
+    """1-NN distances of a pose segment to every model, as the offline classifier computes them.
+
+    Parameters
+    ----------
+    descriptor : Descriptor
+        The offline descriptor (e.g. BILTS+ with screw progress and presmoothing).
+    models : sequence of ndarray
+        Model descriptor sequences, computed with ``descriptor.compute`` on the model recordings.
+    """
+
+    def __init__(self, descriptor: Descriptor, models: Sequence[np.ndarray]) -> None:
+        self.descriptor = descriptor
+        self.models = list(models)
+
+    def describe(self, times: np.ndarray, poses: np.ndarray) -> np.ndarray | None:
+        """Descriptor of a segment (times (n,) [s], poses (n, 4, 4)); None if it has no motion."""
+        if poses.shape[0] < 5:
+            return None
+        traj = Trajectory.from_poses(times - times[0], poses, source="live segment")
+        try:
+            return self.descriptor.compute(traj)
+        except DegenerateMotionError:
+            return None
+
+    def distances(self, times: np.ndarray, poses: np.ndarray) -> np.ndarray:
+        """Distance (M,) from the segment to every model (``inf`` if it has no motion)."""
+        d = self.describe(times, poses)
+        if d is None:
+            return np.full(len(self.models), math.inf)
+        return self.descriptor.distance_matrix([d], self.models)[0]
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """A classified candidate segment.
+
+    Attributes
+    ----------
+    start, end : int
+        Running indices of its first and last uniform pose (without the margin).
+    start_t, end_t : float
+        The same as times [s].
+    model : int
+        Index of the nearest model.
+    distance : float
+        Distance to that model.
+    ratio : float
+        ``distance / τ`` of that model's gesture; accepted when below 1.
+    n_units : int
+        Number of movement units it spans.
+    closure : float
+        Screw path from its first to its last pose over its length (0: back at the start).
+    accepted : bool
+        Below the threshold and within the closure limit of its nearest model's gesture.
+    """
+
+    start: int
+    end: int
+    start_t: float
+    end_t: float
+    model: int
+    distance: float
+    ratio: float
+    n_units: int
+    closure: float = 0.0
+    accepted: bool = False
+
+
+def candidate_spans(
+    units: Sequence[Unit], max_units: int, max_duration: float, max_pause: float, after: int = -1
+) -> list[tuple[Unit, int]]:
+    """The candidates ending with the last unit: ``(first unit, number of units)`` pairs.
+
+    A candidate has at most ``max_units`` units, lasts at most ``max_duration`` seconds, has no
+    rest longer than ``max_pause`` seconds inside, and starts after running index ``after``.
+    """
+    out: list[tuple[Unit, int]] = []
+    if not units:
+        return out
+    last = units[-1]
+    for n in range(1, min(max_units, len(units)) + 1):
+        first = units[-n]
+        if first.start <= after or last.end_t - first.start_t > max_duration:
+            break
+        if n > 1 and units[-n + 1].start_t - first.end_t > max_pause:
+            break
+        out.append((first, n))
+    return out
+
+
+class Spotter:
+    """Candidate generation, classification and the pending/fire decision.
+
+    Parameters
+    ----------
+    classifier : SegmentClassifier
+    model_thresholds : ndarray, shape (M,)
+        τ of each model's gesture.
+    max_units : int
+        Most units in a candidate.
+    max_duration : float
+        Longest candidate [s].
+    max_pause : float
+        Longest rest inside a candidate [s].
+    margin : int
+        Uniform samples added before and after a candidate when it is cut out.
+    confirm : float
+        Rest [s] after a pending candidate before it fires.
+    max_wait : float
+        Latest firing time [s] after a pending candidate's end.
+    closure_limits : ndarray, shape (M,), optional
+        Largest :func:`~framefree.online.segmentation.closure` a candidate may have to be accepted
+        as each model's gesture (default: no limit).
+    L : float
+        Scale length of the screw path [m] (for the closure).
+    """
+
+    def __init__(
+        self,
+        classifier: SegmentClassifier,
+        model_thresholds: np.ndarray,
+        max_units: int = 3,
+        max_duration: float = 6.0,
+        max_pause: float = 1.0,
+        margin: int = 5,
+        confirm: float = 0.2,
+        max_wait: float = 1.0,
+        closure_limits: np.ndarray | None = None,
+        L: float = 0.1,
+    ) -> None:
+        self.classifier = classifier
+        self.model_thresholds = np.asarray(model_thresholds, dtype=np.float64)
+        self.max_units = int(max_units)
+        self.max_duration = float(max_duration)
+        self.max_pause = float(max_pause)
+        self.margin = int(margin)
+        self.confirm = float(confirm)
+        self.max_wait = float(max_wait)
+        n_models = len(classifier.models)
+        self.closure_limits = (np.ones(n_models) if closure_limits is None
+                               else np.asarray(closure_limits, dtype=np.float64))
+        self.L = float(L)
+        self.units: deque[Unit] = deque(maxlen=max(1, self.max_units))
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget units and the pending candidate."""
+        self.units.clear()
+        self.pending: Candidate | None = None
+        self.consumed = -1  # candidates must start after this running index
+        self.last_distances: np.ndarray | None = None
+
+    def discard_before(self, index: int) -> None:
+        """Drop the pending candidate and every unit that started before ``index`` (after a stop
+        signal or an event: that motion is spoken for)."""
+        self.pending = None
+        self.consumed = max(self.consumed, index)
+        while self.units and self.units[0].start < index:
+            self.units.popleft()
+
+    def candidates(self, buffer: PoseBuffer) -> list[Candidate]:
+        """Classify every candidate that ends with the latest unit."""
+        out: list[Candidate] = []
+        last = self.units[-1]
+        after = max(self.consumed, buffer.oldest + self.margin - 1)
+        for first, n in candidate_spans(list(self.units), self.max_units, self.max_duration,
+                                        self.max_pause, after):
+            times, poses = buffer.slice(first.start - self.margin, last.end + self.margin)
+            d = self.classifier.distances(times, poses)
+            self.last_distances = d
+            j = int(np.argmin(d))
+            ratio = float(d[j] / self.model_thresholds[j])
+            c = closure(poses[self.margin:poses.shape[0] - self.margin], self.L)
+            ok = ratio < 1.0 and c <= self.closure_limits[j]
+            out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
+                                 ratio, n, c, ok))
+        return out
+
+    def on_unit(self, unit: Unit, buffer: PoseBuffer) -> Candidate | None:
+        """A unit ended: update the pending candidate; return a candidate to fire now, if any."""
+        self.units.append(unit)
+        accepted = [c for c in self.candidates(buffer) if c.accepted]
+        best = min(accepted, key=lambda c: c.ratio, default=None)
+        pend = self.pending
+        if pend is None:
+            self.pending = best
+            return None
+        if best is not None and best.ratio < pend.ratio:
+            self.pending = best
+            return None
+        # the motion went on without a better candidate: the pending one was complete
+        self.pending = None
+        later = [c for c in accepted if c.start > pend.end]
+        self.pending = min(later, key=lambda c: c.ratio, default=None)
+        return pend
+
+    def poll(self, t: float, resting: bool) -> Candidate | None:
+        """Called for every uniform pose: fire the pending candidate when its time has come."""
+        pend = self.pending
+        if pend is None:
+            return None
+        waited = t - pend.end_t
+        if (resting and waited >= self.confirm) or waited >= self.max_wait:
+            self.pending = None
+            return pend
+        return None

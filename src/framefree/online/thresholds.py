@@ -1,0 +1,190 @@
+"""Per-gesture rejection thresholds of the segment recognizer, from the model recordings alone.
+
+**Positives.** Each model recording is cut into movement units by the live segmenter and every
+candidate segment of it is classified against the *other* recordings of its gesture
+(leave-one-out); its score is the best such distance. ``P_g`` is the largest score of gesture
+``g``'s recordings: every demonstration must be recognized when it is left out.
+
+**Negatives.** Generic motion that is no gesture, built around every recording's start and end
+pose with the recording's own sensor noise (:func:`framefree.online.calibration.non_gesture_motions`):
+holding still, and unhurried via-point moves (repositioning, reaching). Their candidate segments are
+classified against the models of ``g``; ``N_g`` is the smallest distance.
+
+**Rule.** Distances are scale-like, so the threshold sits at the geometric midpoint
+``τ_g = √(P_g · N_g)`` when ``P_g < N_g``: as far, in ratio, from the worst demonstration as from
+the nearest non-gesture. When they overlap, ``τ_g = overlap_factor · N_g`` (rejection wins) and the
+gesture is reported as not separated.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..trajectory import Trajectory
+from .calibration import non_gesture_motions
+from .segmentation import MotionSegmenter, SpeedLevels, Unit, closure
+from .spotting import SegmentClassifier, Spotter, candidate_spans
+
+__all__ = [
+    "SegmentThresholds",
+    "calibrate_segment_thresholds",
+    "closure_limit",
+    "gesture_closures",
+    "segment_distances",
+]
+
+
+@dataclass(frozen=True)
+class SegmentThresholds:
+    """Result of the calibration.
+
+    Attributes
+    ----------
+    thresholds : dict of str to float
+        τ_g per gesture.
+    positives : dict of str to list of float
+        Leave-one-out scores of each gesture's recordings.
+    negatives : dict of str to float
+        ``N_g``: the nearest non-gesture candidate's distance to the models of ``g``.
+    separated : dict of str to bool
+        ``P_g < N_g``.
+    closure_limits : dict of str to float
+        Largest closure a candidate may have to be accepted as ``g``
+        (:func:`closure_limit` of the demonstrations' largest closure).
+    """
+
+    thresholds: dict[str, float]
+    positives: dict[str, list[float]]
+    negatives: dict[str, float]
+    separated: dict[str, bool] = field(default_factory=dict)
+    closure_limits: dict[str, float] = field(default_factory=dict)
+
+    def summary(self) -> dict:
+        """JSON-friendly summary."""
+        return {
+            "rule": "tau_g = sqrt(P_g * N_g) (P_g: worst leave-one-out demonstration, "
+                    "N_g: nearest non-gesture motion)",
+            "thresholds": dict(self.thresholds),
+            "positives_max": {g: float(max(v)) for g, v in self.positives.items()},
+            "negatives_min": dict(self.negatives),
+            "separated": dict(self.separated),
+            "closure_limits": dict(self.closure_limits),
+        }
+
+
+def _units(traj: Trajectory, levels: SpeedLevels, L: float, dt: float
+           ) -> tuple[MotionSegmenter, list[Unit]]:
+    seg = MotionSegmenter(levels, L, dt, capacity=max(16, int(traj.duration / dt) + 8))
+    times, poses = traj.uniform_poses(dt)
+    units = [u for k in range(times.size) if (u := seg.push(float(times[k]), poses[k])) is not None]
+    return seg, units
+
+
+def segment_distances(
+    traj: Trajectory,
+    classifier: SegmentClassifier,
+    levels: SpeedLevels,
+    spotter: Spotter,
+    L: float,
+    dt: float = 0.02,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Distances (C, M) of every candidate segment of a recording to every model, and the closure
+    (C,) of each candidate.
+
+    The recording is resampled on the uniform grid, cut by :class:`MotionSegmenter` and its
+    candidates formed with the limits of ``spotter`` (no threshold is applied).
+    """
+    seg, units = _units(traj, levels, L, dt)
+    rows: list[np.ndarray] = []
+    closures: list[float] = []
+    for k in range(len(units)):
+        for first, _ in candidate_spans(units[: k + 1], spotter.max_units, spotter.max_duration,
+                                        spotter.max_pause):
+            t, P = seg.buffer.slice(first.start - spotter.margin, units[k].end + spotter.margin)
+            rows.append(classifier.distances(t, P))
+            closures.append(closure(P[spotter.margin:P.shape[0] - spotter.margin], L))
+    if not rows:
+        return np.full((0, len(classifier.models)), np.inf), np.zeros(0)
+    return np.vstack(rows), np.array(closures)
+
+
+def gesture_closures(
+    trajectories: Sequence[Trajectory], labels: Sequence[str], levels: SpeedLevels, L: float,
+    dt: float = 0.02,
+) -> dict[str, float]:
+    """Largest closure of each gesture's recordings (from the first unit's start to the last
+    unit's end: the whole gesture without its rests)."""
+    out: dict[str, float] = {}
+    for tr, g in zip(trajectories, labels, strict=True):
+        seg, units = _units(tr, levels, L, dt)
+        if not units:
+            continue
+        _, P = seg.buffer.slice(units[0].start, units[-1].end)
+        out[g] = max(out.get(g, 0.0), closure(P, L))
+    return out
+
+
+def closure_limit(largest: float) -> float:
+    """Closure limit of a gesture whose demonstrations close up to ``largest``: the geometric
+    midpoint between them and a one-way motion (closure 1)."""
+    return float(np.sqrt(max(largest, 1e-6)))
+
+
+def calibrate_segment_thresholds(
+    trajectories: Sequence[Trajectory],
+    labels: Sequence[str],
+    classifier: SegmentClassifier,
+    levels: SpeedLevels,
+    spotter: Spotter,
+    L: float,
+    overlap_factor: float = 0.8,
+    seed: int = 0,
+) -> SegmentThresholds:
+    """τ_g for every gesture (see the module docstring).
+
+    Parameters
+    ----------
+    trajectories, labels
+        The model recordings (the same as ``classifier.models``, in order) and their gestures.
+    classifier, levels, spotter, L
+        The live recognizer's stages, so the calibration cuts and classifies as it will.
+    overlap_factor : float
+        τ_g = overlap_factor · N_g when positives and negatives overlap.
+    seed : int
+        Seed of the generated non-gesture motion (the calibration is deterministic).
+    """
+    labels_arr = np.asarray(labels)
+    gestures = list(dict.fromkeys(labels))
+    closed = gesture_closures(trajectories, labels, levels, L)
+    limits = {g: closure_limit(closed.get(g, 1.0)) for g in gestures}
+    positives: dict[str, list[float]] = {g: [] for g in gestures}
+    for r, tr in enumerate(trajectories):
+        D, c = segment_distances(tr, classifier, levels, spotter, L)
+        same = labels_arr == labels[r]
+        same[r] = False
+        ok = c <= limits[labels[r]]
+        score = float(D[ok][:, same].min()) if ok.any() and same.any() else np.inf
+        positives[labels[r]].append(score)
+    negatives = dict.fromkeys(gestures, np.inf)
+    for _, neg in non_gesture_motions(trajectories, labels, L, kinds=("rest", "moves"), seed=seed):
+        D, c = segment_distances(neg, classifier, levels, spotter, L)
+        for g in gestures:
+            ok = c <= limits[g]
+            if ok.any():
+                negatives[g] = min(negatives[g], float(D[ok][:, labels_arr == g].min()))
+    thresholds, separated = {}, {}
+    for g in gestures:
+        finite = [p for p in positives[g] if np.isfinite(p)]
+        P = max(finite) if finite else np.inf
+        N = negatives[g]
+        separated[g] = bool(P < N)
+        if np.isfinite(P) and P < N:
+            thresholds[g] = float(np.sqrt(P * N)) if np.isfinite(N) else 2.0 * P
+        elif np.isfinite(N):
+            thresholds[g] = overlap_factor * N
+        else:
+            raise ValueError(f"cannot calibrate gesture {g!r}: no positive and no negative score")
+    return SegmentThresholds(thresholds, positives, negatives, separated, limits)
