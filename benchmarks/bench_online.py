@@ -102,10 +102,10 @@ def main() -> None:
 
     import numba
 
-    from framefree.online import Recognizer, RecognizerConfig
+    from framefree.online import Recognizer, PaperConfig
 
     trajs, labels, t, p, q, origin = _models_and_stream()
-    cfg = RecognizerConfig()
+    cfg = PaperConfig()
     if args.prune_factor != "default":
         cfg = cfg.replace(prune_factor=None if args.prune_factor == "none" else float(args.prune_factor))
     calibrated = Recognizer.from_trajectories(trajs, labels, cfg)

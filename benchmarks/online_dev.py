@@ -1,7 +1,7 @@
 """Development metrics of the real-time recognizer on *dev* streams (never the test streams).
 
 The held-out test set is the replica's ``streams/stream_{1,2,3}`` (``make_stream(1..3)``). Every
-parameter of :class:`framefree.online.RecognizerConfig` is chosen here, on streams generated with
+parameter of :class:`framefree.online.PaperConfig` is chosen here, on streams generated with
 seeds 100-119 by :func:`framefree.datasets.make_stream`, with the models and the automatic
 calibration from the replica's ``original_1`` recordings.
 

@@ -16,6 +16,8 @@ from .config import RecognizerConfig
 from .events import STOP, Event
 from .matchers import MatcherBank
 from .models import GestureModels, build_models
+from .paper import PaperRecognizer
+from .paper_config import PaperConfig
 from .preprocess import StreamingBILTSPlus, descriptor_from_samples, replay
 from .recognizer import Recognizer
 from .stop import SampleRateStopDetector, StopDetector, sustained_peak_speed
@@ -27,6 +29,8 @@ __all__ = [
     "Event",
     "GestureModels",
     "MatcherBank",
+    "PaperConfig",
+    "PaperRecognizer",
     "Recognizer",
     "RecognizerConfig",
     "SampleGate",

@@ -185,6 +185,8 @@ class Spotter:
         self.pending: Candidate | None = None
         self.consumed = -1  # candidates must start after this running index
         self.last_distances: np.ndarray | None = None
+        #: (end time [s], distances (M,)) of every candidate classified since the owner cleared it
+        self.evaluated: list[tuple[float, np.ndarray]] = []
 
     def discard_before(self, index: int) -> None:
         """Drop the pending candidate and every unit that started before ``index`` (after a stop
@@ -204,6 +206,7 @@ class Spotter:
             times, poses = buffer.slice(first.start - self.margin, last.end + self.margin)
             d = self.classifier.distances(times, poses)
             self.last_distances = d
+            self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
             ratio = float(d[j] / self.model_thresholds[j])
             c = closure(poses[self.margin:poses.shape[0] - self.margin], self.L)

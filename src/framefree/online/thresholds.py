@@ -8,16 +8,19 @@ candidate segment of it is classified against the *other* recordings of its gest
 **Negatives.** Generic motion that is no gesture, built around every recording's start and end
 pose with the recording's own sensor noise (:func:`framefree.online.calibration.non_gesture_motions`):
 holding still, and unhurried via-point moves (repositioning, reaching). Their candidate segments are
-classified against the models of ``g``; ``N_g`` is the smallest distance.
+classified against the models of ``g`` (only candidates within ``g``'s closure limit: see
+:func:`closure_limit`); an episode's score is its best candidate's distance, and ``N_g`` is the
+``negative_quantile`` (5 %) quantile of the episodes' scores.
 
 **Rule.** Distances are scale-like, so the threshold sits at the geometric midpoint
-``τ_g = √(P_g · N_g)`` when ``P_g < N_g``: as far, in ratio, from the worst demonstration as from
-the nearest non-gesture. When they overlap, ``τ_g = overlap_factor · N_g`` (rejection wins) and the
-gesture is reported as not separated.
+``τ_g = √(P_g · N_g)``: as far, in ratio, from the worst demonstration as from the nearest generic
+motion. When ``P_g ≥ N_g`` the gesture is reported as not separated (the midpoint is then a
+compromise between missing demonstrations and accepting generic motion).
 """
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -31,6 +34,7 @@ from .spotting import SegmentClassifier, Spotter, candidate_spans
 __all__ = [
     "SegmentThresholds",
     "calibrate_segment_thresholds",
+    "candidate_limits",
     "closure_limit",
     "gesture_closures",
     "segment_distances",
@@ -48,7 +52,7 @@ class SegmentThresholds:
     positives : dict of str to list of float
         Leave-one-out scores of each gesture's recordings.
     negatives : dict of str to float
-        ``N_g``: the nearest non-gesture candidate's distance to the models of ``g``.
+        ``N_g``: the low quantile of the non-gesture episodes' distances to the models of ``g``.
     separated : dict of str to bool
         ``P_g < N_g``.
     closure_limits : dict of str to float
@@ -66,10 +70,10 @@ class SegmentThresholds:
         """JSON-friendly summary."""
         return {
             "rule": "tau_g = sqrt(P_g * N_g) (P_g: worst leave-one-out demonstration, "
-                    "N_g: nearest non-gesture motion)",
+                    "N_g: 5 % quantile of generic non-gesture episodes)",
             "thresholds": dict(self.thresholds),
             "positives_max": {g: float(max(v)) for g, v in self.positives.items()},
-            "negatives_min": dict(self.negatives),
+            "negatives_quantile": dict(self.negatives),
             "separated": dict(self.separated),
             "closure_limits": dict(self.closure_limits),
         }
@@ -127,6 +131,30 @@ def gesture_closures(
     return out
 
 
+def candidate_limits(
+    trajectories: Sequence[Trajectory], levels: SpeedLevels, L: float, span_factor: float,
+    min_pause: float, dt: float = 0.02,
+) -> tuple[int, float, float]:
+    """Candidate limits from the model recordings: ``(max_units, max_duration, max_pause)``.
+
+    One unit more than the most units of any recording; ``span_factor`` × the longest gesture (first
+    unit's start to last unit's end); ``span_factor`` × the longest rest between two units of one
+    recording, at least ``min_pause`` [s].
+    """
+    most, longest, pause = 1, 0.0, 0.0
+    for tr in trajectories:
+        _, units = _units(tr, levels, L, dt)
+        if not units:
+            continue
+        most = max(most, len(units))
+        longest = max(longest, units[-1].end_t - units[0].start_t)
+        for a, b in itertools.pairwise(units):
+            pause = max(pause, b.start_t - a.end_t)
+    if longest == 0.0:
+        raise ValueError("no movement found in the model recordings")
+    return most + 1, span_factor * longest, max(min_pause, span_factor * pause)
+
+
 def closure_limit(largest: float) -> float:
     """Closure limit of a gesture whose demonstrations close up to ``largest``: the geometric
     midpoint between them and a one-way motion (closure 1)."""
@@ -140,7 +168,7 @@ def calibrate_segment_thresholds(
     levels: SpeedLevels,
     spotter: Spotter,
     L: float,
-    overlap_factor: float = 0.8,
+    negative_quantile: float = 0.05,
     seed: int = 0,
 ) -> SegmentThresholds:
     """τ_g for every gesture (see the module docstring).
@@ -151,8 +179,10 @@ def calibrate_segment_thresholds(
         The model recordings (the same as ``classifier.models``, in order) and their gestures.
     classifier, levels, spotter, L
         The live recognizer's stages, so the calibration cuts and classifies as it will.
-    overlap_factor : float
-        τ_g = overlap_factor · N_g when positives and negatives overlap.
+    negative_quantile : float
+        ``N_g`` is this quantile of the non-gesture episodes' scores (0.05: one generic motion
+        episode in twenty may come closer to ``g`` than ``N_g``; the minimum would hinge on the
+        single most gesture-like of an arbitrary number of random episodes).
     seed : int
         Seed of the generated non-gesture motion (the calibration is deterministic).
     """
@@ -168,23 +198,26 @@ def calibrate_segment_thresholds(
         ok = c <= limits[labels[r]]
         score = float(D[ok][:, same].min()) if ok.any() and same.any() else np.inf
         positives[labels[r]].append(score)
-    negatives = dict.fromkeys(gestures, np.inf)
+    episodes: dict[str, list[float]] = {g: [] for g in gestures}
     for _, neg in non_gesture_motions(trajectories, labels, L, kinds=("rest", "moves"), seed=seed):
         D, c = segment_distances(neg, classifier, levels, spotter, L)
         for g in gestures:
             ok = c <= limits[g]
             if ok.any():
-                negatives[g] = min(negatives[g], float(D[ok][:, labels_arr == g].min()))
-    thresholds, separated = {}, {}
+                episodes[g].append(float(D[ok][:, labels_arr == g].min()))
+    thresholds, separated, negatives = {}, {}, {}
     for g in gestures:
         finite = [p for p in positives[g] if np.isfinite(p)]
         P = max(finite) if finite else np.inf
-        N = negatives[g]
+        N = float(np.quantile(episodes[g], negative_quantile)) if episodes[g] else np.inf
+        negatives[g] = N
         separated[g] = bool(P < N)
-        if np.isfinite(P) and P < N:
-            thresholds[g] = float(np.sqrt(P * N)) if np.isfinite(N) else 2.0 * P
+        if np.isfinite(P) and np.isfinite(N):
+            thresholds[g] = float(np.sqrt(P * N))
+        elif np.isfinite(P):  # nothing generic comes close to this gesture
+            thresholds[g] = 2.0 * P
         elif np.isfinite(N):
-            thresholds[g] = overlap_factor * N
+            thresholds[g] = 0.5 * N
         else:
             raise ValueError(f"cannot calibrate gesture {g!r}: no positive and no negative score")
     return SegmentThresholds(thresholds, positives, negatives, separated, limits)
