@@ -54,10 +54,10 @@ def _recognizer(models: str, model_context: str, **kw: Any):
         click.echo(f"building models from {models}/<gesture>/{model_context} ...", err=True)
         rec = Recognizer.from_dataset(models, model_context=model_context, **overrides)
     rec.warmup()
+    taus = list(rec.gesture_thresholds.values())
     click.echo(
-        f"{len(rec.labels)} models, {len(rec.gestures)} gestures, threshold {rec.threshold:.4g}, "
-        f"stop |dq/dt| > {rec.stop_threshold:.3g}/s, resolution {rec.models.resolution:.4g} m "
-        f"({time.perf_counter() - t0:.1f} s)",
+        f"{len(rec.labels)} models, {len(rec.gestures)} gestures, "
+        f"thresholds {min(taus):.4g}–{max(taus):.4g}, stop above {rec.stop_threshold:.3g} ({time.perf_counter() - t0:.1f} s)",
         err=True,
     )
     return rec
@@ -157,7 +157,7 @@ def live_cmd(models: str, model_context: str, source: str, speed: float, timeout
             if view and now - last_view > 0.1:
                 last_view = now
                 gd = rec.gesture_dissimilarities()
-                line = " ".join(f"{short[g]} {_bar(v, rec.threshold)}" for g, v in gd.items())
+                line = " ".join(f"{short[g]} {_bar(v, rec.gesture_thresholds[g])}" for g, v in gd.items())
                 if tty:
                     click.echo(f"\r\033[K{t:8.2f} s {line}", nl=False)
     except KeyboardInterrupt:

@@ -18,7 +18,7 @@ Modules: :mod:`~framefree.library.takes` (cutting a recording into takes),
 
 from .check import CheckReport, CheckSettings, Finding, GestureCheck, check_takes, descriptor_for
 from .figures import plot_distance_map, plot_take_gallery
-from .probes import STOP_PEAK_RATE, everyday_motions, perturbed, random_frame, stop_rotations
+from .probes import everyday_motions, perturbed, random_frame, slowest_stop_speed, stop_rotations
 from .store import (
     FORMAT_VERSION,
     OWN_CONTEXT,
@@ -46,7 +46,6 @@ from .takes import (
 __all__ = [
     "FORMAT_VERSION",
     "OWN_CONTEXT",
-    "STOP_PEAK_RATE",
     "CheckReport",
     "CheckSettings",
     "Finding",
@@ -73,6 +72,7 @@ __all__ = [
     "random_frame",
     "read_takes",
     "rest_level",
+    "slowest_stop_speed",
     "split_takes",
     "stop_rotations",
     "write_take",

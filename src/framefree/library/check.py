@@ -16,8 +16,8 @@ recognizes the take iff ``min_h other_i(h) > same_i``.
   the other (original) takes;
 * **stop**: the margin of ``g`` against fast wrist rotations
   (:func:`~framefree.library.probes.stop_rotations`), and whether ``g`` itself rotates nearly as
-  fast as a stop signal (then the stop threshold, set above the fastest gesture, would miss slow
-  stop signals);
+  fast as a stop signal (then the stop threshold, ``stop_margin`` above the fastest gesture, would
+  miss slow stop signals);
 * **everyday**: the margin of ``g`` against reaching and repositioning moves
   (:func:`~framefree.library.probes.everyday_motions`).
 
@@ -40,8 +40,8 @@ import numpy as np
 
 from ..descriptors.base import Descriptor, get_descriptor
 from ..online.config import RecognizerConfig
-from ..online.stop import debounced_peak_rate
-from .probes import STOP_PEAK_RATE, everyday_motions, perturbed, stop_rotations
+from ..online.stop import sustained_peak_speed
+from .probes import everyday_motions, perturbed, slowest_stop_speed, stop_rotations
 from .store import TakeSet
 
 __all__ = ["CheckReport", "CheckSettings", "Finding", "GestureCheck", "check_takes", "descriptor_for"]
@@ -102,7 +102,7 @@ class GestureCheck:
     stop_margin: float
     everyday_margin: float
     everyday_nearest: str
-    peak_rate: float
+    peak_speed: float
 
 
 @dataclass
@@ -166,10 +166,11 @@ class CheckReport:
 
 
 def descriptor_for(config: RecognizerConfig | None = None) -> Descriptor:
-    """The offline descriptor the recognizer classifies with: BILTS+, screw-path progress, the
-    configuration's scale length ``L`` and window scale ``ds_scale``."""
+    """The offline descriptor the recognizer classifies segments with: BILTS+, screw-path progress,
+    the configuration's ``L``, ``ds_scale``, ``n_samples`` and ``presmooth``."""
     c = config or RecognizerConfig()
-    return get_descriptor("bilts+", progress="screw", L=c.L, ds_scale=c.ds_scale)
+    return get_descriptor("bilts+", progress="screw", L=c.L, ds_scale=c.ds_scale, n_samples=c.n_samples,
+                          presmooth=c.presmooth)
 
 
 def _nearest_by_gesture(D: np.ndarray, labels: np.ndarray, gestures: Sequence[str]) -> np.ndarray:
@@ -277,7 +278,8 @@ def check_takes(
             _probe_margin(Ds, labels, g, spread[g], s.probe_quantile),
             _probe_margin(De, labels, g, spread[g], s.probe_quantile),
             str(ekinds[int(np.argmin(ecol))]) if ecol.size else "-",
-            max(debounced_peak_rate(takes.takes[k], config.stop_samples) for k in np.flatnonzero(sel)),
+            max(sustained_peak_speed(takes.takes[k].t, takes.takes[k].q, config.stop_window,
+                                     config.stop_min_duration) for k in np.flatnonzero(sel)),
         )
     report = CheckReport(list(takes.names), list(takes.labels), D, list(predicted),
                          [str(x) for x in ppred[:: max(s.perturbations, 1)]], checks)
@@ -293,6 +295,9 @@ def _describe(desc: Descriptor, trajs: Sequence, progress: bool, what: str) -> l
 
 def _findings(r: CheckReport, s: CheckSettings, config: RecognizerConfig) -> list[Finding]:
     out: list[Finding] = []
+
+    slowest_stop = slowest_stop_speed(config.stop_window, config.stop_min_duration)
+    fastest = max(r.gestures.values(), key=lambda c: c.peak_speed).gesture
 
     def level(m: float) -> str | None:
         return "problem" if m < s.fail_margin else "warning" if m < s.warn_margin else None
@@ -315,11 +320,11 @@ def _findings(r: CheckReport, s: CheckSettings, config: RecognizerConfig) -> lis
         if c.stop_margin < s.warn_margin:
             out.append(Finding("warning", g, f"{g} is within {c.stop_margin:.2f}x of a stop rotation "
                                              "(fast wrist back-and-forth): give it another shape"))
-        if c.peak_rate * config.stop_margin > STOP_PEAK_RATE:
-            out.append(Finding("warning", g, f"{g} turns almost as fast as a stop signal (peak |dq/dt| "
-                                             f"{c.peak_rate:.2f}/s): the stop threshold becomes "
-                                             f"{c.peak_rate * config.stop_margin:.2f}/s, above the "
-                                             f"slowest stop signals ({STOP_PEAK_RATE:.2f}/s): "
+        if g == fastest and c.peak_speed * config.stop_margin > slowest_stop:
+            out.append(Finding("warning", g, f"{g} turns almost as fast as a stop signal (sustained "
+                                             f"{c.peak_speed:.1f} rad/s): the stop threshold becomes "
+                                             f"{c.peak_speed * config.stop_margin:.1f} rad/s, above the "
+                                             f"slowest stop signals ({slowest_stop:.1f} rad/s): "
                                              "perform it more slowly"))
         if c.everyday_margin < s.warn_margin:
             out.append(Finding("warning", g,

@@ -20,28 +20,27 @@ import numpy as np
 
 from .. import se3
 from ..datasets.recording import random_rotation
+from ..datasets.streams import STOP_SIGNAL
 from ..online.calibration import non_gesture_motions, sensor_noise
+from ..online.stop import sustained_peak_speed
 from ..trajectory import Trajectory
 
 __all__ = [
-    "STOP_PEAK_RATE",
     "everyday_motions",
     "perturbed",
     "random_frame",
+    "slowest_stop_speed",
     "stop_rotations",
 ]
 
 #: Sample period of the probe motions [s].
 PERIOD = 0.02
-#: Stop signal: amplitude [rad] and stroke duration [s] ranges of the three strokes (+A, −2A, +A).
-STOP_AMPLITUDE = (math.radians(50.0), math.radians(80.0))
-STOP_STROKE = (0.2, 0.3)
+#: Stop signal: amplitude [rad] and stroke duration [s] ranges of the three strokes (+A, −2A, +A),
+#: as the simulated people make it (:data:`framefree.datasets.streams.STOP_SIGNAL`).
+STOP_AMPLITUDE = STOP_SIGNAL["amplitude"]
+STOP_STROKE = STOP_SIGNAL["stroke"]
 #: Distance [m] from the tracker to the rotation axis of a stop signal (forearm axis, grip).
 STOP_AXIS_OFFSET = (0.02, 0.08)
-#: Peak ``|q̇|`` [1/s] of the slowest stop signal: its fastest stroke is the middle one (2 × 50° in
-#: 1.6 × 0.3 s), and a minimum-jerk stroke peaks at 1.875 × its mean speed: ≈ 6.8 rad/s angular
-#: speed; ``|q̇|`` is half the angular speed.
-STOP_PEAK_RATE = 0.5 * 1.875 * 2.0 * STOP_AMPLITUDE[0] / (1.6 * STOP_STROKE[1])
 #: Reach of everyday moves [m] and their largest turn [rad].
 REACH = 0.12
 TURN = math.radians(60.0)
@@ -111,12 +110,30 @@ def _hold(A: np.ndarray, duration: float) -> np.ndarray:
     return np.repeat(A[None], max(1, round(duration / PERIOD)), axis=0)
 
 
+def _stop_poses(T0: np.ndarray, axis: np.ndarray, lever: np.ndarray, amplitude: float,
+                strokes: tuple[float, float, float]) -> np.ndarray:
+    """Rest, three minimum-jerk strokes ``+A, −2A, +A`` of the given durations [s] about ``axis``
+    through ``T0``'s origin + ``lever``, rest: poses (n, 4, 4)."""
+    pieces = [_hold(T0, 0.4)]
+    A = T0
+    centre = T0[:3, 3] + lever
+    for frac, duration in zip((1.0, -2.0, 1.0), strokes, strict=True):
+        R = se3.rotation_from_vector(axis * frac * amplitude)
+        B = A.copy()
+        B[:3, :3] = R @ A[:3, :3]
+        B[:3, 3] = centre + R @ (A[:3, 3] - centre)
+        pieces.append(_move(A, B, duration))
+        A = B
+    pieces.append(_hold(A, 0.4))
+    return np.concatenate(pieces)
+
+
 def stop_rotations(take: Trajectory, rng: np.random.Generator, n: int = 2) -> list[Trajectory]:
     """``n`` stop signals starting at the take's start pose.
 
     Each is a rest, three minimum-jerk strokes ``+A, −2A, +A`` about a random axis passing
     :data:`STOP_AXIS_OFFSET` from the tracker (the forearm axis, seen through an unknown grip),
-    and a rest.
+    and a rest; amplitudes and durations as :data:`~framefree.datasets.streams.STOP_SIGNAL`.
     """
     T0 = take.poses()[0]
     out = []
@@ -124,20 +141,21 @@ def stop_rotations(take: Trajectory, rng: np.random.Generator, n: int = 2) -> li
         axis = random_rotation(rng)[:, 0]
         lever = np.cross(axis, rng.standard_normal(3))
         lever *= rng.uniform(*STOP_AXIS_OFFSET) / np.linalg.norm(lever)
-        a = rng.uniform(*STOP_AMPLITUDE)
-        pieces = [_hold(T0, 0.4)]
-        A = T0
-        for k, frac in enumerate((1.0, -2.0, 1.0)):
-            R = se3.rotation_from_vector(axis * frac * a)
-            centre = T0[:3, 3] + lever
-            B = A.copy()
-            B[:3, :3] = R @ A[:3, :3]
-            B[:3, 3] = centre + R @ (A[:3, 3] - centre)
-            pieces.append(_move(A, B, rng.uniform(*STOP_STROKE) * (1.6 if k == 1 else 1.0)))
-            A = B
-        pieces.append(_hold(A, 0.4))
-        out.append(_noisy(np.concatenate(pieces), take, rng, f"stop rotation from {take.source}"))
+        strokes = tuple(rng.uniform(*STOP_STROKE) * f for f in (1.0, 1.6, 1.0))
+        P = _stop_poses(T0, axis, lever, rng.uniform(*STOP_AMPLITUDE), strokes)
+        out.append(_noisy(P, take, rng, f"stop rotation from {take.source}"))
     return out
+
+
+def slowest_stop_speed(window: float = 0.08, min_duration: float = 0.04) -> float:
+    """Sustained peak angular speed [rad/s] of the slowest stop signal (smallest amplitude, longest
+    strokes), measured as the recognizer's stop detector measures it
+    (:func:`~framefree.online.stop.sustained_peak_speed` with its ``window`` and ``min_duration``)."""
+    d = STOP_STROKE[1]
+    P = _stop_poses(np.eye(4), np.array([1.0, 0.0, 0.0]), np.array([0.0, 0.05, 0.0]), STOP_AMPLITUDE[0],
+                    (d, 1.6 * d, d))
+    _, q = se3.pq_from_poses(P)
+    return sustained_peak_speed(PERIOD * np.arange(P.shape[0]), q, window, min_duration)
 
 
 def _nearby(T0: np.ndarray, rng: np.random.Generator) -> np.ndarray:

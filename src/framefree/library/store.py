@@ -38,7 +38,6 @@ import numpy as np
 from .. import __version__
 from ..errors import DatasetError, FramefreeError
 from ..online.config import RecognizerConfig
-from ..online.models import build_models
 from ..online.recognizer import Recognizer
 from ..trajectory import Trajectory
 
@@ -252,16 +251,12 @@ def build_recognizer(
 ) -> Recognizer:
     """A recognizer over models rebuilt from ``takes``, with the given thresholds (no calibration).
 
-    ``config`` must carry the resolution, ``threshold`` and ``stop_threshold`` found at enrolment.
-    This is the only place that knows how a recognizer is restored from stored thresholds.
+    ``config`` must be the resolved configuration found at enrolment (every value the recognizer
+    derives from its models already set). This is the only place that knows how a recognizer is
+    restored from a library.
     """
-    import inspect
-
-    if "gesture_thresholds" in inspect.signature(Recognizer.from_trajectories).parameters:
-        return Recognizer.from_trajectories(list(takes), list(labels), config,
-                                            gesture_thresholds=dict(gesture_thresholds))
-    models = build_models(list(takes), list(labels), config)
-    return Recognizer(models, config, None, dict(gesture_thresholds))
+    config = config.replace(gesture_thresholds=dict(gesture_thresholds))
+    return Recognizer.from_trajectories(list(takes), list(labels), config)
 
 
 @dataclass(frozen=True)
@@ -362,7 +357,7 @@ class GestureLibrary:
         """One line per gesture: takes and threshold."""
         counts = self.takes.counts()
         lines = [f"{len(self.takes)} takes of {len(counts)} gestures, "
-                 f"stop |dq/dt| > {self.stop_threshold:.3g}/s"]
+                 f"stop above {self.stop_threshold:.3g} rad/s"]
         lines += [f"  {g:<16} {n:3d} takes  τ = {self.gesture_thresholds.get(g, float('nan')):.4g}"
                   for g, n in counts.items()]
         return "\n".join(lines)
