@@ -105,7 +105,8 @@ def _rewrite(src: Path, dst: Path, change) -> Path:
 
 def test_other_format_version_says_how_to_rebuild(hpm_library_file: Path, tmp_path: Path) -> None:
     old = _rewrite(hpm_library_file, tmp_path / "old.npz", lambda m: m.update(format_version=0))
-    with pytest.raises(LibraryError, match=r"format 0 .*rebuild it with: framefree enroll .*-o .*old\.npz") as exc:
+    hint = r"format 0 .*rebuild it with: framefree enroll .*-o .*old\.npz"
+    with pytest.raises(LibraryError, match=hint) as exc:
         load_library(old)
     assert "\n" not in str(exc.value)
 
