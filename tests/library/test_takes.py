@@ -45,7 +45,7 @@ def test_one_take_per_performance(gesture: str) -> None:
         # the motion lies inside its own performance, the trimmed take keeps a rest margin
         assert cuts[k] < sp.onset < sp.end < cuts[k + 1]
         assert sp.start < sp.onset and sp.stop > sp.end
-        assert sp.onset - sp.start == pytest.approx(0.4, abs=0.03)
+        assert sp.onset - sp.start == pytest.approx(TakeSettings().margin, abs=0.03)
 
 
 def test_split_takes_cuts_the_samples_and_starts_at_zero() -> None:

@@ -8,9 +8,11 @@ of the lightly smoothed poses, in metres per second (rotation weighted by the sc
 The rest level is derived from the recording itself: its noise floor (a low quantile of the speed:
 the hand resting with the tracker's jitter) and its peak speed (a high quantile), placed between
 the two on a log scale. A *rest* is a stretch below that level lasting at least ``min_rest``
-seconds; everything between two rests is a take. Each take is trimmed to its motion onset and end,
-keeping ``margin`` seconds of rest on both sides (as in the HPM recordings, which start and end
-with the hand still), and dropped when it is too short or too small to be a gesture (a twitch).
+seconds; everything between two rests is a take. Its motion onset and end are found by going
+outwards from where the speed crossed the rest level to where it falls to twice the noise floor.
+Each take is trimmed to them, keeping ``margin`` seconds of rest on both sides (as in the HPM
+recordings, which start and end with the hand still), and dropped when it is too short or too
+small to be a gesture (a twitch).
 """
 
 from __future__ import annotations
@@ -68,17 +70,21 @@ class TakeSettings:
         Shortest take [s] (motion part, without the margins).
     min_path : float
         Smallest screw path [m] of a take (smaller motions are twitches, not gestures).
+    onset_factor : float
+        The motion onset and end are where the speed falls to ``onset_factor`` × the noise floor
+        (going outwards from where it crossed the rest level), so that the kept margin is rest.
     """
 
     L: float = 0.2
     smoothing: float = 0.3
     min_rest: float = 0.9
-    margin: float = 0.4
+    margin: float = 0.5
     level: float = 0.4
     noise_quantile: float = 0.1
     peak_quantile: float = 0.99
     min_duration: float = 0.3
     min_path: float = 0.03
+    onset_factor: float = 2.0
 
     def __post_init__(self) -> None:
         for name in ("L", "smoothing", "min_rest", "min_duration"):
@@ -187,7 +193,7 @@ def find_takes(traj: Trajectory, settings: TakeSettings | None = None) -> list[T
     """
     s = settings or TakeSettings()
     t, v = motion_speed(traj, s.L, s.smoothing)
-    _, peak, level = rest_level(v, s)
+    noise, peak, level = rest_level(v, s)
     if not peak > 0:
         return []
     dt = SPEED_PERIOD
@@ -196,19 +202,22 @@ def find_takes(traj: Trajectory, settings: TakeSettings | None = None) -> list[T
     for a, b in _runs(~moving):
         if a > 0 and b < v.size and (b - a) * dt < s.min_rest:
             moving[a:b] = True
+    runs = [(a, b) for a, b in _runs(moving)
+            if t[b - 1] - t[a] >= s.min_duration and np.sum(v[a:b]) * dt >= s.min_path]
+    low = min(s.onset_factor * noise, level)
     spans: list[TakeSpan] = []
-    runs = _runs(moving)
     for k, (a, b) in enumerate(runs):
+        # a take owns the rests around it up to their middle
+        lo = (runs[k - 1][1] + a) // 2 if k else 0
+        hi = (b + runs[k + 1][0]) // 2 if k + 1 < len(runs) else v.size
+        while a > lo and v[a - 1] > low:  # back to where the motion really starts
+            a -= 1
+        while b < hi and v[b] > low:
+            b += 1
         onset, end = t[a], t[b - 1]
-        path = float(np.sum(v[a:b]) * dt)
-        if end - onset < s.min_duration or path < s.min_path:
-            continue
-        prev_end = t[runs[k - 1][1] - 1] if k > 0 else t[0]
-        next_onset = t[runs[k + 1][0]] if k + 1 < len(runs) else t[-1]
-        start = max(onset - s.margin, 0.5 * (prev_end + onset) if k > 0 else t[0])
-        stop = min(end + s.margin, 0.5 * (end + next_onset) if k + 1 < len(runs) else t[-1])
-        spans.append(TakeSpan(float(onset), float(end), float(start), float(stop),
-                              float(v[a:b].max()), path))
+        spans.append(TakeSpan(float(onset), float(end), float(max(onset - s.margin, t[lo])),
+                              float(min(end + s.margin, t[hi - 1])), float(v[a:b].max()),
+                              float(np.sum(v[a:b]) * dt)))
     return spans
 
 
