@@ -92,7 +92,8 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--gesture", default="figure_eight", help="the new gesture (figure_eight, push_twist)")
     ap.add_argument("--takes", type=int, default=5, help="demonstrations of the new gesture")
     ap.add_argument("--demo-seed", type=int, default=0, help="seed of the demonstration recording")
-    ap.add_argument("--people", type=int, default=3, help="held-out people (the first N of HELDOUT_PEOPLE)")
+    ap.add_argument("--people", type=int, default=3, help="number of held-out people")
+    ap.add_argument("--first-person", type=int, default=0, help="index of the first one in HELDOUT_PEOPLE")
     ap.add_argument("--streams-per-person", type=int, default=2)
     ap.add_argument("--n-gestures", type=int, default=16, help="gestures per stream")
     ap.add_argument("--no-baseline", action="store_true", help="skip the seven-gesture library")
@@ -112,7 +113,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     path8 = lib8.save(work / "hpm_plus_one.npz")
     t_enroll = time.perf_counter() - t0
 
-    people = list(HELDOUT_PEOPLE)[: args.people]
+    people = list(HELDOUT_PEOPLE)[args.first_person: args.first_person + args.people]
     labels = [*GESTURES, args.gesture]
     streams = make_person_streams(people, args.streams_per_person, n_gestures=args.n_gestures,
                                   gestures=labels, progress=True)
