@@ -36,24 +36,23 @@ from framefree.datasets import (
     replica_path,
     synthesize_gesture,
 )
-from framefree.library import TakeSet, enroll, load_recognizer, read_takes, split_takes
+from framefree.library import (
+    TakeSet,
+    enroll,
+    join_recordings,
+    load_recognizer,
+    read_takes,
+    split_takes,
+)
 from framefree.online.evaluation import match_events, run_stream
 from framefree.trajectory import Trajectory
 
 
 def demonstration(gesture: str, takes: int, seed: int) -> Trajectory:
     """One recording of ``takes`` performances (with the replica person's rests between them)."""
-    from framefree import se3
-
     rng = np.random.default_rng([seed, 8])
-    trials = [synthesize_gesture(gesture, rng) for _ in range(takes)]
-    T, t = trials[0].poses(), trials[0].t - trials[0].t[0]
-    for b in trials[1:]:
-        Tb = b.poses()
-        G = T[-1] @ se3.transform_inverse(Tb[0])
-        T = np.concatenate([T, G[None] @ Tb[1:]])
-        t = np.concatenate([t, b.t[1:] - b.t[0] + t[-1] + float(np.median(np.diff(b.t)))])
-    return Trajectory.from_poses(t, T, source=f"{gesture} demonstration")
+    return join_recordings([synthesize_gesture(gesture, rng) for _ in range(takes)],
+                           source=f"{gesture} demonstration")
 
 
 def per_gesture(results: Sequence[Any], labels: Sequence[str]) -> dict[str, dict[str, float]]:

@@ -4,12 +4,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
 import pytest
 
-from framefree import se3
 from framefree.datasets import replica_path
-from framefree.library import GestureLibrary, TakeSet, enroll, read_takes
+from framefree.library import GestureLibrary, TakeSet, enroll, join_recordings, read_takes
 from framefree.trajectory import Trajectory
 
 
@@ -32,15 +30,7 @@ def hpm_library_file(hpm_library: GestureLibrary, tmp_path_factory: pytest.TempP
 
 def chain(trajs: list[Trajectory], source: str = "session") -> Trajectory:
     """Recordings joined into one: each moved rigidly to start where the previous one ended."""
-    T = trajs[0].poses()
-    t = trajs[0].t - trajs[0].t[0]
-    for b in trajs[1:]:
-        Tb = b.poses()
-        G = T[-1] @ se3.transform_inverse(Tb[0])
-        dt = float(np.median(np.diff(b.t)))
-        T = np.concatenate([T, G[None] @ Tb[1:]])
-        t = np.concatenate([t, b.t[1:] - b.t[0] + t[-1] + dt])
-    return Trajectory.from_poses(t, T, source=source)
+    return join_recordings(trajs, source)
 
 
 def scaled(traj: Trajectory, factor: float, source: str) -> Trajectory:

@@ -15,6 +15,7 @@ from framefree.library import (
     TakeRecorder,
     TakeSettings,
     find_takes,
+    join_recordings,
     motion_speed,
     random_frame,
     split_takes,
@@ -154,3 +155,18 @@ def test_settings_are_validated() -> None:
         TakeSettings(level=1.5)
     with pytest.raises(ValueError, match="min_rest"):
         TakeSettings(min_rest=0.0)
+
+
+def test_join_recordings_is_continuous_and_keeps_each_shape() -> None:
+    rng = np.random.default_rng(9)
+    a, b = synthesize_gesture("go_left", rng), synthesize_gesture("go_home", rng)
+    joined = join_recordings([a, b])
+    assert len(joined) == len(a) + len(b) - 1
+    assert np.all(np.diff(joined.t) > 0)
+    np.testing.assert_allclose(joined.p[len(a) - 1], a.p[-1], atol=1e-12)
+    # the second recording, rigidly moved: distances between its positions are unchanged
+    part = joined.p[len(a) - 1:]
+    np.testing.assert_allclose(np.linalg.norm(part[1:] - part[0], axis=1),
+                               np.linalg.norm(b.p[1:] - b.p[0], axis=1), rtol=1e-9, atol=1e-12)
+    with pytest.raises(ValueError):
+        join_recordings([])

@@ -19,12 +19,13 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from .. import se3
 from ..errors import FramefreeError
 from ..progress import progress_increments
 from ..smoothing import smooth_poses
@@ -36,6 +37,7 @@ __all__ = [
     "TakeSpan",
     "cut_take",
     "find_takes",
+    "join_recordings",
     "motion_speed",
     "rest_level",
     "split_takes",
@@ -288,6 +290,35 @@ def write_take(take: Trajectory, library: str | Path, gesture: str, context: str
     path = folder / f"trial_{max(numbers, default=0) + 1}.csv"
     take.to_csv(path)
     return path
+
+
+def join_recordings(trajectories: Sequence[Trajectory], source: str = "joined recording") -> Trajectory:
+    """Recordings joined into one, as if performed one after the other without letting go.
+
+    Each recording is moved rigidly so that it starts at the pose where the previous one ended,
+    and its time stamps continue after the previous one's (one median sample period later).
+    Recordings that start and end at rest (like the HPM trials) give a session of takes
+    separated by rests — the input :func:`split_takes` expects.
+
+    Parameters
+    ----------
+    trajectories : sequence of Trajectory
+    source : str
+
+    Returns
+    -------
+    Trajectory
+    """
+    if not trajectories:
+        raise ValueError("no recordings to join")
+    T = trajectories[0].poses()
+    t = trajectories[0].t - trajectories[0].t[0]
+    for b in trajectories[1:]:
+        Tb = b.poses()
+        G = T[-1] @ se3.transform_inverse(Tb[0])
+        T = np.concatenate([T, G[None] @ Tb[1:]])
+        t = np.concatenate([t, b.t[1:] - b.t[0] + t[-1] + float(np.median(np.diff(b.t)))])
+    return Trajectory.from_poses(t, T, source=source)
 
 
 class TakeRecorder:
