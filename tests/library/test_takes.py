@@ -46,7 +46,9 @@ def test_one_take_per_performance(gesture: str) -> None:
         # the motion lies inside its own performance, the trimmed take keeps a rest margin
         assert cuts[k] < sp.onset < sp.end < cuts[k + 1]
         assert sp.start < sp.onset and sp.stop > sp.end
-        assert sp.onset - sp.start == pytest.approx(TakeSettings().margin, abs=0.03)
+        # up to `margin` of rest, less only where the rest is shared with the neighbouring take
+        for kept in (sp.onset - sp.start, sp.stop - sp.end):
+            assert 0.3 < kept <= TakeSettings().margin + 1e-9
 
 
 def test_split_takes_cuts_the_samples_and_starts_at_zero() -> None:
@@ -56,7 +58,7 @@ def test_split_takes_cuts_the_samples_and_starts_at_zero() -> None:
     assert len(takes) == 3
     for tk, sp in zip(takes, spans, strict=True):
         assert tk.t[0] == 0.0
-        assert tk.duration == pytest.approx(sp.stop - sp.start, abs=0.03)
+        assert tk.duration == pytest.approx(sp.stop - sp.start, abs=0.06)  # sample spacing, dropouts
         k0 = int(np.searchsorted(long.t, sp.start - 1e-9))
         np.testing.assert_array_equal(tk.p, long.p[k0:k0 + len(tk)])
         assert "take" in tk.source

@@ -39,7 +39,7 @@ def _pose_source(spec: str, timeout: float):
 @click.option("--timeout", type=float, default=10.0, show_default=True,
               help="Stop after this many seconds without a pose (live sources).")
 @click.option("--min-rest", type=float, default=None, help="Shortest rest between takes [s] (0.9).")
-@click.option("--margin", type=float, default=None, help="Rest kept before and after each take [s] (0.5).")
+@click.option("--margin", type=float, default=None, help="Rest kept before and after each take [s] (0.75).")
 def record_cmd(source: str, gesture: str, library: str, context: str, max_takes: int | None,
                timeout: float, min_rest: float | None, margin: float | None):
     """Record takes of a gesture: perform it, rest a second, perform it again, ...
@@ -54,7 +54,7 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
     changes = {k: v for k, v in (("min_rest", min_rest), ("margin", margin)) if v is not None}
     recorder = TakeRecorder(TakeSettings(**changes))
     src = _pose_source(source, timeout)
-    click.echo(f"recording {gesture!r} from {source}: perform it, rest about a second, perform it again "
+    click.echo(f"recording {gesture!r} from {source}: perform it, rest a second or two, perform it again "
                "... (Ctrl-C to stop)", err=True)
     written: list[Path] = []
 

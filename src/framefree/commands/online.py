@@ -57,7 +57,7 @@ def _recognizer(models: str, model_context: str, **kw: Any):
     taus = list(rec.gesture_thresholds.values())
     click.echo(
         f"{len(rec.labels)} models, {len(rec.gestures)} gestures, "
-        f"thresholds {min(taus):.4g}–{max(taus):.4g}, stop above {rec.stop_threshold:.3g} "
+        f"thresholds {min(taus):.4g}–{max(taus):.4g}, stop above {rec.stop_threshold:.3g} rad/s "
         f"({time.perf_counter() - t0:.1f} s)",
         err=True,
     )

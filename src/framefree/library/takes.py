@@ -80,7 +80,7 @@ class TakeSettings:
     L: float = 0.2
     smoothing: float = 0.3
     min_rest: float = 0.9
-    margin: float = 0.5
+    margin: float = 0.75
     level: float = 0.4
     noise_quantile: float = 0.1
     peak_quantile: float = 0.99
