@@ -170,3 +170,17 @@ def test_old_library_is_one_line_error(enrolled, tmp_path) -> None:
     lines = res.output.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error:") and "framefree enroll" in lines[0]
     assert "Traceback" not in res.output
+
+
+def test_enroll_keeps_settings(recorded, tmp_path) -> None:
+    lib, _ = recorded
+    out = tmp_path / "strict.npz"
+    res = CliRunner().invoke(cli, ["enroll", str(lib), "-o", str(out), "--set", "negative_quantile=0.1",
+                                   "--set", "confirm=0.3"])
+    assert res.exit_code == 0, res.output
+    from framefree.library import load_library
+
+    loaded = load_library(out)
+    assert loaded.settings["negative_quantile"] == 0.1 and loaded.config["confirm"] == 0.3
+    bad = CliRunner().invoke(cli, ["enroll", str(lib), "-o", str(out), "--set", "nonsense"])
+    assert bad.exit_code == 2 and "KEY=VALUE" in bad.output

@@ -250,22 +250,11 @@ def check_takes(
     spread = {g: max(float(np.median(same[labels == g])), 1e-12) for g in gestures}
     margins = _margins(near, labels, gestures, spread)
 
-    pert = [perturbed(tr, rng, speed_range=s.speed_range)
-            for tr in takes.takes for _ in range(s.perturbations)]
-    Dp = desc.distance_matrix(_describe(desc, pert, progress, "changed frames and speed"), base)
-    owner = np.repeat(np.arange(len(labels)), s.perturbations)
-    Dp[np.arange(owner.size), owner] = np.inf
-    plabels = labels[owner]
+    Dp, plabels = _perturbed_distances(takes, desc, base, rng, s, progress)
     pnear = _nearest_by_gesture(Dp, labels, gestures)
     ppred = np.array(gestures)[np.argmin(pnear, axis=1)]
     pmargins = _margins(pnear, plabels, gestures, spread)
-
-    stops = [m for tr in takes.takes for m in stop_rotations(tr, rng, s.probes_per_take)]
-    Ds = desc.distance_matrix(_describe(desc, stops, progress, "stop rotations"), base)
-    everyday = [pr for g in gestures for k in np.flatnonzero(labels == g)[:2]
-                for pr in everyday_motions(takes.takes[k], rng, config.L)]
-    De = desc.distance_matrix(_describe(desc, [tr for _, tr in everyday], progress, "everyday motion"), base)
-    ekinds = np.array([kind for kind, _ in everyday])
+    Ds, De, ekinds = _probe_distances(takes, desc, base, rng, s, config, progress)
 
     checks: dict[str, GestureCheck] = {}
     for g in gestures:
@@ -285,6 +274,32 @@ def check_takes(
                          [str(x) for x in ppred[:: max(s.perturbations, 1)]], checks)
     report.findings = _findings(report, s, config)
     return report
+
+
+def _perturbed_distances(takes: TakeSet, desc: Descriptor, base: list[np.ndarray], rng: np.random.Generator,
+                         s: CheckSettings, progress: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Distances (P, M) of perturbed copies of every take to the takes (its own take excluded),
+    and the gesture of each copy."""
+    pert = [perturbed(tr, rng, speed_range=s.speed_range)
+            for tr in takes.takes for _ in range(s.perturbations)]
+    Dp = desc.distance_matrix(_describe(desc, pert, progress, "changed frames and speed"), base)
+    owner = np.repeat(np.arange(len(takes)), s.perturbations)
+    Dp[np.arange(owner.size), owner] = np.inf
+    return Dp, np.array(takes.labels)[owner]
+
+
+def _probe_distances(takes: TakeSet, desc: Descriptor, base: list[np.ndarray], rng: np.random.Generator,
+                     s: CheckSettings, config: RecognizerConfig, progress: bool
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Distances of stop rotations (S, M) and of everyday motions (E, M) to the takes, and the kind
+    of each everyday motion."""
+    labels = np.array(takes.labels)
+    stops = [m for tr in takes.takes for m in stop_rotations(tr, rng, s.probes_per_take)]
+    Ds = desc.distance_matrix(_describe(desc, stops, progress, "stop rotations"), base)
+    everyday = [pr for g in takes.gestures for k in np.flatnonzero(labels == g)[:2]
+                for pr in everyday_motions(takes.takes[k], rng, config.L)]
+    De = desc.distance_matrix(_describe(desc, [tr for _, tr in everyday], progress, "everyday motion"), base)
+    return Ds, De, np.array([kind for kind, _ in everyday])
 
 
 def _describe(desc: Descriptor, trajs: Sequence, progress: bool, what: str) -> list[np.ndarray]:

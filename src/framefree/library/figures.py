@@ -36,6 +36,26 @@ def _margin_matrix(report: CheckReport) -> tuple[list[str], np.ndarray]:
     return gestures, M
 
 
+def _draw_margins(ax, gestures: list[str], M: np.ndarray, s: CheckSettings) -> None:
+    """The gesture-by-gesture margin matrix, annotated, problems red and warnings orange."""
+    n = len(gestures)
+    shown = np.where(np.eye(n, dtype=bool), np.nan, np.log10(np.clip(M, 0.1, 100.0)))
+    ax.imshow(shown, cmap="RdYlGn", vmin=-1, vmax=2, interpolation="nearest")
+    for i in range(n):
+        for j in range(n):
+            if i == j:
+                continue
+            bad = M[i, j] < s.fail_margin
+            warn = M[i, j] < s.warn_margin
+            ax.text(j, i, f"{M[i, j]:.1f}", ha="center", va="center", fontsize=6,
+                    color="k", fontweight="bold" if warn else "normal",
+                    bbox={"facecolor": "red" if bad else "orange", "lw": 0, "pad": 1} if warn else None)
+    ax.set_xticks(range(n), gestures, rotation=60, ha="right", fontsize=7)
+    ax.set_yticks(range(n), gestures, fontsize=7)
+    ax.set_title(f"margin (×): row gesture vs column gesture\n(problem < {s.fail_margin}, "
+                 f"warning < {s.warn_margin})", fontsize=9)
+
+
 def plot_distance_map(report: CheckReport, path: str | Path, settings: CheckSettings | None = None) -> Path:
     """Two panels: take-to-take distances (log colour scale, grouped by gesture) and the margin of
     every gesture against every other (row: the gesture, column: the one it might be taken for;
@@ -76,21 +96,7 @@ def plot_distance_map(report: CheckReport, path: str | Path, settings: CheckSett
     ax0.set_xticks(centres, gestures, rotation=60, ha="right", fontsize=7)
     ax0.set_yticks(centres, gestures, fontsize=7)
     ax0.set_title("take-to-take distances", fontsize=9)
-    shown = np.where(np.eye(n, dtype=bool), np.nan, np.log10(np.clip(M, 0.1, 100.0)))
-    ax1.imshow(shown, cmap="RdYlGn", vmin=-1, vmax=2, interpolation="nearest")
-    for i in range(n):
-        for j in range(n):
-            if i == j:
-                continue
-            bad = M[i, j] < s.fail_margin
-            warn = M[i, j] < s.warn_margin
-            ax1.text(j, i, f"{M[i, j]:.1f}", ha="center", va="center", fontsize=6,
-                     color="k", fontweight="bold" if warn else "normal",
-                     bbox={"facecolor": "red" if bad else "orange", "lw": 0, "pad": 1} if warn else None)
-    ax1.set_xticks(range(n), gestures, rotation=60, ha="right", fontsize=7)
-    ax1.set_yticks(range(n), gestures, fontsize=7)
-    ax1.set_title(f"margin (×): row gesture vs column gesture\n(problem < {s.fail_margin}, "
-                  f"warning < {s.warn_margin})", fontsize=9)
+    _draw_margins(ax1, gestures, M, s)
     fig.tight_layout()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
