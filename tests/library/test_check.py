@@ -116,3 +116,11 @@ def test_figures(confusable: tuple[TakeSet, CheckReport], tmp_path: Path) -> Non
     b = plot_take_gallery(vocab, tmp_path / "sub" / "g.png")
     for f in (a, b):
         assert f.is_file() and f.stat().st_size > 10_000
+
+
+def test_stop_probes_follow_the_simulated_people() -> None:
+    from framefree.datasets.streams import STOP_SIGNAL
+    from framefree.library import probes
+
+    assert probes.STOP_AMPLITUDE == pytest.approx(STOP_SIGNAL["amplitude"])
+    assert probes.STOP_STROKE == pytest.approx(STOP_SIGNAL["stroke"])

@@ -19,8 +19,6 @@ import math
 import numpy as np
 
 from .. import se3
-from ..datasets.recording import random_rotation
-from ..datasets.streams import STOP_SIGNAL
 from ..online.calibration import non_gesture_motions, sensor_noise
 from ..online.stop import sustained_peak_speed
 from ..trajectory import Trajectory
@@ -36,9 +34,10 @@ __all__ = [
 #: Sample period of the probe motions [s].
 PERIOD = 0.02
 #: Stop signal: amplitude [rad] and stroke duration [s] ranges of the three strokes (+A, −2A, +A),
-#: as the simulated people make it (:data:`framefree.datasets.streams.STOP_SIGNAL`).
-STOP_AMPLITUDE = STOP_SIGNAL["amplitude"]
-STOP_STROKE = STOP_SIGNAL["stroke"]
+#: as the simulated people make it (equal to :data:`framefree.datasets.streams.STOP_SIGNAL`, tested;
+#: not imported, so that loading a library does not load the dataset generator).
+STOP_AMPLITUDE = (math.radians(50.0), math.radians(80.0))
+STOP_STROKE = (0.2, 0.3)
 #: Distance [m] from the tracker to the rotation axis of a stop signal (forearm axis, grip).
 STOP_AXIS_OFFSET = (0.02, 0.08)
 #: Reach of everyday moves [m] and their largest turn [rad].
@@ -46,11 +45,17 @@ REACH = 0.12
 TURN = math.radians(60.0)
 
 
+def _random_rotation(rng: np.random.Generator) -> np.ndarray:
+    """A rotation matrix (3, 3) uniform on SO(3) (normalized Gaussian quaternion)."""
+    q = rng.standard_normal(4)
+    return se3.matrix_from_quaternion(q / np.linalg.norm(q))
+
+
 def random_frame(rng: np.random.Generator, offset: float) -> np.ndarray:
     """A pose (4, 4): uniform random rotation, translation of length ``offset`` [m] in a random direction."""
     d = rng.standard_normal(3)
     T = np.eye(4)
-    T[:3, :3] = random_rotation(rng)
+    T[:3, :3] = _random_rotation(rng)
     T[:3, 3] = d * (offset / np.linalg.norm(d))
     return T
 
@@ -138,7 +143,7 @@ def stop_rotations(take: Trajectory, rng: np.random.Generator, n: int = 2) -> li
     T0 = take.poses()[0]
     out = []
     for _ in range(n):
-        axis = random_rotation(rng)[:, 0]
+        axis = _random_rotation(rng)[:, 0]
         lever = np.cross(axis, rng.standard_normal(3))
         lever *= rng.uniform(*STOP_AXIS_OFFSET) / np.linalg.norm(lever)
         strokes = tuple(rng.uniform(*STOP_STROKE) * f for f in (1.0, 1.6, 1.0))
