@@ -19,7 +19,18 @@ from .contexts import (
     apply_context,
 )
 from .gestures import EXTRA_SHAPES, plan_gesture, synthesize_gesture
-from .layout import CONTEXTS, GESTURES, MODEL_CONTEXT, STREAMS_DIR, Dataset, Trial, load_dataset
+from .layout import (
+    CONTEXTS,
+    GESTURES,
+    MODEL_CONTEXT,
+    STREAMS_DIR,
+    Dataset,
+    LayoutWarning,
+    ModelSet,
+    Trial,
+    load_dataset,
+    resolve_models,
+)
 from .people import DEFAULT_PERSON, DEV_PEOPLE, HELDOUT_PEOPLE, Person, draw_person, person
 from .people_streams import PersonStream, make_person_streams, person_stream
 from .replica import REPLICA_VERSION, cache_dir, generator_fingerprint, make_replica, replica_path
@@ -53,7 +64,9 @@ __all__ = [
     "WORLD_FRAMES",
     "Activity",
     "Dataset",
+    "LayoutWarning",
     "LivePerson",
+    "ModelSet",
     "Person",
     "PersonStream",
     "Segment",
@@ -74,6 +87,7 @@ __all__ = [
     "person_stream",
     "plan_gesture",
     "replica_path",
+    "resolve_models",
     "save_stream",
     "synthesize_gesture",
 ]

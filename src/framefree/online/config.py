@@ -43,11 +43,13 @@ class RecognizerConfig:
     max_units, max_duration, max_pause : int, float, float or None
         Candidate limits: units per candidate, duration [s], longest rest inside [s]. ``None``:
         from the models — one unit more than the most units of any model recording;
-        ``span_factor`` × the longest model gesture; ``span_factor`` × the longest rest inside a
+        ``span_factor`` × the longest model gesture; ``pause_factor`` × the longest rest inside a
         model gesture (at least ``min_pause``).
     span_factor : float
         How much slower than the model demonstrations a person may be (2.5: a tempo factor of 0.6
         with room for a long reversal pause).
+    pause_factor : float
+        How much longer than in the demonstrations a person may pause inside a gesture (1.5).
     min_pause : float
         Lower bound of the automatic ``max_pause`` [s] (0.5).
     margin : int
@@ -63,8 +65,15 @@ class RecognizerConfig:
         One τ for every gesture (overrides the calibration).
     negative_quantile : float
         Quantile of the generic non-gesture episodes' scores taken as ``N_g`` (0.05).
+    threshold_position : float
+        ``τ_g = P_g^(1-a) N_g^a`` between the worst demonstration ``P_g`` and the generic motion
+        ``N_g`` (0.5: the geometric midpoint).
     closure : bool
         Accept a candidate only within its gesture's closure limit (True).
+    size : bool
+        Accept a candidate only within its gesture's size limits (True).
+    size_factor : float
+        People make a gesture up to this factor smaller or larger than the demonstrations (2.0).
     stop_threshold : float or None
         Stop detector threshold on the windowed angular speed [rad/s]; ``None``: ``stop_margin`` ×
         the fastest sustained rotation of any model recording, at least ``stop_floor``.
@@ -78,6 +87,9 @@ class RecognizerConfig:
     closure_limits : dict of str to float or None
         Largest closure accepted per gesture; ``None``: from the models
         (:func:`~framefree.online.thresholds.closure_limit`).
+    size_limits : dict of str to (float, float) or None
+        Smallest and largest size [m of screw path] accepted per gesture; ``None``: from the models
+        (:func:`~framefree.online.thresholds.size_limits`).
     max_bridge : float
         Longest dropout [s] bridged by ScLERP instead of restarting (0.5).
     """
@@ -95,6 +107,7 @@ class RecognizerConfig:
     max_duration: float | None = None
     max_pause: float | None = None
     span_factor: float = 2.5
+    pause_factor: float = 1.5
     min_pause: float = 0.5
     margin: int = 5
     confirm: float = 0.2
@@ -102,7 +115,10 @@ class RecognizerConfig:
     gesture_thresholds: dict[str, float] | None = None
     threshold: float | None = None
     negative_quantile: float = 0.05
+    threshold_position: float = 0.5
     closure: bool = True
+    size: bool = True
+    size_factor: float = 2.0
     stop_threshold: float | None = None
     stop_margin: float = 1.2
     stop_floor: float = 3.0
@@ -113,11 +129,12 @@ class RecognizerConfig:
     rest_speed: float | None = None
     move_speed: float | None = None
     closure_limits: dict[str, float] | None = None
+    size_limits: dict[str, tuple[float, float]] | None = None
     max_bridge: float = 0.5
 
     def __post_init__(self) -> None:
-        positive = ("L", "ds_scale", "dt", "span_factor", "stop_margin", "stop_floor",
-                    "stop_window", "max_bridge", "max_wait")
+        positive = ("L", "ds_scale", "dt", "span_factor", "pause_factor", "size_factor",
+                    "stop_margin", "stop_floor", "stop_window", "max_bridge", "max_wait")
         for name in positive:
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
@@ -136,10 +153,12 @@ class RecognizerConfig:
             raise ValueError(f"max_units must be at least 1, got {self.max_units}")
         if self.confirm < 0 or self.margin < 0:
             raise ValueError("confirm and margin must not be negative")
-        for name in ("closure_limits",):
-            value = getattr(self, name)
-            if value is not None:
-                object.__setattr__(self, name, {str(g): float(v) for g, v in value.items()})
+        if self.closure_limits is not None:
+            object.__setattr__(self, "closure_limits",
+                               {str(g): float(v) for g, v in self.closure_limits.items()})
+        if self.size_limits is not None:
+            object.__setattr__(self, "size_limits", {str(g): (float(v[0]), float(v[1]))
+                                                     for g, v in self.size_limits.items()})
         if self.gesture_thresholds is not None:
             bad = {g: v for g, v in self.gesture_thresholds.items() if not float(v) > 0}
             if bad:

@@ -42,7 +42,8 @@ from .thresholds import (
     calibrate_segment_thresholds,
     candidate_limits,
     closure_limit,
-    gesture_closures,
+    gesture_geometry,
+    size_limits,
 )
 
 __all__ = ["STAT_KEYS", "Recognizer", "resolve_config"]
@@ -76,19 +77,25 @@ def resolve_config(
     levels = SpeedLevels(c.rest_speed, c.move_speed)
     if c.max_units is None or c.max_duration is None or c.max_pause is None:
         units, duration, pause = candidate_limits(trajectories, levels, c.L, c.span_factor,
-                                                  c.min_pause, c.dt)
+                                                  c.pause_factor, c.min_pause, c.dt)
         c = c.replace(max_units=c.max_units or units, max_duration=c.max_duration or duration,
                       max_pause=c.max_pause or pause)
-    if c.closure_limits is None:
-        closed = gesture_closures(trajectories, labels, levels, c.L, c.dt)
-        c = c.replace(closure_limits={g: closure_limit(closed.get(g, 1.0)) for g in gestures})
+    if c.closure_limits is None or c.size_limits is None:
+        closed, sizes = gesture_geometry(trajectories, labels, classifier, levels, c.L, c.margin,
+                                         c.dt)
+        if c.closure_limits is None:
+            c = c.replace(closure_limits={g: closure_limit(closed.get(g, 1.0)) for g in gestures})
+        if c.size_limits is None:
+            c = c.replace(size_limits={g: size_limits(*sizes.get(g, (0.0, np.inf)), c.size_factor)
+                                       for g in gestures})
     calibration = None
     if c.threshold is not None:
         c = c.replace(gesture_thresholds=dict.fromkeys(gestures, c.threshold))
     elif c.gesture_thresholds is None:
         spotter = _spotter(classifier, np.ones(len(labels)), c, list(labels))
         calibration = calibrate_segment_thresholds(
-            trajectories, labels, classifier, levels, spotter, c.L, c.negative_quantile)
+            trajectories, labels, classifier, levels, spotter, c.L, c.negative_quantile,
+            c.threshold_position)
         c = c.replace(gesture_thresholds=calibration.thresholds)
     if c.stop_threshold is None:
         peak = max(sustained_peak_speed(tr.t, tr.q, c.stop_window, c.stop_min_duration)
@@ -99,11 +106,13 @@ def resolve_config(
 
 def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: RecognizerConfig,
              labels: list[str]) -> Spotter:
-    limits = None
+    closures = sizes = None
     if c.closure and c.closure_limits is not None:
-        limits = np.array([c.closure_limits.get(g, 1.0) for g in labels])
+        closures = np.array([c.closure_limits.get(g, 1.0) for g in labels])
+    if c.size and c.size_limits is not None:
+        sizes = np.array([c.size_limits.get(g, (0.0, np.inf)) for g in labels])
     return Spotter(classifier, model_thresholds, c.max_units, c.max_duration, c.max_pause,
-                   c.margin, c.confirm, c.max_wait, limits, c.L)
+                   c.margin, c.confirm, c.max_wait, closures, c.L, sizes)
 
 
 class Recognizer:
@@ -311,7 +320,7 @@ class Recognizer:
         self._counts["grid"] += 1
         unit = self.segmenter.push(t, T)
         spotter = self.spotter
-        if self.stop.active:
+        if not self.stop.armed:  # a stop fired and the hand still turns fast: it is not a gesture
             spotter.discard_before(self.segmenter.buffer.count)
             return None
         fired = None
