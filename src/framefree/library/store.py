@@ -412,6 +412,11 @@ def load_library(path: str | Path) -> GestureLibrary:
     return lib
 
 
+def _as_json(d: dict[str, Any]) -> dict[str, Any]:
+    """``d`` as it comes back from the library's JSON (tuples become lists)."""
+    return json.loads(json.dumps(d))
+
+
 def load_recognizer(path: str | Path) -> Recognizer:
     """A live recognizer from a library file, without recalibration (see :func:`load_library`)."""
     return load_library(path).recognizer()
@@ -453,7 +458,7 @@ def enroll(
     rec = Recognizer.from_trajectories(list(takes.takes), list(takes.labels), config)
     calib = rec.calibration.summary() if getattr(rec, "calibration", None) is not None else None
     return GestureLibrary(
-        takes, config.to_dict(), rec.config.to_dict(),
+        takes, _as_json(config.to_dict()), _as_json(rec.config.to_dict()),
         {g: float(v) for g, v in rec.gesture_thresholds.items()},
         float(rec.stop_threshold), calib, tuple(str(s) for s in built_from),
     )
