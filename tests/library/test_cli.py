@@ -129,6 +129,7 @@ def test_check_writes_report_and_figures(recorded, enrolled, tmp_path) -> None:
     assert res.exit_code in (0, 1), res.output
     report = json.loads((tmp_path / "chk" / "mine_check.json").read_text())
     assert set(report["gestures"]) == set(GESTURES)
+    assert len(report["distances"]) == len(report["takes"]) == 6
     assert res.exit_code == (0 if report["ok"] else 1)
     assert (tmp_path / "chk" / "mine_distances.png").is_file()
     assert (tmp_path / "chk" / "mine_gallery.png").is_file()

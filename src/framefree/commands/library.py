@@ -216,8 +216,8 @@ def check_cmd(library: str, context: str | None, out: str, seed: int):
         "distances": plot_distance_map(report, out_dir / f"{stem}_distances.png", settings),
         "gallery": plot_take_gallery(takes, out_dir / f"{stem}_gallery.png"),
     }
-    files["report"].write_text(json.dumps({**report.to_dict(), "library": str(lib_path)}, indent=1,
-                                          default=float))
+    files["report"].write_text(json.dumps({**report.to_dict(), "library": str(lib_path),
+                                           "distances": report.distances.tolist()}, indent=1, default=float))
     for name, path in files.items():
         click.echo(f"  {name:<10} {path}")
     if not report.ok:
