@@ -154,7 +154,8 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
     if out is None:
         if len(sources) != 1 or not Path(sources[0]).is_dir():
             raise click.UsageError("give the library file to write with -o/--out")
-        out = str(Path(sources[0]).resolve().with_suffix(".npz"))
+        folder = Path(sources[0]).resolve()
+        out = str(folder.with_name(folder.name + ".npz"))
     takes, settings = _gather(sources, context)
     if removals:
         takes = takes.without(removals)
