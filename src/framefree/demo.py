@@ -366,6 +366,7 @@ def run_demo(
     replica_seed: int = 0,
     method: str = "segments",
     recognizer: Any = None,
+    models: str | Path | None = None,
 ) -> DemoResult:
     """Run the whole pipeline and write figures and a JSON summary into ``out_dir``.
 
@@ -392,9 +393,13 @@ def run_demo(
     replica_seed : int
         Seed of the HPM replica whose ``original_1`` trials are the gesture models.
     method : {"segments", "paper"}
-        Recognizer (see :func:`build_recognizer`); ignored when ``recognizer`` is given.
+        Recognizer (see :func:`build_recognizer`); ignored when ``recognizer`` or ``models`` is
+        given.
     recognizer : Recognizer or PaperRecognizer, optional
         A ready recognizer (it is reset); saves building the models again across sessions.
+    models : str or Path, optional
+        A gesture library file (``framefree enroll``) to use instead of the replica's models; it
+        must contain the seven HPM gestures.
 
     Returns
     -------
@@ -412,6 +417,12 @@ def run_demo(
     seconds: dict[str, float] = {}
 
     tic = time.perf_counter()
+    if recognizer is None and models is not None:
+        from .online import Recognizer
+
+        _say(echo, f"1/3  gesture models: library {models} ...")
+        recognizer = Recognizer.load(models)
+        recognizer.warmup()
     if recognizer is None:
         _say(echo, f"1/3  gesture models ({method}): HPM replica (generated once, then cached) ...")
         recognizer = build_recognizer(method, replica_seed)

@@ -34,7 +34,9 @@ from ..demo import DEMO_PEOPLE, METHODS, PAPER_RESULT
     "paper: the paper's recognizer (fixed windows).",
 )
 @click.option("--no-render", is_flag=True, help="Skip the MuJoCo images even if OpenGL works.")
-def demo(out, seed, method, no_render):
+@click.option("--models", type=click.Path(exists=True, dir_okay=False), default=None,
+              help="Gesture library file (framefree enroll) with the seven HPM gestures.")
+def demo(out, seed, method, no_render, models):
     """Replica dataset → gesture models → a person gives the paper's stacking commands by hand
     gestures → live recognition → planner → simulated Panda stacking blocks.
     """
@@ -47,7 +49,8 @@ def demo(out, seed, method, no_render):
         raise click.ClickException(str(exc)) from None
     from ..demo import run_demo
 
-    result = run_demo(out, seed=seed, render=not no_render, echo=click.echo, method=method)
+    result = run_demo(out, seed=seed, render=not no_render, echo=click.echo, method=method,
+                      models=models)
     rec = result.recognition
     click.echo("")
     click.echo(
