@@ -1,20 +1,19 @@
-"""Speed of the real-time recognizer: cost per pose sample and per descriptor sample.
+"""Speed of the live recognizers: cost per pose sample, and per sample that does the heavy work.
 
-Models: the 35 *original_1* recordings of the HPM replica (``framefree.datasets.replica_path``) when
-available, else synthetic gestures; replicated ×10 and ×100 for 350 and 3 500 models. The live stream
-is a concatenation of other-context recordings (so matchers see realistic descriptors). The
-thresholds are the automatic per-gesture calibration (pruning depends on them) but the refractory
-reset is off, so no event interrupts the matchers: every descriptor sample pays the full matcher
-cost. ``--prune-factor none`` measures the unpruned matchers. The 350/3 500 banks are copies of
-the 35 models (the same descriptors; pruning acts on copies as on the originals).
+``--method segments`` (framefree's recognizer, the default): the stream is a session of a held-out
+simulated person (gestures among everyday motion); the heavy samples are those where a movement
+unit ends and its candidate segments are classified against every model (DTW). ``--method paper``:
+the stream is a concatenation of other-context recordings; the heavy samples are descriptor samples
+(every matcher updated); the refractory reset is off so no event interrupts the matchers;
+``--prune-factor none`` measures the unpruned matchers.
+
+Models: the 35 *original_1* recordings of the HPM replica, replicated ×10 and ×100 for 350 and
+3 500 models (copies of the same descriptors, with the thresholds calibrated once on the 35).
 
 Usage::
 
-    .venv/bin/python benchmarks/bench_online.py [--json benchmarks/results/online.json]
-        [--threads N] [--repeat 3] [--prune-factor 2|none]
-
-``--threads`` limits numba's threads (the multi-threaded kernel is used from 1 000 models on);
-the 35-model target (< 1 ms per pose sample) is measured with one thread.
+    .venv/bin/python benchmarks/bench_online.py [--method segments|paper]
+        [--json benchmarks/results/online_segments.json] [--threads N] [--repeat 3]
 """
 
 from __future__ import annotations
@@ -70,11 +69,10 @@ def _measure(rec, t, p, q, repeat: int) -> dict:
         per_pose = np.empty(len(t))
         had_desc = np.zeros(len(t), dtype=bool)
         for k in range(len(t)):
-            n0 = rec.stats["descriptors"]
             a = time.perf_counter()
             rec.push(t[k], p[k], q[k])
             per_pose[k] = time.perf_counter() - a
-            had_desc[k] = rec.stats["descriptors"] != n0
+            had_desc[k] = len(rec.observations) > 0
         r = {
             "pose_samples": len(t),
             "descriptor_samples": int(had_desc.sum()),
@@ -90,61 +88,108 @@ def _measure(rec, t, p, q, repeat: int) -> dict:
     return best
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--json", default="benchmarks/results/online.json")
-    ap.add_argument("--threads", type=int, default=None, help="numba threads for the large banks")
-    ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--counts", default="35,350,3500")
-    ap.add_argument("--prune-factor", default="default",
-                    help="matcher pruning cutoff factor (a number, 'none', or the config default)")
-    args = ap.parse_args()
+def _person_stream():
+    from framefree.datasets.people import HELDOUT_PEOPLE, person
+    from framefree.datasets.people_streams import person_stream
 
+    item = person_stream(1, person(HELDOUT_PEOPLE[0]), n_gestures=20)
+    tr = item.traj
+    return tr.t, tr.p, tr.q
+
+
+def _segments(trajs, labels, counts, repeat, threads):
     import numba
 
-    from framefree.online import Recognizer, RecognizerConfig
+    from framefree.online import Recognizer
+    from framefree.online.spotting import SegmentClassifier
 
-    trajs, labels, t, p, q, origin = _models_and_stream()
-    cfg = RecognizerConfig()
-    if args.prune_factor != "default":
-        cfg = cfg.replace(prune_factor=None if args.prune_factor == "none" else float(args.prune_factor))
-    calibrated = Recognizer.from_trajectories(trajs, labels, cfg)
+    calibrated = Recognizer.from_trajectories(trajs, labels)
+    t, p, q = _person_stream()
+    numba.set_num_threads(threads)
+    results = []
+    for count in counts:
+        reps = -(-count // len(labels))
+        models = (calibrated.classifier.models * reps)[:count]
+        many = SegmentClassifier(calibrated.classifier.descriptor, models)
+        rec = Recognizer(many, (list(labels) * reps)[:count], calibrated.config)
+        rec.warmup()
+        r = _measure(rec, t, p, q, repeat)
+        r.update({"models": count, "threads": threads})
+        results.append(r)
+        print(f"{count:5d} models ({threads} threads): {r['mean_per_pose_ms']:.3f} ms/pose "
+              f"(p99 {r['p99_per_pose_ms']:.3f}, max {r['max_per_pose_ms']:.1f}), "
+              f"{r['mean_per_descriptor_sample_ms']:.3f} ms per classifying sample "
+              f"({r['descriptor_samples']} of {r['pose_samples']})", flush=True)
+    return calibrated.describe(), len(t), results
+
+
+def _paper(trajs, labels, counts, repeat, threads, prune_factor, t, p, q):
+    import numba
+
+    from framefree.online import PaperConfig, PaperRecognizer
+    from framefree.online.models import GestureModels
+
+    cfg = PaperConfig()
+    if prune_factor != "default":
+        cfg = cfg.replace(prune_factor=None if prune_factor == "none" else float(prune_factor))
+    calibrated = PaperRecognizer.from_trajectories(trajs, labels, cfg)
     models = calibrated.models
     cfg = calibrated.config.replace(stop_threshold=1e9, refractory_reset=False)
-    threads = args.threads or numba.config.NUMBA_NUM_THREADS
     results = []
-    for count in [int(c) for c in args.counts.split(",")]:
+    for count in counts:
         reps = -(-count // len(models))
-        from framefree.online.models import GestureModels
-
         many = GestureModels((models.labels * reps)[:count], (models.descriptors * reps)[:count],
                              models.resolution)
-        rec = Recognizer(many, cfg, gesture_thresholds=calibrated.gesture_thresholds)
+        rec = PaperRecognizer(many, cfg, gesture_thresholds=calibrated.gesture_thresholds)
         numba.set_num_threads(1 if not rec.bank.parallel else threads)
         rec.warmup()
-        r = _measure(rec, t, p, q, args.repeat)
+        r = _measure(rec, t, p, q, repeat)
         r.update({"models": count, "threads": 1 if not rec.bank.parallel else threads,
                   "kabsch_per_descriptor_sample": int(rec.bank.A.shape[0])})
         results.append(r)
         print(f"{count:5d} models ({r['threads']} thread{'s' if r['threads'] > 1 else ''}): "
               f"{r['mean_per_pose_ms']:.3f} ms/pose (p99 {r['p99_per_pose_ms']:.3f}), "
               f"{r['mean_per_descriptor_sample_ms']:.3f} ms/descriptor sample "
-              f"(p99 {r['p99_per_descriptor_sample_ms']:.3f}), "
-              f"{r['mean_pose_without_descriptor_ms']:.3f} ms/pose without descriptor", flush=True)
+              f"(p99 {r['p99_per_descriptor_sample_ms']:.3f})", flush=True)
+    return calibrated.describe(), len(t), results
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--method", choices=["segments", "paper"], default="segments")
+    ap.add_argument("--json", default=None,
+                    help="default: benchmarks/results/online_<method>.json")
+    ap.add_argument("--threads", type=int, default=None, help="numba threads")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--counts", default="35,350,3500")
+    ap.add_argument("--prune-factor", default="default",
+                    help="paper: matcher pruning cutoff factor (a number, 'none', or the default)")
+    args = ap.parse_args()
+
+    import numba
+
+    trajs, labels, t, p, q, origin = _models_and_stream()
+    threads = args.threads or numba.config.NUMBA_NUM_THREADS
+    counts = [int(c) for c in args.counts.split(",")]
+    if args.method == "segments":
+        described, n, results = _segments(trajs, labels, counts, args.repeat, threads)
+        stream = f"held-out person session ({n} pose samples)"
+    else:
+        described, n, results = _paper(trajs, labels, counts, args.repeat, threads,
+                                       args.prune_factor, t, p, q)
+        stream = f"concatenated replica recordings ({n} pose samples)"
     out = {
-        "benchmark": "online recognizer",
+        "benchmark": f"online recognizer ({args.method})",
         "models_from": origin,
-        "stream_pose_samples": len(t),
-        "resolution_m": models.resolution,
-        "config": cfg.to_dict(),
-        "gesture_thresholds": calibrated.gesture_thresholds,
+        "stream": stream,
+        "recognizer": described,
         "machine": {"platform": platform.platform(), "processor": platform.processor(),
                     "cpu_count": os.cpu_count(), "numba_threads_available": threads},
         "results": results,
     }
-    path = Path(args.json)
+    path = Path(args.json or f"benchmarks/results/online_{args.method}.json")
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(out, indent=2))
+    path.write_text(json.dumps(out, indent=2, default=float))
     print(f"wrote {path}")
 
 

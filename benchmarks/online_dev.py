@@ -1,7 +1,7 @@
-"""Development metrics of the real-time recognizer on *dev* streams (never the test streams).
+"""Development metrics of the paper's recognizer (PaperRecognizer) on dev streams of the replica.
 
 The held-out test set is the replica's ``streams/stream_{1,2,3}`` (``make_stream(1..3)``). Every
-parameter of :class:`framefree.online.RecognizerConfig` is chosen here, on streams generated with
+parameter of :class:`framefree.online.PaperConfig` is chosen here, on streams generated with
 seeds 100-119 by :func:`framefree.datasets.make_stream`, with the models and the automatic
 calibration from the replica's ``original_1`` recordings.
 
@@ -23,7 +23,7 @@ from multiprocessing import get_context
 import numpy as np
 
 from framefree.datasets import make_stream, replica_path
-from framefree.online import Recognizer
+from framefree.online import PaperRecognizer
 from framefree.online.evaluation import combine, match_events, run_stream
 
 _REC = None
@@ -66,7 +66,7 @@ def main() -> None:
         raise SystemExit("dev seeds must be >= 100 (seeds 1-3 are the held-out test streams)")
     overrides = _parse(args.set)
     t0 = time.perf_counter()
-    _REC = Recognizer.from_dataset(replica_path(0), model_context="original_1", **overrides)
+    _REC = PaperRecognizer.from_dataset(replica_path(0), model_context="original_1", **overrides)
     _REC.warmup()
     build = time.perf_counter() - t0
     with get_context("fork").Pool(args.jobs) as pool:

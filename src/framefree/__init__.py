@@ -2,7 +2,14 @@
 
 from .classifier import NearestNeighborClassifier
 from .descriptors import Descriptor, available_descriptors, get_descriptor, register
-from .errors import DatasetError, DegenerateMotionError, FramefreeError, TrajectoryError
+from .errors import (
+    DatasetError,
+    DegenerateMotionError,
+    FramefreeError,
+    FramefreeWarning,
+    TrajectoryError,
+)
+from .posecsv import PlausibilityWarning
 from .trajectory import Trajectory
 
 __version__ = "0.1.0"
@@ -12,7 +19,9 @@ __all__ = [
     "DegenerateMotionError",
     "Descriptor",
     "FramefreeError",
+    "FramefreeWarning",
     "NearestNeighborClassifier",
+    "PlausibilityWarning",
     "Trajectory",
     "TrajectoryError",
     "__version__",

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Sequence
 from typing import Any
 
@@ -39,26 +40,54 @@ def round_significant(x: np.ndarray, digits: int) -> np.ndarray:
     return np.round(x * scale) / scale
 
 
+#: constructor parameters that are passed on to the descriptor when set (``None``: its default)
+_DESCRIPTOR_PARAMS = ("progress", "L", "ds_scale", "lam", "presmooth")
+
+
 class NearestNeighborClassifier:
     """1-NN classifier: a query gets the label of the model at the smallest descriptor distance.
 
+    A scikit-learn estimator: the constructor only stores its arguments, :meth:`fit` builds the
+    descriptor from them (``descriptor_``) and stores the fitted state in attributes ending in
+    ``_``; :meth:`get_params` / :meth:`set_params` make ``clone``, ``cross_val_score``,
+    ``GridSearchCV`` (e.g. over ``L`` and ``ds_scale``) and ``Pipeline`` work. Samples are
+    :class:`~framefree.Trajectory` objects (``X`` is a list of them), targets their labels.
+
     Parameters
     ----------
-    descriptor : Descriptor or str
-        A descriptor instance, or a registered name (then ``descriptor_params`` are passed on).
+    descriptor : str or Descriptor, default "bilts+"
+        A registered descriptor name (see :func:`~framefree.available_descriptors`) or a
+        descriptor instance; the parameters below that are set override its own.
+    progress : {"screw", "angle", "arclength"}, optional
+        Geometric progress the trajectories are resampled by (``None``: the descriptor's default).
+    L : float, optional
+        Scale length L [m] (``None``: the descriptor's default).
+    ds_scale : float, optional
+        BILTS window scale [m, or rad for angle progress] (``None``: the descriptor's default).
+    lam : float, optional
+        λ weight of DHB, eFS and ISA (``None``: the descriptor's default).
+    presmooth : int, optional
+        Gaussian pre-smoothing window of the 50 Hz poses [samples], for descriptors that offer it.
     round_digits : int, optional
         Round descriptors to this many significant digits before comparing them, as the reference
         does by storing them with ``csvwrite`` (5). Default: full precision.
-    **descriptor_params
-        Parameters for :func:`~framefree.get_descriptor` when ``descriptor`` is a name.
+    descriptor_params : dict, optional
+        Further constructor parameters of the descriptor (e.g. ``{"n_samples": 100}``).
 
     Attributes
     ----------
-    models_ : list of ndarray
-        Descriptor sequences of the models, set by :meth:`fit`.
-    labels_ : ndarray of str, shape (n_models,)
+    descriptor_ : Descriptor
+        The descriptor built by :meth:`fit` from the parameters above.
+    models_ : list of ndarray, each (K_j, F)
+        Descriptor sequences of the models.
+    labels_ : ndarray, shape (n_models,)
+        Label of each model, in fit order.
+    classes_ : ndarray, shape (n_classes,)
+        The distinct labels, sorted.
     distances_ : ndarray, shape (n_queries, n_models)
         Distances behind the latest :meth:`predict` call.
+    nearest_ : ndarray of int, shape (n_queries,)
+        Index of the nearest model of each query of the latest :meth:`predict` call.
 
     Examples
     --------
@@ -69,15 +98,80 @@ class NearestNeighborClassifier:
     def __init__(
         self,
         descriptor: Descriptor | str = "bilts+",
+        progress: str | None = None,
+        L: float | None = None,
+        ds_scale: float | None = None,
+        lam: float | None = None,
+        presmooth: int | None = None,
         round_digits: int | None = None,
-        **descriptor_params: Any,
+        descriptor_params: dict[str, Any] | None = None,
     ) -> None:
-        if isinstance(descriptor, str):
-            descriptor = get_descriptor(descriptor, **descriptor_params)
-        elif descriptor_params:
-            raise TypeError("descriptor parameters can only be given with a descriptor name")
         self.descriptor = descriptor
+        self.progress = progress
+        self.L = L
+        self.ds_scale = ds_scale
+        self.lam = lam
+        self.presmooth = presmooth
         self.round_digits = round_digits
+        self.descriptor_params = descriptor_params
+
+    # ------------------------------------------------------------------ scikit-learn protocol
+    @classmethod
+    def _get_param_names(cls) -> list[str]:
+        sig = inspect.signature(cls.__init__)
+        return [name for name in sig.parameters if name != "self"]
+
+    def get_params(self, deep: bool = True) -> dict[str, Any]:
+        """The constructor parameters, as given (``deep`` is accepted for scikit-learn)."""
+        return {name: getattr(self, name) for name in self._get_param_names()}
+
+    def set_params(self, **params: Any) -> NearestNeighborClassifier:
+        """Set constructor parameters (takes effect at the next :meth:`fit`); returns ``self``."""
+        valid = self._get_param_names()
+        for name, value in params.items():
+            if name not in valid:
+                raise ValueError(
+                    f"invalid parameter {name!r} for NearestNeighborClassifier; "
+                    f"valid: {', '.join(valid)}"
+                )
+            setattr(self, name, value)
+        return self
+
+    def __sklearn_tags__(self) -> Any:
+        """scikit-learn's estimator tags: a classifier of non-tabular samples (trajectories)."""
+        from sklearn.utils import ClassifierTags, InputTags, Tags, TargetTags
+
+        return Tags(
+            estimator_type="classifier",
+            target_tags=TargetTags(required=True),
+            classifier_tags=ClassifierTags(),
+            input_tags=InputTags(two_d_array=False, dict=False),
+            no_validation=True,
+        )
+
+    def __sklearn_is_fitted__(self) -> bool:
+        """Whether :meth:`fit` has run (for scikit-learn's ``check_is_fitted``)."""
+        return hasattr(self, "models_")
+
+    def __repr__(self) -> str:
+        init = inspect.signature(type(self).__init__).parameters
+        changed = [
+            f"{k}={v!r}"
+            for k, v in self.get_params().items()
+            if not (v is init[k].default or (isinstance(v, str) and v == init[k].default))
+        ]
+        return f"{type(self).__name__}({', '.join(changed)})"
+
+    # ------------------------------------------------------------------------------- fitting
+    def build_descriptor(self) -> Descriptor:
+        """The descriptor the current parameters describe (what :meth:`fit` uses)."""
+        params = dict(self.descriptor_params or {})
+        params.update(
+            {k: getattr(self, k) for k in _DESCRIPTOR_PARAMS if getattr(self, k) is not None}
+        )
+        if isinstance(self.descriptor, Descriptor):
+            return self.descriptor.with_params(**params) if params else self.descriptor
+        return get_descriptor(self.descriptor, **params)
 
     @classmethod
     def recommended(cls, **overrides: Any) -> NearestNeighborClassifier:
@@ -95,7 +189,7 @@ class NearestNeighborClassifier:
     def _describe(self, trajectories: Sequence[Trajectory]) -> list[np.ndarray]:
         out = []
         for traj in trajectories:
-            d = self.descriptor.compute(traj)
+            d = self.descriptor_.compute(traj)
             if self.round_digits is not None:
                 d = round_significant(d, self.round_digits)
             out.append(d)
@@ -104,27 +198,37 @@ class NearestNeighborClassifier:
     def fit(
         self, trajectories: Sequence[Trajectory], labels: Sequence[Any]
     ) -> NearestNeighborClassifier:
-        """Compute and store the model descriptors.
+        """Build the descriptor and compute and store the model descriptors.
 
         Parameters
         ----------
-        trajectories : sequence of Trajectory
+        trajectories : sequence of Trajectory, length n_models
             The models (1-NN neighbours).
-        labels : sequence
+        labels : sequence, length n_models
             One label per model.
         """
-        return self.fit_descriptors(self._describe(trajectories), labels)
+        if len(trajectories) != len(labels):
+            raise ValueError(f"{len(trajectories)} models but {len(labels)} labels")
+        self.descriptor_ = self.build_descriptor()
+        return self._store(self._describe(trajectories), labels)
 
     def fit_descriptors(
         self, descriptors: Sequence[np.ndarray], labels: Sequence[Any]
     ) -> NearestNeighborClassifier:
-        """Like :meth:`fit` with precomputed descriptor sequences."""
+        """Like :meth:`fit` with precomputed descriptor sequences (of :meth:`build_descriptor`)."""
+        self.descriptor_ = self.build_descriptor()
+        return self._store(list(descriptors), labels)
+
+    def _store(
+        self, descriptors: list[np.ndarray], labels: Sequence[Any]
+    ) -> NearestNeighborClassifier:
         if len(descriptors) != len(labels):
             raise ValueError(f"{len(descriptors)} models but {len(labels)} labels")
         if not descriptors:
             raise ValueError("at least one model is needed")
-        self.models_ = list(descriptors)
+        self.models_ = descriptors
         self.labels_ = np.asarray(labels)
+        self.classes_ = np.unique(self.labels_)
         return self
 
     def _check_fitted(self) -> None:
@@ -134,17 +238,18 @@ class NearestNeighborClassifier:
     def distance_matrix(self, trajectories: Sequence[Trajectory]) -> np.ndarray:
         """Distances (n_queries, n_models) from each query trajectory to each model."""
         self._check_fitted()
-        return self.descriptor.distance_matrix(self._describe(trajectories), self.models_)
+        return self.descriptor_.distance_matrix(self._describe(trajectories), self.models_)
 
     def predict(self, trajectories: Sequence[Trajectory]) -> np.ndarray:
-        """Labels of the nearest models (ties: the first model in fit order, as the reference)."""
+        """Labels of the nearest models, shape (n_queries,) (ties: the first model in fit order,
+        as the reference)."""
         self._check_fitted()
         return self.predict_descriptors(self._describe(trajectories))
 
     def predict_descriptors(self, descriptors: Sequence[np.ndarray]) -> np.ndarray:
         """Like :meth:`predict` with precomputed descriptor sequences."""
         self._check_fitted()
-        self.distances_ = self.descriptor.distance_matrix(list(descriptors), self.models_)
+        self.distances_ = self.descriptor_.distance_matrix(list(descriptors), self.models_)
         self.nearest_ = np.argmin(self.distances_, axis=1)
         return self.labels_[self.nearest_]
 

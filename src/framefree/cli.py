@@ -8,32 +8,79 @@ from __future__ import annotations
 
 import importlib
 import sys
+import warnings
 
 import click
 
 from . import __version__
-from .errors import FramefreeError
+from .errors import FramefreeError, FramefreeWarning
 
 #: command modules, each exposing ``register(group)``
 COMMAND_MODULES = ("core", "dataset", "benchmark", "online", "robot", "demo")
 
 
+def _one_line(exc: BaseException) -> str:
+    """An OS error (unwritable output, full disk, ...) as one sentence naming the path."""
+    if isinstance(exc, OSError) and exc.filename is not None:
+        return f"{exc.filename}: {exc.strerror or exc}"
+    return str(exc)
+
+
+class _WarningPrinter:
+    """Shows framefree's warnings as one line each; repeats of one problem are counted."""
+
+    SHOWN_PER_PROBLEM = 3
+
+    def __init__(self) -> None:
+        self.seen: dict[str, int] = {}
+        self._default = warnings.showwarning
+
+    def show(self, message, category, filename, lineno, file=None, line=None) -> None:
+        if not isinstance(message, FramefreeWarning):
+            self._default(message, category, filename, lineno, file, line)
+            return
+        key = message.problem or str(message)
+        self.seen[key] = self.seen.get(key, 0) + 1
+        if self.seen[key] <= self.SHOWN_PER_PROBLEM:
+            click.secho(f"warning: {message}", fg="yellow", err=True)
+
+    def summary(self) -> None:
+        for problem, count in self.seen.items():
+            if count > self.SHOWN_PER_PROBLEM:
+                more = count - self.SHOWN_PER_PROBLEM
+                click.secho(f"warning: {more} more file(s): {problem}", fg="yellow", err=True)
+
+
 class _Group(click.Group):
+    """Runs a subcommand; input errors become one line and exit status 2 (unless ``--debug``)."""
+
     def invoke(self, ctx: click.Context):
-        try:
-            return super().invoke(ctx)
-        except FramefreeError as exc:
-            click.secho(f"error: {exc}", fg="red", err=True)
-            sys.exit(2)
+        debug = bool(ctx.params.get("debug"))
+        printer = _WarningPrinter()
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", FramefreeWarning)
+            if not debug:
+                warnings.showwarning = printer.show
+            try:
+                return super().invoke(ctx)
+            except (FramefreeError, OSError) as exc:
+                if debug:
+                    raise
+                click.secho(f"error: {_one_line(exc)}", fg="red", err=True)
+                sys.exit(2)
+            finally:
+                printer.summary()
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="framefree")
-def cli() -> None:
+@click.option("--debug", is_flag=True, help="Show the full traceback of an error.")
+def cli(debug: bool) -> None:
     """Recognize hand-held 6-DoF motion gestures without calibrating any reference frame.
 
     \b
     Pose files are CSV without header, 8 columns: t [s], x, y, z [m], qw, qx, qy, qz.
+    Errors in the input are reported in one line (exit status 2); --debug shows the traceback.
     Run `framefree COMMAND --help` for the options of a command.
     """
 

@@ -4,7 +4,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["DatasetError", "DegenerateMotionError", "FramefreeError", "TrajectoryError"]
+__all__ = [
+    "DatasetError",
+    "DegenerateMotionError",
+    "FramefreeError",
+    "FramefreeWarning",
+    "TrajectoryError",
+]
 
 
 class FramefreeError(ValueError):
@@ -43,3 +49,12 @@ class DegenerateMotionError(TrajectoryError):
 
 class DatasetError(FramefreeError):
     """A dataset folder does not have the expected layout."""
+
+
+class FramefreeWarning(UserWarning):
+    """Base class of framefree's warnings: the input is usable but something looks wrong.
+
+    The command line shows each as one line; ``problem`` (when set) groups repeats of one problem.
+    """
+
+    problem: str | None = None

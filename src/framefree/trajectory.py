@@ -11,78 +11,20 @@ import numpy as np
 
 from . import se3
 from .errors import TrajectoryError
+from .posecsv import QUAT_ORDERS, read_pose_csv, warn_if_implausible
 
 __all__ = ["MIN_SAMPLES", "Trajectory", "read_pose_csv"]
 
 #: The fewest samples a trajectory may have.
 MIN_SAMPLES = 5
 
-_QUAT_ORDERS = ("wxyz", "xyzw")
+_QUAT_ORDERS = QUAT_ORDERS
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
     a = np.ascontiguousarray(a, dtype=np.float64)
     a.flags.writeable = False
     return a
-
-
-def read_pose_csv(path: str | Path, quat_order: str = "wxyz") -> np.ndarray:
-    """Read an 8-column pose CSV into an (N, 8) array ``t, x, y, z, qw, qx, qy, qz``.
-
-    Only the file format is checked here (column count, numbers, finiteness); see
-    :meth:`Trajectory.from_csv` for the full validation.
-
-    Parameters
-    ----------
-    path : str or Path
-        CSV file, no header, comma separated.
-    quat_order : {"wxyz", "xyzw"}
-        Order of the quaternion columns in the file; the result is always scalar first.
-
-    Raises
-    ------
-    TrajectoryError
-        Naming the file, the 1-based row and the problem.
-    """
-    if quat_order not in _QUAT_ORDERS:
-        raise ValueError(f"quat_order must be one of {_QUAT_ORDERS}, got {quat_order!r}")
-    path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as exc:
-        raise TrajectoryError(f"cannot read file ({exc.strerror or exc})", path) from None
-    rows: list[list[float]] = []
-    for lineno, line in enumerate(text.splitlines(), start=1):
-        stripped = line.strip()
-        if not stripped:
-            continue
-        fields = stripped.split(",")
-        if len(fields) != 8:
-            raise TrajectoryError(
-                f"expected 8 comma-separated columns (t, x, y, z and a quaternion), found {len(fields)}",
-                path,
-                lineno,
-            )
-        values = []
-        for col, item in enumerate(fields, start=1):
-            try:
-                v = float(item)
-            except ValueError:
-                raise TrajectoryError(
-                    f"column {col}: {item.strip()!r} is not a number", path, lineno
-                ) from None
-            if not math.isfinite(v):
-                raise TrajectoryError(
-                    f"column {col}: value {item.strip()} is not finite", path, lineno
-                )
-            values.append(v)
-        rows.append(values)
-    if not rows:
-        raise TrajectoryError("the file is empty (no samples)", path)
-    data = np.asarray(rows, dtype=np.float64)
-    if quat_order == "xyzw":
-        data = data[:, [0, 1, 2, 3, 7, 4, 5, 6]]
-    return data
 
 
 @dataclass(frozen=True, eq=False)
@@ -149,7 +91,15 @@ class Trajectory:
 
     # ---------------------------------------------------------------------------------------- I/O
     @classmethod
-    def from_csv(cls, path: str | Path, quat_order: str = "wxyz") -> Trajectory:
+    def from_csv(
+        cls,
+        path: str | Path,
+        quat_order: str = "wxyz",
+        *,
+        skip_header: bool = False,
+        units: str = "m",
+        check: bool = True,
+    ) -> Trajectory:
         """Load an 8-column CSV ``t, x, y, z, qw, qx, qy, qz`` (no header).
 
         Exact duplicate rows (a sensor repeating a sample) are dropped; any other non-increasing
@@ -160,14 +110,24 @@ class Trajectory:
         path : str or Path
         quat_order : {"wxyz", "xyzw"}
             ``"xyzw"`` for files that store the quaternion scalar last.
+        skip_header : bool
+            Ignore a header row (the first non-empty line).
+        units : {"m", "cm", "mm"}
+            Unit of the file's positions (converted to metres).
+        check : bool
+            Warn (:class:`~framefree.posecsv.PlausibilityWarning`) when the positions or speeds
+            are implausible for a hand (wrong ``units``) or the quaternions look scalar-last.
 
         Raises
         ------
         TrajectoryError
-            With the file, the row and the problem.
+            With the file, the row and the problem (see :func:`~framefree.posecsv.read_pose_csv`).
         """
-        data = read_pose_csv(path, quat_order)
-        return cls.from_array(data, source=str(path))
+        data = read_pose_csv(path, quat_order, skip_header=skip_header, units=units)
+        traj = cls.from_array(data, source=str(path))
+        if check:
+            warn_if_implausible(data, path, quat_order)
+        return traj
 
     @classmethod
     def from_array(cls, data: np.ndarray, source: str | None = None) -> Trajectory:

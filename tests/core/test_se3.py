@@ -120,6 +120,37 @@ def test_quaternion_continuity_removes_flips():
     np.testing.assert_allclose(fixed, q)
 
 
+quat = arrays(np.float64, 4, elements=st.floats(-1.0, 1.0, allow_nan=False))
+
+
+@given(quat, quat)
+def test_sign_rule_keeps_the_nearer_representative(q, ref):
+    """The streaming rule (NEAREST_SIGN) negates exactly when q · ref < 0 (unit quaternions)."""
+    if np.linalg.norm(q) < 1e-3 or np.linalg.norm(ref) < 1e-3:
+        return
+    q, ref = q / np.linalg.norm(q), ref / np.linalg.norm(ref)
+    d = float(q @ ref)
+    aligned = se3.align_quaternion_sign(q, ref)
+    if abs(d) > 1e-12:
+        np.testing.assert_array_equal(aligned, -q if d < 0 else q)
+    assert float(aligned @ ref) >= -1e-12
+    # the reference rule (distance 0.5) negates whenever q is farther than 0.5 from ref
+    far = np.linalg.norm(q - ref) > se3.REFERENCE_SIGN_THRESHOLD
+    assert se3.quaternion_sign(q, ref, se3.REFERENCE_SIGN_THRESHOLD) == (-1.0 if far else 1.0)
+
+
+def test_sequence_rule_is_the_single_sample_rule():
+    rng = np.random.default_rng(8)
+    q = rng.normal(size=(300, 4))
+    q /= np.linalg.norm(q, axis=1)[:, None]
+    for threshold in (se3.REFERENCE_SIGN_THRESHOLD, se3.NEAREST_SIGN):
+        fixed = se3.quaternion_continuity(q, threshold)
+        expect = q.copy()
+        for k in range(1, len(q)):
+            expect[k] = se3.align_quaternion_sign(q[k], expect[k - 1], threshold)
+        np.testing.assert_array_equal(fixed, expect)
+
+
 def test_sclerp_endpoints_and_constant_twist():
     rng = np.random.default_rng(3)
     xi = rng.normal(size=6) * 0.4

@@ -8,7 +8,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from framefree.datasets import GESTURES, MODEL_CONTEXT, REPLICA_CONTEXTS, load_dataset
+from framefree.datasets import (
+    GESTURES,
+    MODEL_CONTEXT,
+    REPLICA_CONTEXTS,
+    LayoutWarning,
+    load_dataset,
+)
 from framefree.errors import DatasetError
 
 
@@ -108,10 +114,15 @@ def test_empty_context_folder(tiny: Path) -> None:
         load_dataset(tiny, model_context="ref")
 
 
-def test_stray_file_in_root(tiny: Path) -> None:
+def test_stray_file_in_root_is_skipped_with_a_warning(tiny: Path) -> None:
     (tiny / "notes.txt").write_text("hello")
-    with pytest.raises(DatasetError, match=r"notes.txt: unexpected file"):
-        load_dataset(tiny, model_context="ref")
+    (tiny / "gallery.png").write_bytes(b"\x89PNG\r\n")
+    with pytest.warns(LayoutWarning) as record:
+        ds = load_dataset(tiny, model_context="ref")
+    messages = sorted(str(w.message) for w in record)
+    assert messages[0].startswith(f"{tiny / 'gallery.png'}: skipped: not a .csv recording")
+    assert messages[1].startswith(f"{tiny / 'notes.txt'}: skipped: not a .csv recording")
+    assert len(ds) == 12
 
 
 def test_stray_file_in_gesture_folder(tiny: Path) -> None:
@@ -120,9 +131,16 @@ def test_stray_file_in_gesture_folder(tiny: Path) -> None:
         load_dataset(tiny, model_context="ref")
 
 
-def test_stray_file_in_context_folder(tiny: Path) -> None:
+def test_stray_file_in_context_folder_is_skipped_with_a_warning(tiny: Path) -> None:
     (tiny / "wave" / "ref" / "readme.md").write_text("x")
-    with pytest.raises(DatasetError, match=r"readme.md: unexpected file"):
+    with pytest.warns(LayoutWarning, match=r"readme.md: skipped.*only .csv trials"):
+        ds = load_dataset(tiny, model_context="ref")
+    assert [t.name for t in ds.select("wave", "ref")] == ["rec_1", "rec_2", "rec_3"]
+
+
+def test_a_csv_that_fails_to_parse_stays_an_error(tiny: Path) -> None:
+    (tiny / "wave" / "ref" / "rec_4.csv").write_bytes(b"\x89PNG\r\n\x1a\n")
+    with pytest.raises(DatasetError, match=r"rec_4.csv: this is a PNG image, not a pose CSV"):
         load_dataset(tiny, model_context="ref")
 
 

@@ -225,3 +225,19 @@ def test_push_twist_advances_while_turning_about_90_degrees(seed: int) -> None:
     assert abs(axis_world[2]) < 0.4  # about a horizontal (forearm) axis
     assert np.linalg.norm(plan.end[:3, 3] - T0[:3, 3]) < 0.06  # and back
     assert len(plan.strokes) == 3
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1))
+def test_every_person_is_within_the_documented_population(seed: int) -> None:
+    p = person(seed)
+    assert 0.7 <= p.size <= 1.3 and 0.6 <= p.tempo <= 1.6 and abs(p.skew) <= 0.4
+    assert 0.0 < p.pause[0] <= p.pause[1] <= 0.8 and 0.0 < p.rest[0] <= p.rest[1] <= 1.7
+    assert 0.4 - 1e-9 <= p.tremor <= 2.5 + 1e-9 and 0.6 <= p.variability <= 1.6
+    assert 1.45 <= p.stature <= 2.05 and 0.24 < p.elbow_to_palm < 0.46
+    assert 0.015 <= p.pronation_axis_offset <= 0.05
+    assert np.radians(135) <= p.forearm_rotation <= np.radians(180)
+    assert np.radians(35) <= p.elbow_flexion <= np.radians(65)
+    assert 0.015 <= p.grip_offset[0] < p.grip_offset[1] <= 0.065
+    assert 1.0 <= p.walk_speed <= 1.5
+    assert max(abs(x) for x in p.hand_tilt) <= np.radians(25) + 1e-12

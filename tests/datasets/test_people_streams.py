@@ -8,6 +8,8 @@ import itertools
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from framefree import se3
 from framefree.datasets import (
@@ -26,18 +28,23 @@ from framefree.datasets import (
 from framefree.datasets.activities import REACH, Session, _reach_stay, _scratch
 from framefree.datasets.motion import make_pose
 
-STREAMS = make_person_streams([DEV_PEOPLE[1], HELDOUT_PEOPLE[2]], n_streams_per_person=1,
-                              n_gestures=14)
+
+@pytest.fixture(scope="module")
+def streams():
+    """One 14-gesture session of a development and of a held-out person."""
+    return make_person_streams([DEV_PEOPLE[1], HELDOUT_PEOPLE[2]], n_streams_per_person=1,
+                               n_gestures=14)
 
 
-def test_streams_have_the_whole_repertoire() -> None:
-    kinds = {a.kind for ps in STREAMS for a in ps.activities}
+def test_streams_have_the_whole_repertoire(streams) -> None:
+    kinds = {a.kind for ps in streams for a in ps.activities}
     assert set(PERSON_ACTIVITIES) <= kinds
     assert {"approach", "settle", "rest", "gesture", "stop", "idle"} <= kinds
 
 
-@pytest.mark.parametrize("ps", STREAMS, ids=lambda ps: f"person{ps.person_seed}")
-def test_labels_and_activities_are_consistent(ps) -> None:
+@pytest.mark.parametrize("index", [0, 1])
+def test_labels_and_activities_are_consistent(streams, index: int) -> None:
+    ps = streams[index]
     traj, segs, acts = ps.traj, ps.segments, ps.activities
     assert sum(s.label != STOP for s in segs) == 14
     for a, b in itertools.pairwise(segs):
@@ -54,14 +61,14 @@ def test_labels_and_activities_are_consistent(ps) -> None:
         assert v[inside].max() > 0.1 or s.label == STOP
 
 
-def test_person_streams_are_deterministic_and_match_make_stream() -> None:
+def test_person_streams_are_deterministic_and_match_make_stream(streams) -> None:
     who = person(HELDOUT_PEOPLE[2])
-    again = person_stream(STREAMS[1].stream_seed, who, n_gestures=14)
-    np.testing.assert_array_equal(again.traj.to_array(), STREAMS[1].traj.to_array())
-    traj, segs = make_stream(STREAMS[1].stream_seed, n_gestures=14, person=who)
-    np.testing.assert_array_equal(traj.to_array(), STREAMS[1].traj.to_array())
-    assert segs == STREAMS[1].segments
-    assert STREAMS[0].stream_seed != STREAMS[1].stream_seed
+    again = person_stream(streams[1].stream_seed, who, n_gestures=14)
+    np.testing.assert_array_equal(again.traj.to_array(), streams[1].traj.to_array())
+    traj, segs = make_stream(streams[1].stream_seed, n_gestures=14, person=who)
+    np.testing.assert_array_equal(traj.to_array(), streams[1].traj.to_array())
+    assert segs == streams[1].segments
+    assert streams[0].stream_seed != streams[1].stream_seed
 
 
 def test_dev_and_heldout_sessions_never_share_a_seed() -> None:
@@ -94,8 +101,8 @@ def _walk_turns(ps) -> list[float]:
     return out
 
 
-def test_walk_and_turn_turns_the_body() -> None:
-    turns = [x for ps in STREAMS for x in _walk_turns(ps)]
+def test_walk_and_turn_turns_the_body(streams) -> None:
+    turns = [x for ps in streams for x in _walk_turns(ps)]
     assert turns
     assert all(35 < x < 185 for x in turns)
 
@@ -163,3 +170,15 @@ def test_default_person_passed_explicitly_uses_the_rich_repertoire() -> None:
     traj_none, _ = make_stream(2, ["go_up", StreamItem("go_left"), "go_down"])
     traj_default, _ = make_stream(2, ["go_up", StreamItem("go_left"), "go_down"], person=DEFAULT_PERSON)
     assert traj_none.t.shape != traj_default.t.shape or not np.allclose(traj_none.p, traj_default.p)
+
+
+@settings(max_examples=5, deadline=None)
+@given(person_seed=st.integers(0, 10**6), stream_seed=st.integers(0, 10**6))
+def test_any_person_gives_a_consistent_short_session(person_seed: int, stream_seed: int) -> None:
+    ps = person_stream(stream_seed, person(person_seed), n_gestures=3, n_stops=1)
+    assert [s.label for s in ps.segments].count(STOP) == 1 and len(ps.segments) == 4
+    for a, b in itertools.pairwise(ps.segments):
+        assert a.end_t < b.start_t
+    assert all(0 < s.start_t < s.end_t < ps.traj.t[-1] for s in ps.segments)
+    assert np.all(np.diff(ps.traj.t) > 0) and np.all(np.isfinite(ps.traj.p))
+    assert ps.activities[-1].end_t == pytest.approx(ps.traj.t[-1], abs=0.05)

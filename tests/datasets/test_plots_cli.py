@@ -47,5 +47,9 @@ def test_cli_make_and_errors(tmp_path: Path, monkeypatch) -> None:
     assert (tmp_path / "r" / "streams" / "stream_1_labels.csv").is_file()
     (tmp_path / "r" / "junk.txt").write_text("x")
     res = runner.invoke(cli, ["dataset", "info", str(tmp_path / "r")])
+    assert res.exit_code == 0, res.output
+    assert "junk.txt: skipped: not a .csv recording" in res.output
+    (tmp_path / "r" / "loose.csv").write_text("0,0,0,0,1,0,0,0\n")
+    res = runner.invoke(cli, ["dataset", "info", str(tmp_path / "r")])
     assert res.exit_code == 2
-    assert "junk.txt: unexpected file" in res.output
+    assert "loose.csv: unexpected file" in res.output and "Traceback" not in res.output

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from framefree import Trajectory
-from framefree.online import RecognizerConfig
+from framefree.online import PaperConfig
 
 DATA = Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "real_motions"
 if not DATA.is_dir():
@@ -38,8 +38,8 @@ def model_set() -> tuple[list[Trajectory], list[str]]:
 
 
 @pytest.fixture(scope="session")
-def config() -> RecognizerConfig:
-    return RecognizerConfig(resolution=0.04, threshold=0.5, stop_threshold=3.0)
+def config() -> PaperConfig:
+    return PaperConfig(resolution=0.04, threshold=0.5, stop_threshold=3.0)
 
 
 def concatenate(trajs: list[Trajectory], rest: float = 1.0) -> Trajectory:

@@ -11,6 +11,7 @@ same functions run unchanged on every backend. Dask and Ray are optional extras
 from __future__ import annotations
 
 import os
+import tempfile
 from abc import ABC, abstractmethod
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any
@@ -19,6 +20,7 @@ from ..errors import FramefreeError
 
 __all__ = [
     "BACKENDS",
+    "CONNECT_TIMEOUT",
     "Backend",
     "BackendUnavailableError",
     "DaskBackend",
@@ -120,12 +122,23 @@ class JoblibBackend(Backend):
         yield from par(delayed(_call_indexed)(i, fn, args) for i, args in enumerate(tasks))
 
 
+#: seconds to wait for a user-given cluster address before giving up
+CONNECT_TIMEOUT = 10.0
+
+
 class DaskBackend(Backend):
-    """A Dask ``distributed`` cluster: an existing one (``address``) or a local one started here."""
+    """A Dask ``distributed`` cluster: an existing one (``address``) or a local one started here.
+
+    A local cluster listens on 127.0.0.1 only (scheduler, workers, and the scheduler's health and
+    metrics HTTP endpoint), serves no dashboard, and keeps its scratch files in a temporary folder
+    removed by :meth:`close`; only a user-given ``address`` reaches further.
+    """
 
     name = "dask"
 
-    def __init__(self, jobs: int = 2, address: str | None = None) -> None:
+    def __init__(
+        self, jobs: int = 2, address: str | None = None, timeout: float = CONNECT_TIMEOUT
+    ) -> None:
         super().__init__(jobs)
         try:
             from dask.distributed import Client
@@ -133,14 +146,40 @@ class DaskBackend(Backend):
             raise BackendUnavailableError(
                 f"the dask backend needs the optional extra: pip install 'framefree[dask]' ({exc})"
             ) from None
+        self.address = address
+        self._scratch: tempfile.TemporaryDirectory | None = None
+        self._config: Any = None
         if address:
-            self._client = Client(address)
+            try:
+                self._client = Client(address, timeout=timeout)
+            except (OSError, TimeoutError) as exc:
+                raise FramefreeError(
+                    f"{address}: no Dask scheduler answered within {timeout:g} s ({exc}); "
+                    "start one (dask scheduler) or check --address"
+                ) from None
             self._owned = False
         else:
-            self._client = Client(n_workers=self.jobs, threads_per_worker=1, processes=True)
+            import dask
+
+            self._scratch = tempfile.TemporaryDirectory(prefix="framefree-dask-")
+            # the scheduler and nannies keep lock files in dask's temporary directory too
+            self._config = dask.config.set({"temporary-directory": self._scratch.name})
+            self._client = Client(
+                n_workers=self.jobs,
+                threads_per_worker=1,
+                processes=True,
+                host="127.0.0.1",
+                dashboard_address=None,
+                worker_dashboard_address=None,
+                local_directory=self._scratch.name,
+            )
             self._owned = True
             self.task_threads = max(1, available_cpus() // self.jobs)
-        self.address = address
+
+    @property
+    def client(self) -> Any:
+        """The ``dask.distributed.Client``."""
+        return self._client
 
     def run(self, fn: Callable[..., Any], tasks: Tasks) -> Results:
         from dask.distributed import as_completed
@@ -152,18 +191,36 @@ class DaskBackend(Backend):
 
     def close(self) -> None:
         if getattr(self, "_owned", False):
+            cluster = getattr(self._client, "cluster", None)
             self._client.close()
+            if cluster is not None:
+                cluster.close()
+            self._owned = False
+        if getattr(self, "_config", None) is not None:
+            self._config.__exit__(None, None, None)
+            self._config = None
+        if self._scratch is not None:
+            self._scratch.cleanup()
+            self._scratch = None
 
     def describe(self) -> str:
-        return f"dask ({self.address or f'local cluster, {self.jobs} workers'})"
+        return f"dask ({self.address or f'local cluster on 127.0.0.1, {self.jobs} workers'})"
 
 
 class RayBackend(Backend):
-    """A Ray cluster: an existing one (``address``, e.g. ``"auto"``) or a local one started here."""
+    """An existing Ray cluster: one this process already joined (``ray.init``), or ``address``.
+
+    framefree starts no Ray cluster itself: Ray's servers (GCS, raylet, workers) listen on every
+    network interface, and framefree opens nothing beyond 127.0.0.1 unless the user names an
+    address. Start one yourself (``ray start --head --node-ip-address 127.0.0.1``) and pass its
+    address, or use the Dask backend, whose local cluster stays on loopback.
+    """
 
     name = "ray"
 
-    def __init__(self, jobs: int = 2, address: str | None = None) -> None:
+    def __init__(
+        self, jobs: int = 2, address: str | None = None, timeout: float = CONNECT_TIMEOUT
+    ) -> None:
         super().__init__(jobs)
         try:
             import ray
@@ -173,14 +230,33 @@ class RayBackend(Backend):
             ) from None
         self._ray = ray
         self._owned = not ray.is_initialized()
-        if self._owned:
-            if address:
-                ray.init(address=address)
-            else:
-                ray.init(num_cpus=self.jobs)
-                self.task_threads = max(1, available_cpus() // self.jobs)
         self.address = address
+        if self._owned:
+            if not address:
+                raise FramefreeError(
+                    "framefree starts no local Ray cluster (Ray listens on every network "
+                    "interface); start one (ray start --head --node-ip-address 127.0.0.1) and pass "
+                    "--address 127.0.0.1:6379, or use --backend dask (loopback only)"
+                )
+            self._connect(address, timeout)
         self._remote = ray.remote(_call_indexed)
+
+    def _connect(self, address: str, timeout: float) -> None:
+        import socket
+
+        host, _, port = address.rpartition(":")
+        if host and port.isdigit():  # fail fast when nothing listens (ray.init retries for long)
+            try:
+                socket.create_connection((host, int(port)), timeout=timeout).close()
+            except OSError as exc:
+                raise FramefreeError(
+                    f"{address}: no Ray cluster answered within {timeout:g} s "
+                    f"({exc.strerror or exc}); start one (ray start --head) or check --address"
+                ) from None
+        try:
+            self._ray.init(address=address, log_to_driver=False)
+        except (ConnectionError, RuntimeError, ValueError) as exc:
+            raise FramefreeError(f"{address}: cannot join the Ray cluster ({exc})") from None
 
     def run(self, fn: Callable[..., Any], tasks: Tasks) -> Results:
         ray = self._ray
@@ -192,13 +268,17 @@ class RayBackend(Backend):
     def close(self) -> None:
         if self._owned:
             self._ray.shutdown()
+            self._owned = False
 
     def describe(self) -> str:
-        return f"ray ({self.address or f'local, {self.jobs} CPUs'})"
+        return f"ray ({self.address or 'the cluster this process joined'})"
 
 
 def make_backend(
-    name: str = "joblib", jobs: int | None = None, address: str | None = None
+    name: str = "joblib",
+    jobs: int | None = None,
+    address: str | None = None,
+    timeout: float = CONNECT_TIMEOUT,
 ) -> Backend:
     """Create a backend.
 
@@ -206,25 +286,33 @@ def make_backend(
     ----------
     name : {"joblib", "dask", "ray"}
     jobs : int, optional
-        Workers; default: all available cores. ``joblib`` with one job runs in this process.
+        Workers, at least 1; default (``None``): all available cores. ``joblib`` with one job
+        runs in this process.
     address : str, optional
-        Scheduler address of an existing Dask or Ray cluster.
+        Scheduler address of an existing Dask or Ray cluster; without it, Dask starts a local
+        cluster that listens on 127.0.0.1 only (Ray needs an address, or a ``ray.init`` done by
+        the caller: see :class:`RayBackend`).
+    timeout : float
+        Seconds to wait for the cluster at ``address``.
 
     Raises
     ------
     BackendUnavailableError
         If Dask or Ray is asked for but not installed.
-    ValueError
-        For an unknown backend name.
+    FramefreeError
+        For ``jobs`` below 1, an unknown backend name, an address with joblib, or a cluster
+        address where nothing answers.
     """
-    n = available_cpus() if jobs is None or jobs <= 0 else int(jobs)
+    if jobs is not None and jobs < 1:
+        raise FramefreeError(f"--jobs must be at least 1 (leave it out for all cores), got {jobs}")
+    n = available_cpus() if jobs is None else int(jobs)
     key = name.lower()
     if key == "joblib":
         if address:
-            raise ValueError("--address is only meaningful with --backend dask or ray")
+            raise FramefreeError("--address is only meaningful with --backend dask or ray")
         return SerialBackend(1) if n == 1 else JoblibBackend(n)
     if key == "dask":
-        return DaskBackend(n, address)
+        return DaskBackend(n, address, timeout)
     if key == "ray":
-        return RayBackend(n, address)
-    raise ValueError(f"unknown backend {name!r}; choose one of {', '.join(BACKENDS)}")
+        return RayBackend(n, address, timeout)
+    raise FramefreeError(f"unknown backend {name!r}; choose one of {', '.join(BACKENDS)}")

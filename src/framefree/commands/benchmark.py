@@ -7,6 +7,8 @@ from pathlib import Path
 
 import click
 
+from .inputs import writable_file, writable_folder
+
 __all__ = ["benchmark_command", "register"]
 
 
@@ -46,9 +48,9 @@ __all__ = ["benchmark_command", "register"]
 @click.option(
     "--jobs",
     "-j",
-    type=int,
-    default=0,
-    help="Parallel workers (default: all cores; 1 runs in this process).",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Parallel workers, at least 1 (default: all cores; 1 runs in this process).",
 )
 @click.option(
     "--backend",
@@ -58,7 +60,17 @@ __all__ = ["benchmark_command", "register"]
     help="Where tasks run; dask and ray need the optional extras.",
 )
 @click.option(
-    "--address", default=None, help="Scheduler address of an existing Dask or Ray cluster."
+    "--address",
+    default=None,
+    help="Scheduler address of an existing Dask or Ray cluster (the only way framefree reaches "
+    "beyond 127.0.0.1; Ray needs one).",
+)
+@click.option(
+    "--connect-timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    default=10.0,
+    show_default=True,
+    help="Seconds to wait for the cluster at --address.",
 )
 @click.option(
     "--out",
@@ -102,9 +114,10 @@ def benchmark_command(
     methods: str,
     contexts: str | None,
     early: bool,
-    jobs: int,
+    jobs: int | None,
     backend: str,
     address: str | None,
+    connect_timeout: float,
     out_dir: Path,
     json_file: Path | None,
     round_digits: int | None,
@@ -123,27 +136,17 @@ def benchmark_command(
     """
     from tqdm import tqdm
 
-    from ..benchmark import load_benchmark_data, make_backend, parse_methods, run_benchmark
-    from ..benchmark.results import write_csv, write_json, write_markdown
-    from ..descriptors import available_descriptors
+    from ..benchmark import load_benchmark_data, make_backend, run_benchmark
 
-    try:
-        specs = parse_methods(methods, available_descriptors())
-    except ValueError as exc:
-        raise click.BadParameter(str(exc), param_hint="--methods") from None
+    specs = _method_specs(methods)
     if early:
-        specs += [s for s in parse_methods("bilts+:screw,recommended") if s not in specs]
-    if methods.strip().lower() == "all":
-        from ..benchmark.grids import TABLE1_ROWS
+        from ..benchmark import parse_methods
 
-        skipped = [r.key for r in TABLE1_ROWS if r not in specs]
-        if skipped:
-            msg = f"not registered in this installation, skipped: {', '.join(skipped)}"
-            click.secho(msg, fg="yellow", err=True)
-    try:
-        bk = make_backend(backend, jobs or None, address)
-    except ValueError as exc:
-        raise click.BadParameter(str(exc), param_hint="--backend") from None
+        specs += [s for s in parse_methods("bilts+:screw,recommended") if s not in specs]
+    if json_file is not None:
+        writable_file(json_file, "--json")
+    writable_folder(out_dir)
+    bk = make_backend(backend, jobs, address, connect_timeout)
     t0 = time.perf_counter()
     try:
         data = load_benchmark_data(data_dir, model_context, _parse_contexts(contexts))
@@ -153,15 +156,16 @@ def benchmark_command(
     load_s = time.perf_counter() - t0
     if not quiet:
         click.echo(f"{data.root}: {data.summary()}", err=True)
-    bar = tqdm(total=0, desc="benchmark", unit="task", disable=quiet, leave=False)
+        click.echo(f"running {len(specs)} row(s) on {bk.describe()}", err=True)
+    # created after the lines above, and shown once the first tasks are known: a bar printed
+    # before them would share their line
+    bar = tqdm(total=0, desc="benchmark", unit="task", disable=quiet, leave=False, delay=0.5)
 
     def grow(n: int) -> None:
         bar.total = (bar.total or 0) + n
         bar.refresh()
 
     with bk:
-        if not quiet:
-            click.echo(f"running {len(specs)} row(s) on {bk.describe()}", err=True)
         result = run_benchmark(
             data,
             specs,
@@ -175,7 +179,33 @@ def benchmark_command(
     result.timing["load"] = load_s
     result.timing["total"] += load_s
 
-    out_dir.mkdir(parents=True, exist_ok=True)
+    _write_outputs(result, data, out_dir, json_file, figures, early, presmooth)
+
+
+def _method_specs(methods: str) -> list:
+    """The rows ``--methods`` names; says which Table I rows this installation lacks."""
+    from ..benchmark import parse_methods
+    from ..descriptors import available_descriptors
+
+    try:
+        specs = parse_methods(methods, available_descriptors())
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), param_hint="--methods") from None
+    if methods.strip().lower() == "all":
+        from ..benchmark.grids import TABLE1_ROWS
+
+        skipped = [r.key for r in TABLE1_ROWS if r not in specs]
+        if skipped:
+            msg = f"not registered in this installation, skipped: {', '.join(skipped)}"
+            click.secho(msg, fg="yellow", err=True)
+    return specs
+
+
+def _write_outputs(result, data, out_dir: Path, json_file: Path | None, figures: bool,  # type: ignore[no-untyped-def]
+                   early: bool = False, presmooth: int | None = None) -> None:
+    """Table I (Markdown, CSV, JSON), the figures, and the table and timing on stdout."""
+    from ..benchmark.results import markdown_table, write_csv, write_json, write_markdown
+
     written = [
         write_markdown(result, out_dir / "table1.md"),
         write_csv(result, out_dir / "table1.csv"),
@@ -187,8 +217,6 @@ def benchmark_command(
         written += _figures(result, data, out_dir)
     if early:
         written += _early(result, data, out_dir, presmooth)
-    from ..benchmark.results import markdown_table
-
     click.echo(markdown_table(result))
     t = result.timing
     click.echo(

@@ -15,6 +15,7 @@ from ..descriptors import available_descriptors, get_descriptor
 from ..descriptors.base import Descriptor
 from ..errors import FramefreeError
 from ..trajectory import Trajectory
+from .inputs import model_options, pose_file_options, read_models, writable_file, writable_folder
 
 __all__ = ["descriptor_from_options", "descriptor_options", "register"]
 
@@ -42,13 +43,6 @@ def descriptor_options(func: Callable[..., Any]) -> Callable[..., Any]:
             "--ds-scale", type=float, default=None, help="BILTS window scale (m, or rad for angle)."
         ),
         click.option("--lam", type=float, default=None, help="λ weight (DHB, eFS, ISA)."),
-        click.option(
-            "--quat-order",
-            default="wxyz",
-            show_default=True,
-            type=click.Choice(["wxyz", "xyzw"]),
-            help="Quaternion column order of the input files.",
-        ),
     ]
     for option in reversed(options):
         func = option(func)
@@ -78,65 +72,78 @@ def _feature_names(desc: Descriptor, width: int) -> list[str]:
     return [f"f{i}" for i in range(width)]
 
 
+def _describe_targets(files: tuple[str, ...], out: Path, tag: str) -> list[tuple[Path, Path]]:
+    """(input, output) pairs; two inputs may not share an output, no output may be an input."""
+    pairs = [(Path(f), out / f"{Path(f).stem}_{tag}.csv") for f in files]
+    inputs = {p.resolve() for p, _ in pairs}
+    seen: dict[Path, Path] = {}
+    for src, target in pairs:
+        key = target.resolve()
+        if key in inputs:
+            raise FramefreeError(f"{target}: would overwrite an input file; choose another --out")
+        if key in seen and seen[key].resolve() != src.resolve():
+            raise FramefreeError(
+                f"{seen[key]} and {src} would both be written to {target}; "
+                "describe them in separate runs with different --out folders"
+            )
+        seen[key] = src
+    return pairs
+
+
 @click.command()
-@click.argument("files", nargs=-1, required=True, type=click.Path(exists=True, dir_okay=False))
+@click.argument("files", nargs=-1, required=True, type=click.Path(exists=True))
 @descriptor_options
+@pose_file_options
 @click.option(
     "--out",
     "-o",
     type=click.Path(file_okay=False),
-    default=None,
-    help="Folder for the descriptor CSVs (default: next to each input, suffix _<descriptor>.csv).",
+    default=".",
+    show_default=True,
+    help="Folder for the descriptor CSVs <stem>_<descriptor>.csv (never next to the inputs).",
 )
-def describe(files, descriptor, progress, L, ds_scale, lam, quat_order, out):
+def describe(files, descriptor, progress, L, ds_scale, lam, quat_order, units, skip_header, out):
     """Compute the descriptor of each pose FILE and write it as CSV (one row per sample)."""
     desc = descriptor_from_options(descriptor, progress, L, ds_scale, lam)
     tag = desc.name.replace("+", "plus")
-    for name in files:
-        path = Path(name)
-        seq = desc.compute(Trajectory.from_csv(path, quat_order=quat_order))
-        target_dir = Path(out) if out else path.parent
-        target_dir.mkdir(parents=True, exist_ok=True)
-        target = target_dir / f"{path.stem}_{tag}.csv"
+    pairs = _describe_targets(files, writable_folder(out), tag)
+    for path, target in pairs:
+        traj = Trajectory.from_csv(path, quat_order=quat_order, units=units, skip_header=skip_header)
+        seq = desc.compute(traj)
         header = ",".join(_feature_names(desc, seq.shape[1]))
         np.savetxt(target, seq, delimiter=",", header=header, comments="", fmt="%.12g")
         click.echo(f"{path} -> {target}  ({seq.shape[0]} samples x {seq.shape[1]} features)")
 
 
-def load_labelled_folder(
-    root: Path, quat_order: str = "wxyz"
-) -> tuple[list[Trajectory], list[str]]:
-    """Trajectories of ``root/<label>/**/*.csv``, labelled by their first-level folder name."""
-    trajs: list[Trajectory] = []
-    labels: list[str] = []
-    for label_dir in sorted(p for p in root.iterdir() if p.is_dir() and not p.name.startswith(".")):
-        for csv in sorted(label_dir.rglob("*.csv")):
-            trajs.append(Trajectory.from_csv(csv, quat_order=quat_order))
-            labels.append(label_dir.name)
-    if not trajs:
-        raise FramefreeError(f"{root}: no models found (expected <label>/*.csv files below it)")
-    return trajs, labels
-
-
 @click.command()
-@click.argument("queries", nargs=-1, required=True, type=click.Path(exists=True, dir_okay=False))
+@click.argument("queries", nargs=-1, required=True, type=click.Path(exists=True))
 @click.option(
     "--models",
     "-m",
     required=True,
     type=click.Path(exists=True, file_okay=False),
-    help="Folder with one sub-folder of CSV recordings per label (<label>/*.csv).",
+    help="A dataset root <gesture>/<context>/*.csv (see --model-context) or a folder of "
+    "<label>/*.csv recordings.",
 )
+@model_options
 @descriptor_options
+@pose_file_options
 @click.option(
     "--json", "json_path", type=click.Path(dir_okay=False), help="Also write results as JSON."
 )
-def classify(queries, models, descriptor, progress, L, ds_scale, lam, quat_order, json_path):
+def classify(queries, models, model_context, model_quat_order, descriptor, progress, L, ds_scale,
+             lam, quat_order, units, skip_header, json_path):
     """Recognize each QUERY pose file by its nearest labelled model (1-NN)."""
     desc = descriptor_from_options(descriptor, progress, L, ds_scale, lam)
-    model_trajs, labels = load_labelled_folder(Path(models), quat_order)
-    clf = NearestNeighborClassifier(desc).fit(model_trajs, labels)
-    query_trajs = [Trajectory.from_csv(q, quat_order=quat_order) for q in queries]
+    if json_path:
+        writable_file(json_path, "--json")
+    found = read_models(models, model_context, model_quat_order, units)
+    labels = found.labels
+    query_trajs = [
+        Trajectory.from_csv(q, quat_order=quat_order, units=units, skip_header=skip_header)
+        for q in queries
+    ]
+    clf = NearestNeighborClassifier(desc).fit(found.trajectories, labels)
     predicted = clf.predict(query_trajs)
     D = clf.distances_
     rows = []

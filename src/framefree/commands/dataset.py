@@ -8,7 +8,9 @@ import click
 import numpy as np
 
 from .. import se3
+from ..errors import FramefreeError
 from ..trajectory import Trajectory
+from .inputs import dataset_file_options, pose_file_options, writable_file
 
 __all__ = ["register", "trajectory_stats"]
 
@@ -57,12 +59,12 @@ def make_command(out: Path | None, seed: int, n_streams: int) -> None:
 @dataset_group.command("info")
 @click.argument("root", type=click.Path(exists=True, file_okay=False, path_type=Path))
 @click.option("--model-context", default="original_1", show_default=True)
-@click.option("--quat-order", default="wxyz", show_default=True, type=click.Choice(["wxyz", "xyzw"]))
-def info_command(root: Path, model_context: str, quat_order: str) -> None:
+@dataset_file_options
+def info_command(root: Path, model_context: str, quat_order: str, units: str) -> None:
     """Summarize a dataset: gestures × contexts × trials, durations, path lengths, rotations."""
     from ..datasets import load_dataset
 
-    ds = load_dataset(root, model_context=model_context, quat_order=quat_order)
+    ds = load_dataset(root, model_context=model_context, quat_order=quat_order, units=units)
     click.echo(f"{ds.root}: {len(ds.gestures)} gestures × {len(ds.contexts)} contexts, {len(ds)} trials "
                f"(model context {ds.model_context!r}: {len(ds.models())}; "
                f"train {len(ds.queries('train'))}, test {len(ds.queries('test'))})")
@@ -91,26 +93,31 @@ def info_command(root: Path, model_context: str, quat_order: str) -> None:
 @click.command("plot")
 @click.argument("target", type=click.Path(exists=True, path_type=Path))
 @click.option("--out", "-o", type=click.Path(dir_okay=False, path_type=Path), default=None,
-              help="PNG file (default: next to TARGET, or TARGET/gallery.png for a dataset).")
+              help="PNG file (default: in the working folder, <name>.png for a trial file, "
+              "<name>_gallery.png for a dataset; never inside TARGET).")
 @click.option("--context", default=None,
               help="Context shown in a dataset gallery (default: the model context).")
 @click.option("--trial", default=None, help="Trial shown per gesture in a gallery (default: the first).")
-@click.option("--quat-order", default="wxyz", show_default=True, type=click.Choice(["wxyz", "xyzw"]))
-def plot_command(
-    target: Path, out: Path | None, context: str | None, trial: str | None, quat_order: str
-) -> None:
+@pose_file_options
+def plot_command(target: Path, out: Path | None, context: str | None, trial: str | None,
+                 quat_order: str, units: str, skip_header: bool) -> None:
     """Draw TARGET as a PNG: a trial file (3-D path with orientation triads) or a dataset folder
     (a gallery with one trial per gesture)."""
     from ..plots import plot_gallery, plot_trajectory
 
+    name = target.resolve().name or "dataset"
     if target.is_dir():
         from ..datasets import load_dataset
 
-        out = out or target / "gallery.png"
-        plot_gallery(load_dataset(target, quat_order=quat_order), out, context=context, trial=trial)
+        out = writable_file(out or Path(f"{name}_gallery.png"))
+        ds = load_dataset(target, quat_order=quat_order, units=units)
+        plot_gallery(ds, out, context=context, trial=trial)
     else:
-        out = out or target.with_suffix(".png")
-        traj = Trajectory.from_csv(target, quat_order=quat_order)
+        out = writable_file(out or Path(f"{target.stem}.png"))
+        if out.resolve() == target.resolve():
+            raise FramefreeError(f"{out}: would overwrite the input; choose another --out")
+        traj = Trajectory.from_csv(target, quat_order=quat_order, units=units,
+                                   skip_header=skip_header)
         title = "/".join(target.with_suffix("").parts[-3:])
         plot_trajectory(traj, path=out, title=title)
     click.echo(f"wrote {out}")

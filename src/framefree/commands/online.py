@@ -11,54 +11,96 @@ from typing import Any
 
 import click
 
+from ..errors import FramefreeError
+from ..posecsv import QUAT_ORDERS, UNITS
+from .inputs import pose_file_options, read_models, writable_file, writable_folder
+
 __all__ = ["register"]
 
 
 def _model_options(f):
     opts = [
         click.option("--models", "models", required=True, type=click.Path(exists=True, file_okay=False),
-                     help="Dataset folder <gesture>/<context>/*.csv with the model recordings."),
+                     help="A dataset root <gesture>/<context>/*.csv (see --model-context) or a "
+                     "folder of <label>/*.csv recordings."),
         click.option("--model-context", default="original_1", show_default=True,
-                     help="Context folder holding the model recordings."),
+                     help="Context folder of the models when --models is a dataset root."),
+        click.option("--model-quat-order", default="wxyz", show_default=True,
+                     type=click.Choice(QUAT_ORDERS), help="Quaternion column order of the model files."),
+        click.option("--units", default="m", show_default=True, type=click.Choice(tuple(UNITS)),
+                     help="Unit of the positions of the models and of the pose source."),
+        click.option("--method", type=click.Choice(METHODS), default="segments", show_default=True,
+                     help="segments: framefree's recognizer (whole gestures spotted and classified "
+                     "as offline); paper: the paper's recognizer (fixed windows)."),
         click.option("--threshold", type=float, default=None,
-                     help="Decision threshold (default: automatic calibration)."),
+                     help="One decision threshold for every gesture (default: calibrated per gesture)."),
         click.option("--stop-threshold", type=float, default=None,
-                     help="Stop threshold on |dq/dt| [1/s] (default: from the model recordings)."),
+                     help="Stop threshold (segments: angular speed [rad/s]; paper: |dq/dt| [1/s]); "
+                     "default: from the model recordings."),
         click.option("--L", "L", type=float, default=None, help="Scale length [m]."),
         click.option("--ds-scale", type=float, default=None, help="BILTS+ window scale [m]."),
         click.option("--resolution", type=float, default=None,
-                     help="Screw-path resolution [m] (default: automatic)."),
+                     help="paper: screw-path resolution [m] (default: automatic)."),
         click.option("--latency-min", type=click.Choice(["0", "1"]), default=None,
-                     help="Smallest latency searched (default 1)."),
+                     help="paper: smallest latency searched (default: 0)."),
     ]
     for o in reversed(opts):
         f = o(f)
     return f
 
 
-def _recognizer(models: str, model_context: str, **kw: Any):
-    from ..online import Recognizer
+#: The live recognizers: framefree's (default) and the paper's.
+METHODS = ("segments", "paper")
+#: Options that only the paper's recognizer has.
+_PAPER_ONLY = ("resolution", "latency_min")
+
+
+def _thresholds(rec: Any) -> str:
+    """The decision thresholds in force: one per gesture, or the single one."""
+    per_gesture = rec.gesture_thresholds
+    values = set(per_gesture.values())
+    if len(values) == 1:
+        return f"threshold {values.pop():.4g}"
+    return "thresholds " + ", ".join(f"{g} {per_gesture[g]:.4g}" for g in rec.gestures)
+
+
+def _stop_and_resolution(rec: Any) -> str:
+    if getattr(rec, "method", "paper") == "segments":
+        return f"stop above {rec.stop_threshold:.3g} rad/s"
+    return (f"stop |dq/dt| > {rec.stop_threshold:.3g}/s, resolution "
+            f"{rec.models.resolution:.4g} m")
+
+
+def _recognizer(models: str, model_context: str, model_quat_order: str, units: str,
+                method: str = "segments", **kw: Any):
+    from ..online import PaperRecognizer, Recognizer
 
     overrides = {k: v for k, v in kw.items() if v is not None}
+    if method == "segments":
+        given = [k for k in _PAPER_ONLY if k in overrides]
+        if given:
+            names = ", ".join("--" + k.replace("_", "-") for k in given)
+            raise FramefreeError(f"{names} only apply to --method paper")
     if "latency_min" in overrides:
         overrides["latency_min"] = int(overrides["latency_min"])
-    click.echo(f"building models from {models}/<gesture>/{model_context} ...", err=True)
+    found = read_models(models, model_context, model_quat_order, units)
+    click.echo(f"building the gesture models ({method} method) and calibrating ...", err=True)
     t0 = time.perf_counter()
-    rec = Recognizer.from_dataset(models, model_context=model_context, **overrides)
+    cls = Recognizer if method == "segments" else PaperRecognizer
+    rec = cls.from_trajectories(found.trajectories, found.labels, **overrides)
     rec.warmup()
     click.echo(
-        f"{len(rec.labels)} models, {len(rec.gestures)} gestures, threshold {rec.threshold:.4g}, "
-        f"stop |dq/dt| > {rec.stop_threshold:.3g}/s, resolution {rec.models.resolution:.4g} m "
-        f"({time.perf_counter() - t0:.1f} s)",
+        f"{len(rec.labels)} models, {len(rec.gestures)} gestures, {_thresholds(rec)}, "
+        f"{_stop_and_resolution(rec)} ({time.perf_counter() - t0:.1f} s)",
         err=True,
     )
     return rec
 
 
 def _bar(d: float, threshold: float, width: int = 6) -> str:
+    """Closeness of ``d`` to ``threshold`` as a bar: full at the threshold, empty at 10 times it."""
     if not math.isfinite(d):
         return "·" * width
-    # full bar at the threshold, empty at 10× the threshold (log scale)
     x = 1.0 - min(max(math.log10(max(d, 1e-12) / threshold), 0.0), 1.0)
     n = round(x * width)
     return "█" * n + "·" * (width - n)
@@ -66,7 +108,8 @@ def _bar(d: float, threshold: float, width: int = 6) -> str:
 
 @click.command("stream")
 @click.argument("file", type=click.Path(exists=True, dir_okay=False))
-@click.option("--port", type=int, default=5556, show_default=True, help="Port on 127.0.0.1.")
+@click.option("--port", type=click.IntRange(1, 65535), default=5556, show_default=True,
+              help="Port on 127.0.0.1.")
 @click.option("--rate", type=float, default=None,
               help="Samples per second (default: follow the file's time stamps).")
 @click.option("--speed", type=float, default=1.0, show_default=True,
@@ -75,7 +118,9 @@ def _bar(d: float, threshold: float, width: int = 6) -> str:
               show_default=True, help="Message format (binary: 8 little-endian float64).")
 @click.option("--join-wait", type=float, default=1.0, show_default=True,
               help="Seconds to wait after binding before the first message (slow joiners).")
-def stream_cmd(file: str, port: int, rate: float | None, speed: float, fmt: str, join_wait: float):
+@pose_file_options
+def stream_cmd(file: str, port: int, rate: float | None, speed: float, fmt: str, join_wait: float,
+               quat_order: str, units: str, skip_header: bool):
     """Publish a recording FILE over ZeroMQ on tcp://127.0.0.1:PORT (PUB, binds).
 
     \b
@@ -83,8 +128,10 @@ def stream_cmd(file: str, port: int, rate: float | None, speed: float, fmt: str,
     In another terminal: framefree live --models DIR --source zmq://127.0.0.1:PORT
     """
     from ..online.sources import CsvReplay, ZmqPublisher
+    from ..trajectory import Trajectory
 
-    src = CsvReplay(file, speed=speed, rate=rate)
+    traj = Trajectory.from_csv(file, quat_order=quat_order, units=units, skip_header=skip_header)
+    src = CsvReplay(traj, speed=speed, rate=rate)
     pub = ZmqPublisher(f"tcp://127.0.0.1:{port}", join_wait=join_wait, fmt=fmt)
     click.echo(f"publishing {len(src.traj)} poses of {file} on tcp://127.0.0.1:{port}", err=True)
     try:
@@ -100,10 +147,13 @@ def stream_cmd(file: str, port: int, rate: float | None, speed: float, fmt: str,
 @_model_options
 @click.option("--source", required=True,
               help="zmq://127.0.0.1:PORT, a CSV file (replayed in real time), or 'openvr'.")
+@click.option("--quat-order", default="wxyz", show_default=True, type=click.Choice(QUAT_ORDERS),
+              help="Quaternion order of the source (a CSV file's columns or the messages).")
 @click.option("--speed", type=float, default=1.0, show_default=True,
               help="Replay speed of a CSV source (0: as fast as possible).")
-@click.option("--timeout", type=float, default=10.0, show_default=True,
-              help="Stop after this many seconds without a pose (ZeroMQ).")
+@click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=10.0,
+              show_default=True,
+              help="ZeroMQ: give up after this many seconds without a pose (an error if none came).")
 @click.option("--view/--no-view", default=True, show_default=True,
               help="Show a one-line live view of the per-gesture dissimilarities.")
 @click.option("--robot", type=click.Choice(["none", "sim"]), default="none", show_default=True,
@@ -112,21 +162,42 @@ def stream_cmd(file: str, port: int, rate: float | None, speed: float, fmt: str,
               help="With --robot sim: write the session figure (PNG) at the end.")
 @click.option("--robot-settle", type=float, default=3.0, show_default=True,
               help="With --robot sim: simulated seconds after the last pose.")
-def live_cmd(models: str, model_context: str, source: str, speed: float, timeout: float,
-             view: bool, robot: str, robot_plot: str | None, robot_settle: float, **kw: Any):
+def live_cmd(models: str, model_context: str, model_quat_order: str, units: str, source: str,
+             quat_order: str, speed: float, timeout: float, view: bool, robot: str,
+             robot_plot: str | None, robot_settle: float, **kw: Any):
     """Recognize gestures live from a pose source and print events as they happen.
 
-    With ``--robot sim`` the events drive the simulated robot (issue 6): the simulation clock
-    follows the stream's time stamps (time 0 = first pose) and every event acts at its time.
+    With ``--robot sim`` the events drive the simulated robot: the simulation clock follows the
+    stream's time stamps (time 0 = first pose) and every event acts at its time.
     """
     from ..online.sources import open_source
 
+    if robot_plot:
+        writable_file(robot_plot, "--robot-plot")
     sim = _robot_sim() if robot == "sim" else None
-    rec = _recognizer(models, model_context, **kw)
-    src = open_source(source, speed=speed, timeout=timeout)
+    # the source is checked (and a ZeroMQ subscriber connected) before the slow model building
+    src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units)
+    rec = _recognizer(models, model_context, model_quat_order, units, **kw)
+    n, t0, sim = _run_live(rec, src, view, sim)
+    if n == 0 and getattr(src, "timed_out", False):
+        raise FramefreeError(
+            f"{source}: no pose arrived within {timeout:g} s; is a publisher running "
+            "(framefree stream FILE --port PORT)? Raise --timeout to wait longer"
+        )
+    if getattr(src, "timed_out", False):
+        click.echo(f"no pose for {timeout:g} s: stopped", err=True)
+    skipped = {k: v for k, v in rec.stats.items() if v and k not in ("samples", "accepted")}
+    click.echo(f"{n} poses; {json.dumps(skipped)}", err=True)
+    if sim is not None and t0 is not None:
+        _finish_robot(sim, robot_settle, robot_plot)
+
+
+def _run_live(rec: Any, src: Any, view: bool, sim: Any) -> tuple[int, float | None, Any]:
+    """Push every pose of ``src``; print events (and a live view). Returns (poses, t0, robot)."""
     t0: float | None = None
     tty = view and sys.stdout.isatty()
     short = {g: g.replace("go_", "").replace("_gripper", "")[:6] for g in rec.gestures}
+    thresholds = rec.gesture_thresholds
     n = 0
     last_view = 0.0
     try:
@@ -146,28 +217,28 @@ def live_cmd(models: str, model_context: str, source: str, speed: float, timeout
             if sim is not None:
                 sim.advance_to(float(t) - t0)
             now = time.perf_counter()
-            if view and now - last_view > 0.1:
+            if tty and now - last_view > 0.1:
                 last_view = now
                 gd = rec.gesture_dissimilarities()
-                line = " ".join(f"{short[g]} {_bar(v, rec.threshold)}" for g, v in gd.items())
-                if tty:
-                    click.echo(f"\r\033[K{t:8.2f} s {line}", nl=False)
+                line = " ".join(f"{short[g]} {_bar(v, thresholds[g])}" for g, v in gd.items())
+                click.echo(f"\r\033[K{t:8.2f} s {line}", nl=False)
     except KeyboardInterrupt:
         pass
     if tty:
         click.echo()
-    skipped = {k: v for k, v in rec.stats.items() if v and k not in ("samples", "accepted")}
-    click.echo(f"{n} poses; {json.dumps(skipped)}", err=True)
-    if sim is not None and t0 is not None:
-        sim.advance_to(sim.time + robot_settle)
-        log = sim.log()
-        acted = sum(1 for d in log.decisions if d.accepted)
-        click.echo(f"robot: {len(log.decisions)} events handled, {acted} changed the plan, "
-                   f"{sim.time:.1f} s simulated", err=True)
-        if robot_plot:
-            from ..robot.render import plot_session
+    return n, t0, sim
 
-            click.echo(f"robot session figure: {plot_session(log, robot_plot)}", err=True)
+
+def _finish_robot(sim: Any, robot_settle: float, robot_plot: str | None) -> None:
+    sim.advance_to(sim.time + robot_settle)
+    log = sim.log()
+    acted = sum(1 for d in log.decisions if d.accepted)
+    click.echo(f"robot: {len(log.decisions)} events handled, {acted} changed the plan, "
+               f"{sim.time:.1f} s simulated", err=True)
+    if robot_plot:
+        from ..robot.render import plot_session
+
+        click.echo(f"robot session figure: {plot_session(log, robot_plot)}", err=True)
 
 
 def _robot_sim():
@@ -179,11 +250,11 @@ def _robot_sim():
     try:
         from ..robot import sim as _sim
     except ImportError as exc:
-        raise click.ClickException(f"--robot sim is not available: {exc}") from None
+        raise FramefreeError(f"--robot sim is not available: {exc}") from None
     try:
         _sim.import_mujoco()
     except _sim.SimulatorMissing as exc:
-        raise click.ClickException(f"--robot sim: {exc}") from None
+        raise FramefreeError(f"--robot sim: {exc}") from None
     from ..robot.scenario import STACKING_PLANNER, STACKING_SCENE, STACKING_START
     from ..robot.session import RobotSim
 
@@ -200,39 +271,77 @@ def _robot_sim():
 
 
 @click.command("evaluate-stream")
+@click.argument("more_streams", nargs=-1, type=click.Path(exists=True, dir_okay=False),
+                metavar="[STREAM]...")
 @_model_options
-@click.option("--stream", "streams", required=True, multiple=True,
+@click.option("--stream", "streams", multiple=True,
               type=click.Path(exists=True, dir_okay=False),
-              help="Stream CSV (with <name>_labels.csv beside it); repeatable.")
+              help="Stream CSV (with <name>_labels.csv beside it); repeatable, or give the "
+              "streams as arguments.")
+@click.option("--quat-order", default="wxyz", show_default=True, type=click.Choice(QUAT_ORDERS),
+              help="Quaternion column order of the stream files.")
 @click.option("--tolerance", type=float, default=0.5, show_default=True,
               help="Seconds after a gesture's end during which its detection counts.")
 @click.option("--json", "json_path", type=click.Path(dir_okay=False), default=None,
               help="Write all metrics and events to this JSON file.")
 @click.option("--figures", type=click.Path(file_okay=False), default=None,
               help="Folder for one timeline figure per stream (PNG).")
-def evaluate_stream_cmd(models: str, model_context: str, streams: tuple[str, ...], tolerance: float,
-                        json_path: str | None, figures: str | None, **kw: Any):
-    """Event-level precision, recall, F1, false positives per minute and latency on labelled streams."""
+@click.option("--compare/--no-compare", default=False, show_default=True,
+              help="Also evaluate the other method (default settings) on the same streams and "
+              "report both side by side.")
+def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_context: str,
+                        model_quat_order: str, units: str, streams: tuple[str, ...],
+                        quat_order: str, tolerance: float, json_path: str | None,
+                        figures: str | None, compare: bool, method: str, **kw: Any):
+    """Event-level precision, recall, F1, false positives per minute and latency on labelled streams
+    (--stream FILE, repeatable, and/or STREAM arguments)."""
+    from ..datasets.streams import load_stream
+
+    streams = (*streams, *more_streams)
+    if not streams:
+        raise click.UsageError("give at least one labelled stream (--stream FILE)")
+    if units != "m":
+        raise click.BadParameter("labelled streams are read in metres", param_hint="--units")
+    if json_path:
+        writable_file(json_path, "--json")
+    if figures:
+        writable_folder(figures, "--figures")
+    loaded = [(path, *load_stream(path, quat_order=quat_order)) for path in streams]
+    rec = _recognizer(models, model_context, model_quat_order, units, method, **kw)
+    total, per_stream = _evaluate(rec, loaded, tolerance, figures)
+    out = {"total": total, "streams": per_stream, "recognizer": rec.describe(), "method": method,
+           "tolerance_s": tolerance}
+    if compare:
+        other = next(m for m in METHODS if m != method)
+        rec2 = _recognizer(models, model_context, model_quat_order, units, other)
+        total2, per_stream2 = _evaluate(rec2, loaded, tolerance, None)
+        out["compare"] = {"method": other, "total": total2, "streams": per_stream2,
+                          "recognizer": rec2.describe()}
+        for name, t in ((method, total), (other, total2)):
+            click.echo(f"{name:>9}: precision {t['precision']:.3f} recall {t['recall']:.3f} "
+                       f"F1 {t['f1']:.3f} FP {t['fp']} FP/min {t['fp_per_minute']:.3f}")
+    if json_path:
+        Path(json_path).parent.mkdir(parents=True, exist_ok=True)
+        Path(json_path).write_text(json.dumps(out, indent=2, default=float))
+
+
+def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None
+              ) -> tuple[dict, dict]:
+    """Run ``rec`` over every loaded ``(path, traj, segments)``; print and return the pooled and
+    per-stream metrics."""
     from ..online.evaluation import combine, match_events, plot_timeline, run_stream
 
-    try:
-        from ..datasets.streams import load_stream
-    except ImportError:  # pragma: no cover - the dataset module ships with framefree
-        raise click.ClickException("framefree.datasets is needed to read labelled streams") from None
-    rec = _recognizer(models, model_context, **kw)
     per_stream = {}
     results = []
-    for path in streams:
-        traj, segs = load_stream(path)
+    for path, traj, segs in loaded:
         t0 = time.perf_counter()
         events, trace = run_stream(rec, traj)
         wall = time.perf_counter() - t0
         res = match_events(events, segs, float(traj.t[-1] - traj.t[0]), tolerance)
         results.append(res)
-        s = res.summary()
         click.echo(f"{Path(path).name}: TP {res.tp} FP {res.fp} FN {res.fn}  P {res.precision:.3f} "
                    f"R {res.recall:.3f} F1 {res.f1:.3f}  ({wall:.1f} s for {len(traj)} poses)")
-        per_stream[str(path)] = {**s, "events": res.details, "missed": res.missed,
+        per_stream[str(path)] = {**res.summary(), "events": res.details, "missed": res.missed,
                                  "stats": dict(rec.stats), "wall_s": wall}
         if figures:
             fig = plot_timeline(Path(figures) / f"{Path(path).stem}_timeline.png", segs, events,
@@ -244,11 +353,7 @@ def evaluate_stream_cmd(models: str, model_context: str, streams: tuple[str, ...
         f"recall {total['recall']:.3f} F1 {total['f1']:.3f}  FP/min {total['fp_per_minute']:.3f}  "
         f"latency after end: median {total['latency_median_s']} s"
     )
-    if json_path:
-        out = {"total": total, "streams": per_stream, "recognizer": rec.describe(),
-               "tolerance_s": tolerance}
-        Path(json_path).parent.mkdir(parents=True, exist_ok=True)
-        Path(json_path).write_text(json.dumps(out, indent=2, default=float))
+    return total, per_stream
 
 
 def register(group: click.Group) -> None:

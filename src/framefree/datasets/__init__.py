@@ -27,8 +27,11 @@ from .layout import (
     STREAMS_DIR,
     STRESS_CONTEXTS,
     Dataset,
+    LayoutWarning,
+    ModelSet,
     Trial,
     load_dataset,
+    resolve_models,
 )
 from .people import DEFAULT_PERSON, DEV_PEOPLE, HELDOUT_PEOPLE, Person, draw_person, person
 from .people_streams import PersonStream, make_person_streams, person_stream
@@ -65,7 +68,9 @@ __all__ = [
     "WORLD_FRAMES",
     "Activity",
     "Dataset",
+    "LayoutWarning",
     "LivePerson",
+    "ModelSet",
     "Person",
     "PersonStream",
     "Segment",
@@ -86,6 +91,7 @@ __all__ = [
     "person_stream",
     "plan_gesture",
     "replica_path",
+    "resolve_models",
     "save_stream",
     "synthesize_gesture",
 ]

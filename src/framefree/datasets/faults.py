@@ -103,7 +103,11 @@ def jitter(
     if distribution == "uniform":
         d = rng.uniform(-amplitude, amplitude, t.shape[0])
     elif distribution == "normal":
-        d = np.clip(rng.normal(0.0, amplitude / 2.0, t.shape[0]), -amplitude, amplitude)
+        d = rng.normal(0.0, amplitude / 2.0, t.shape[0])
+        out = np.abs(d) > amplitude
+        while out.any():  # truncation: redraw the values outside the range
+            d[out] = rng.normal(0.0, amplitude / 2.0, int(out.sum()))
+            out = np.abs(d) > amplitude
     else:
         raise ValueError(f"unknown jitter distribution {distribution!r} (uniform or normal)")
     return t + d, p, q

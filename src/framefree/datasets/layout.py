@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import re
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import DatasetError, TrajectoryError
+from ..errors import DatasetError, FramefreeWarning, TrajectoryError
 from ..trajectory import Trajectory
 
 __all__ = [
@@ -18,9 +19,12 @@ __all__ = [
     "STREAMS_DIR",
     "STRESS_CONTEXTS",
     "Dataset",
+    "LayoutWarning",
+    "ModelSet",
     "Trial",
     "is_training_trial",
     "load_dataset",
+    "resolve_models",
 ]
 
 #: The seven HPM gesture folders, in the paper's order ([P2] §III). A loaded dataset lists its
@@ -144,13 +148,37 @@ class Dataset:
         return out
 
 
+class LayoutWarning(FramefreeWarning):
+    """A dataset or models folder holds something that is not a recording; it is skipped."""
+
+    def __init__(self, path: Path, folder: Path, what: str) -> None:
+        self.problem = f"skipped: not a .csv recording ({folder} should contain only {what})"
+        super().__init__(f"{path}: {self.problem}")
+
+
 def _entries(folder: Path) -> list[Path]:
     visible = (p for p in folder.iterdir() if not p.name.startswith("."))
     return sorted(visible, key=lambda p: _natural_key(p.name))
 
 
+def _is_csv(path: Path) -> bool:
+    return path.suffix.lower() == ".csv"
+
+
+def _without_stray_files(folder: Path, entries: list[Path], what: str) -> list[Path]:
+    """``entries`` less the files that are not CSV (each skipped with a :class:`LayoutWarning`)."""
+    kept = []
+    for p in entries:
+        if p.is_file() and not _is_csv(p):
+            warnings.warn(LayoutWarning(p, folder, what), stacklevel=4)
+        else:
+            kept.append(p)
+    return kept
+
+
 def _subfolders(folder: Path, what: str, skip: tuple[str, ...] = ()) -> list[Path]:
     entries = [p for p in _entries(folder) if p.name not in skip]
+    entries = _without_stray_files(folder, entries, f"{what} folders")
     stray = [p for p in entries if not p.is_dir()]
     if stray:
         raise DatasetError(
@@ -161,16 +189,47 @@ def _subfolders(folder: Path, what: str, skip: tuple[str, ...] = ()) -> list[Pat
     return entries
 
 
+def _trial_files(cdir: Path) -> list[Path]:
+    """The .csv files of a context folder (other files skipped with a warning)."""
+    files = _without_stray_files(cdir, _entries(cdir), ".csv trials")
+    if not files:
+        raise DatasetError(f"{cdir}: empty folder, expected trial CSV files")
+    for f in files:
+        if f.is_dir():
+            raise DatasetError(f"{f}: unexpected folder; {cdir} should contain only .csv trials")
+    return files
+
+
+def _load_trial(f: Path, quat_order: str, units: str) -> Trajectory:
+    try:
+        return Trajectory.from_csv(f, quat_order=quat_order, units=units)
+    except TrajectoryError as exc:
+        raise DatasetError(f"bad trial file: {exc}") from exc
+
+
 def _context_order(names: set[str]) -> tuple[str, ...]:
     known = [c for c in REPLICA_CONTEXTS if c in names]
     return (*known, *sorted(names - set(known), key=_natural_key))
 
 
-def load_dataset(root: str | Path, model_context: str = MODEL_CONTEXT, quat_order: str = "wxyz") -> Dataset:
+def _check_root(root: Path) -> None:
+    if not root.exists():
+        raise DatasetError(f"{root}: no such dataset folder")
+    if not root.is_dir():
+        raise DatasetError(f"{root}: not a folder (expected <root>/<gesture>/<context>/<trial>.csv)")
+
+
+def load_dataset(
+    root: str | Path,
+    model_context: str = MODEL_CONTEXT,
+    quat_order: str = "wxyz",
+    units: str = "m",
+) -> Dataset:
     """Load a dataset laid out as ``<root>/<gesture>/<context>/<trial>.csv``.
 
     Names are read from disk; entries starting with ``.`` and a top-level :data:`STREAMS_DIR`
-    folder are skipped. Every trial is loaded.
+    folder are skipped, and so are files that are not ``.csv`` (with a :class:`LayoutWarning`).
+    Every trial is loaded.
 
     Parameters
     ----------
@@ -179,6 +238,8 @@ def load_dataset(root: str | Path, model_context: str = MODEL_CONTEXT, quat_orde
         Name of the context whose trials are the models; every gesture must have it.
     quat_order : {"wxyz", "xyzw"}
         Quaternion column order of the files.
+    units : {"m", "cm", "mm"}
+        Unit of the files' positions.
 
     Returns
     -------
@@ -187,14 +248,11 @@ def load_dataset(root: str | Path, model_context: str = MODEL_CONTEXT, quat_orde
     Raises
     ------
     DatasetError
-        For a missing or empty folder, a stray file, a gesture without the model context, or a
-        malformed CSV file (the message names the file and row).
+        For a missing or empty folder, a misplaced CSV file or folder, a gesture without the model
+        context, or a malformed CSV file (the message names the file and row).
     """
     root = Path(root).expanduser()
-    if not root.exists():
-        raise DatasetError(f"{root}: no such dataset folder")
-    if not root.is_dir():
-        raise DatasetError(f"{root}: not a folder (expected <root>/<gesture>/<context>/<trial>.csv)")
+    _check_root(root)
     trials: list[Trial] = []
     contexts: set[str] = set()
     gestures = _subfolders(root, "gesture", skip=(STREAMS_DIR,))
@@ -207,18 +265,10 @@ def load_dataset(root: str | Path, model_context: str = MODEL_CONTEXT, quat_orde
             )
         contexts |= names
         for cdir in sorted(cdirs, key=lambda p: _context_order(names).index(p.name)):
-            files = _entries(cdir)
-            if not files:
-                raise DatasetError(f"{cdir}: empty folder, expected trial CSV files")
-            for f in files:
-                if f.is_dir() or f.suffix.lower() != ".csv":
-                    kind = "folder" if f.is_dir() else "file"
-                    raise DatasetError(f"{f}: unexpected {kind}; {cdir} should contain only .csv trials")
-                try:
-                    traj = Trajectory.from_csv(f, quat_order=quat_order)
-                except TrajectoryError as exc:
-                    raise DatasetError(f"bad trial file: {exc}") from exc
-                trials.append(Trial(gdir.name, cdir.name, f.stem, f, traj))
+            for f in _trial_files(cdir):
+                trials.append(
+                    Trial(gdir.name, cdir.name, f.stem, f, _load_trial(f, quat_order, units))
+                )
     return Dataset(
         root=root,
         gestures=tuple(sorted(g.name for g in gestures)),
@@ -226,3 +276,100 @@ def load_dataset(root: str | Path, model_context: str = MODEL_CONTEXT, quat_orde
         model_context=model_context,
         trials=trials,
     )
+
+
+@dataclass(frozen=True)
+class ModelSet:
+    """Labelled model recordings found in a folder by :func:`resolve_models`.
+
+    Attributes
+    ----------
+    trajectories : list of Trajectory
+    labels : list of str
+        The label (gesture folder name) of each recording.
+    layout : {"dataset", "labelled"}
+        ``"dataset"``: ``<root>/<gesture>/<context>/*.csv`` (the model context's recordings);
+        ``"labelled"``: ``<root>/<label>/*.csv``.
+    description : str
+        One line saying what was found, for the user.
+    """
+
+    trajectories: list[Trajectory] = field(repr=False)
+    labels: list[str]
+    layout: str
+    description: str
+
+
+def _layout_of(root: Path) -> str:
+    """"dataset" when the label folders hold folders, "labelled" when they hold CSV files."""
+    kinds = set()
+    for sub in _entries(root):
+        if sub.is_dir() and sub.name != STREAMS_DIR:
+            inner = _entries(sub)
+            if any(p.is_dir() for p in inner):
+                kinds.add("dataset")
+            if any(p.is_file() and _is_csv(p) for p in inner):
+                kinds.add("labelled")
+    if not kinds:
+        raise DatasetError(
+            f"{root}: no models found; expected a dataset root <gesture>/<context>/*.csv or a "
+            "folder of <label>/*.csv recordings"
+        )
+    if len(kinds) > 1:
+        raise DatasetError(
+            f"{root}: mixes <label>/*.csv files and <gesture>/<context>/ folders; use one layout"
+        )
+    return kinds.pop()
+
+
+def resolve_models(
+    root: str | Path,
+    model_context: str = MODEL_CONTEXT,
+    quat_order: str = "wxyz",
+    units: str = "m",
+) -> ModelSet:
+    """Model recordings from either layout every command accepts, and a line saying which it found.
+
+    Parameters
+    ----------
+    root : str or Path
+        A dataset root ``<root>/<gesture>/<context>/<trial>.csv`` (the ``model_context``
+        recordings become the models) or a folder of ``<root>/<label>/*.csv`` recordings.
+    model_context : str
+        Context folder of the models in a dataset root (ignored for a ``<label>/*.csv`` folder).
+    quat_order : {"wxyz", "xyzw"}
+        Quaternion column order of the model files.
+    units : {"m", "cm", "mm"}
+        Unit of the model files' positions.
+
+    Raises
+    ------
+    DatasetError
+        If the folder has neither layout, mixes them, lacks the model context, or holds a bad CSV.
+    """
+    root = Path(root).expanduser()
+    _check_root(root)
+    trajs: list[Trajectory] = []
+    labels: list[str] = []
+    layout = _layout_of(root)
+    for gdir in _subfolders(root, "gesture" if layout == "dataset" else "label", skip=(STREAMS_DIR,)):
+        if layout == "dataset":
+            names = [c.name for c in _subfolders(gdir, "context")]
+            if model_context not in names:
+                raise DatasetError(
+                    f"{gdir}: no model context folder {model_context!r} (found: "
+                    f"{', '.join(sorted(names))}); choose one with --model-context"
+                )
+            files = _trial_files(gdir / model_context)
+        else:
+            files = _trial_files(gdir)
+        for f in files:
+            trajs.append(_load_trial(f, quat_order, units))
+            labels.append(gdir.name)
+    n_labels = len(set(labels))
+    if layout == "dataset":
+        what = f"dataset root, context {model_context!r} (<gesture>/{model_context}/*.csv)"
+    else:
+        what = "folder of <label>/*.csv recordings"
+    description = f"models: {root} is a {what}: {len(trajs)} recordings of {n_labels} labels"
+    return ModelSet(trajs, labels, layout, description)

@@ -38,6 +38,7 @@ from .recording import (
 __all__ = [
     "DEFAULT_PERSON",
     "DEV_PEOPLE",
+    "HABITUAL_GRIP_WOBBLE",
     "HELDOUT_PEOPLE",
     "NOMINAL_STATURE",
     "POPULATION",
@@ -46,6 +47,7 @@ __all__ = [
     "person",
     "person_grip",
     "record",
+    "scaled_noise",
 ]
 
 #: Seeds of the people used for tuning and development.

@@ -28,6 +28,7 @@ import numpy as np
 
 from .. import se3
 from ..errors import DatasetError
+from ..labels import STOP
 from ..trajectory import Trajectory
 from .activities import (
     ACTIVITIES,
@@ -67,8 +68,6 @@ __all__ = [
     "save_stream",
 ]
 
-#: Label of a stop signal.
-STOP = "stop"
 
 _MIN_SETTLE = 0.2  # shortest rest before a gesture [s]
 _FILL_MARGIN = 3.0  # time kept free before a scripted onset for the approach and the settling [s]
@@ -220,7 +219,9 @@ def _generate(
     rng = np.random.default_rng([int(seed), 0x5EA])
     items = _items(sequence, n_gestures, n_stops, rng, gestures)
     s = _start_session(seed, world, rng, who)
-    segments = [_perform(s, it, rng) for it in items]
+    segments = []
+    for it in items:  # a loop, not a comprehension: warnings point at the caller of make_stream
+        segments.append(_perform(s, it, rng))
     start = s.time
     s.add(duration=rng.uniform(1.0, 2.0))
     s.log("idle", start)
@@ -246,30 +247,37 @@ def _start_session(
     return s
 
 
+def _lead_in(s: Session, it: StreamItem, target: np.ndarray | None, rng: np.random.Generator,
+             stacklevel: int) -> tuple[float, float]:
+    """What comes before an item: free activities (or, for a scripted onset, as many as fit);
+    returns the durations [s] of the approach to ``target`` and of the rest before the onset."""
+    if it.start_t is None and it.gap is None:
+        interlude(s, rng)
+        approach = _approach(s, target)
+        settle = rng.uniform(0.4, 1.0) if s.person is None else rng.uniform(*s.person.rest)
+        return approach, settle
+    onset = float(it.start_t) if it.start_t is not None else s.time + float(it.gap)
+    need = _approach(s, target) + _MIN_SETTLE
+    if onset < s.time + need - 1e-9:
+        if it.gap != 0.0:
+            warnings.warn(
+                f"{it.label} requested at {onset:.2f} s cannot start before "
+                f"{s.time + need:.2f} s; starting as early as possible",
+                stacklevel=stacklevel + 1,
+            )
+        onset = s.time + need
+    _fill(s, rng, until=onset - _FILL_MARGIN)
+    approach = _approach(s, target)
+    return approach, onset - s.time - approach
+
+
 def _perform(s: Session, it: StreamItem, rng: np.random.Generator, stacklevel: int = 4) -> Segment:
     """Add one scripted item to the session: what comes before it (free activities or a scripted
     onset), the approach to its start pose, a short rest, and the gesture or stop signal itself
     (and, for a person, a rest after it)."""
     plan = None if it.label == STOP else plan_gesture(it.label, rng, it.speed, person=s.person)
     target = None if plan is None else plan.start
-    if it.start_t is not None or it.gap is not None:
-        onset = float(it.start_t) if it.start_t is not None else s.time + float(it.gap)
-        need = _approach(s, target) + _MIN_SETTLE
-        if onset < s.time + need - 1e-9:
-            if it.gap != 0.0:
-                warnings.warn(
-                    f"{it.label} requested at {onset:.2f} s cannot start before "
-                    f"{s.time + need:.2f} s; starting as early as possible",
-                    stacklevel=stacklevel,
-                )
-            onset = s.time + need
-        _fill(s, rng, until=onset - _FILL_MARGIN)
-        approach = _approach(s, target)
-        settle = onset - s.time - approach
-    else:
-        interlude(s, rng)
-        approach = _approach(s, target)
-        settle = rng.uniform(0.4, 1.0) if s.person is None else rng.uniform(*s.person.rest)
+    approach, settle = _lead_in(s, it, target, rng, stacklevel)
     start = s.time
     if target is not None:
         reposition(s, rng, target, approach)

@@ -173,7 +173,7 @@ class SampleGate:
         self._held: list[_Held] = []  # candidates awaiting confirmation (at most `patience`)
         self._held_far = False  # the first candidate was inconsistent with the last sample
         self._backwards_run = 0
-        self._clock_reset = False  # the next sample starts a new clock
+        self._clock_reset = False  # the clock restarted: report it with the next samples released
         self._q_ref: np.ndarray | None = None  # last quaternion passed on (sign reference)
 
     @property
@@ -230,7 +230,8 @@ class SampleGate:
             self._emit(out, _Held(a.t + float(alpha[k]) * dt, p[k], q[k]), real=False)
 
     def _restart(self, out: Accepted) -> None:
-        out.restarted = out.restarted or self._last is not None
+        out.restarted = out.restarted or self._last is not None or self._clock_reset
+        self._clock_reset = False
         self._last = None
 
     # ------------------------------------------------------------------------------------- push
@@ -296,9 +297,6 @@ class SampleGate:
 
     def _place(self, s: _Held, out: Accepted) -> None:
         """Accept, hold or drop a valid sample ``s`` (times already checked)."""
-        if self._clock_reset:
-            self._clock_reset = False
-            out.restarted = True
         last = self._last
         r_last = math.inf
         if last is not None and s.t - last.t <= self.max_bridge:

@@ -19,7 +19,7 @@ negatives (non-gesture motion built from the recordings)
     time-warped gestures identical to the originals, and most gestures return to their start pose,
     so a reversed gesture is a gesture.
 
-Generic non-gesture motion (the default families, ``RecognizerConfig.calibration_negatives``),
+Generic non-gesture motion (the default families, ``PaperConfig.calibration_negatives``),
 measured in the recordings themselves, never in a test stream:
 
     * ``rest``: holding still at the recording's start and end pose, with the recording's own
@@ -50,9 +50,9 @@ import numpy as np
 from .. import se3
 from ..progress import cumulative_progress
 from ..trajectory import Trajectory
-from .config import RecognizerConfig
 from .matchers import MatcherBank
 from .models import GestureModels
+from .paper_config import PaperConfig
 from .preprocess import replay
 
 __all__ = [
@@ -274,7 +274,7 @@ def non_gesture_motions(
     return out
 
 
-def _tau(p: float, nmin: float, config: RecognizerConfig) -> tuple[float, str, bool]:
+def _tau(p: float, nmin: float, config: PaperConfig) -> tuple[float, str, bool]:
     a = config.calibration_position
     if not np.isfinite(p) and not np.isfinite(nmin):
         raise ValueError("cannot calibrate: no positive and no negative score")
@@ -290,7 +290,7 @@ def _tau(p: float, nmin: float, config: RecognizerConfig) -> tuple[float, str, b
 def calibrate_threshold(
     models: GestureModels,
     trajectories: Sequence[Trajectory],
-    config: RecognizerConfig,
+    config: PaperConfig,
     bank: MatcherBank | None = None,
 ) -> Calibration:
     """Choose τ from the model recordings alone (see the module docstring).
@@ -301,7 +301,7 @@ def calibrate_threshold(
         The models built from ``trajectories`` (same order).
     trajectories : sequence of Trajectory
         The model recordings.
-    config : RecognizerConfig
+    config : PaperConfig
         ``calibration_quantile`` and ``calibration_margin`` are used.
     bank : MatcherBank, optional
         A bank over ``models.descriptors`` (built if omitted).

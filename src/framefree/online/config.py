@@ -1,8 +1,10 @@
-"""Parameters of the real-time recognizer, with every choice the paper leaves open (§8, Ambiguities).
+"""Parameters of framefree's live recognizer (segment spotting), in one frozen dataclass.
 
-All values are plain data in one frozen dataclass so that a session can be reproduced from its
-JSON dump (:meth:`RecognizerConfig.to_dict`). Each field states which ambiguity of ALGORITHMS.md it
-resolves and why the default was chosen.
+Every value that can be derived from the model recordings is ``None`` by default and derived when
+the recognizer is built (:meth:`framefree.online.Recognizer.from_trajectories`); the derived values
+are reported by :meth:`~framefree.online.Recognizer.describe` and stored with a gesture library.
+Parameters that are about people in general (how far to look back, how long to wait) are
+constants documented here. See ``docs/online.md``.
 """
 
 from __future__ import annotations
@@ -11,196 +13,165 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["NEGATIVE_KINDS", "RecognizerConfig"]
-
-#: Non-gesture families the calibration knows (see :mod:`framefree.online.calibration`).
-NEGATIVE_KINDS = ("rest", "moves", "cross", "head", "middle", "tail", "splice")
+__all__ = ["RecognizerConfig"]
 
 
 @dataclass(frozen=True)
 class RecognizerConfig:
-    """Configuration of the streaming preprocessor, the matchers, the decision and the robustness.
+    """Configuration of the segment-spotting recognizer.
 
     Attributes
     ----------
     L : float
-        Scale length [m] of the screw path, of the BILTS+ rotational weight and clamp (§2.10).
-        Ambiguity 8.3: the HPM-trained value is not published; 0.2 m gave the best
-        calibrated precision/recall on replica models with synthetic streams (0.1, 0.2, 0.3,
-        0.5 tried; 0.5 gave F1 0.44, 0.2 gave 0.80 with no false positive).
+        Scale length [m] of the screw path: progress and descriptor of the classifier, motion speed
+        and closure of the segmenter (0.1).
     ds_scale : float
-        BILTS+ window scale [m] (§5.7). Window spacing ``m = min(23, max(1, round(ds_scale /
-        resolution)))`` in geometric samples (Ambiguity 8.3).
-    resolution : float or None
-        Screw-path resolution Δs_res [m] of Algorithm 1, also the nominal progress step of the
-        finite differences (Ambiguity 4.8: the nominal step, not the accumulated one). ``None``:
-        the median total screw path of the model recordings divided by ``resolution_samples - 1``,
-        so that a typical gesture yields about as many samples as offline (recommendation of 4.8).
-    resolution_samples : int
-        Target number of geometric samples per model gesture for the automatic resolution (80;
-        dev streams: 50 gave F1 0.857, 80 gave 0.875 with the other defaults — translations get
-        few samples at a coarse resolution and were the main misses).
-    window : int
-        Gaussian smoothing window in geometric samples (10 for BILTS+): centred kernel, offsets
-        -5..+4, so a smoothed pose is final 4 samples later (Ambiguity 8.3: central smoothing with
-        its delay, truncated and renormalized at the start of a sequence as offline).
-    latency_fraction : float
-        Largest latency searched, as a fraction of the model length: ``round(0.2 N_j)`` (§8.5).
-    latency_min : int
-        Smallest latency: 1 (literal reading of the paper) or 0 (also test the fully aligned case).
-        Ambiguity 8.5; default 0 (dev streams: one more true positive, same false positives).
-    threshold : float or None
-        Decision threshold τ on the average pointwise dissimilarity. ``None``: calibrated
-        automatically from the model recordings (:mod:`framefree.online.calibration`).
-    calibration_quantile : float
-        Quantile of the leave-one-out same-class scores that must pass (0.75; with 5 recordings
-        per gesture the maximum is one outlier, which on the dev streams let ``go_down`` fire on
-        non-gesture motion: 32 false positives at 1.0, 22 at 0.75, same recall).
-    calibration_margin : float
-        When positives and negatives overlap, τ = margin × smallest negative score (favour
-        rejection, as the paper tuned its threshold "strict").
-    stop_threshold : float or None
-        Stop detector threshold on ``|q̇|`` [1/s] (= half the angular speed, §8.7). ``None``:
-        ``stop_margin`` × the largest debounced ``|q̇|`` seen in any model recording, at least
-        ``stop_floor``.
-    stop_margin : float
-        Factor over the fastest model rotation for the automatic stop threshold (1.2; dev streams
-        100-119: 1.0 gave 6 stop false positives on fast non-stop rotations, 1.2 none, with no
-        stop signal missed; 1.1/1.3 on seeds 100-109 gave the same as 1.0/1.2).
-    stop_floor : float
-        Lower bound of the automatic stop threshold [1/s] (1.5 = 3 rad/s).
-    stop_samples : int
-        Debouncing: consecutive samples above the threshold before a stop fires (Ambiguity 8.7).
-    stop_rearm : float
-        The stop detector re-arms once ``|q̇|`` falls below ``stop_rearm`` × threshold.
-    stop_refractory : float
-        After a stop fires, further stops are ignored for this long [s] (a stop signal is a
-        back-and-forth rotation whose reversals would otherwise re-arm the detector).
-    refractory_reset : bool
-        After every event clear all matcher windows and caches so one gesture yields one event
-        (Ambiguity 8.6).
-    max_gap : float
-        A time step longer than this [s] is a gap: the preprocessor and matchers restart.
-    jump_distance : float
-        A position step longer than this [m] within one sample is a jump (tracker glitch).
-    jump_angle : float
-        A rotation step larger than this [rad] within one sample is a jump.
-    jump_patience : int
-        Jumped samples are skipped; after this many consecutive ones the tracker is assumed to
-        have relocated and the recognizer restarts from the current sample.
-    twist_noise : float
-        Standard deviation of the deterministic perturbation added to every twist entry (1e-12,
-        as the reference, to avoid exact singularities). A fixed table indexed by the twist index,
-        so streaming and offline evaluation agree bit for bit.
-    parallel_models : int
-        Use the multi-threaded matcher kernel from this many models on (numba ``prange``).
-    threshold_mode : {"per_gesture", "global"}
-        ``per_gesture``: the automatic calibration gives each gesture its own τ_g from its own
-        leave-one-out spread and the negatives' scores against its models; the decision compares
-        ``d_j / τ_{g(j)}`` with 1. ``global``: one τ for all models (the paper). A user-given
-        ``threshold`` always means one τ for all. Per-gesture thresholds were chosen on the dev
-        streams (``benchmarks/online_dev.py``): the dissimilarity scale of well-rotating gestures
-        is several times that of translations, so one τ misses them or admits false positives.
-    calibration_negatives : tuple of str
-        Non-gesture families of the calibration (:func:`~framefree.online.calibration.non_gesture_motions`):
-        ``rest``, ``moves``, ``cross``, ``head``, ``middle``, ``tail``, ``splice``.
-    calibration_position : float
-        Where τ_g lies between the positive quantile P and the smallest negative N when P < N, on
-        a log scale: ``τ = P^(1-a) N^a`` (0.3; dev streams: 0.5 gave 26 false positives, 0.3 gave
-        20 with one miss more).
-    decision : {"minimum", "first"}
-        ``first``: fire at the first descriptor sample whose best ratio is below 1 (the paper).
-        ``minimum``: wait until the best ratio stops decreasing (``decision_patience`` descriptor
-        samples without a new minimum, or ``decision_wait`` seconds, or the ratio rising back
-        above 1) and fire with the model of the minimum: the label is the best one over the whole
-        dip, not the first to cross.
-    decision_patience : int
-        Descriptor samples without a new minimum before a ``minimum`` decision fires.
-    decision_margin : float
-        Second-best margin (1.0: off). A ``minimum`` or ``first`` decision only fires when the best
-        other gesture's ratio ``d/τ`` at that moment is at least ``decision_margin`` times the
-        winner's; otherwise the dip is ambiguous: no event, and the refractory reset still applies
-        (counted in ``stats["ambiguous"]``). Exact with pruning for values ≤ ``prune_factor``.
-    decision_wait : float
-        Seconds [s] without a new minimum before a ``minimum`` decision fires (descriptor samples
-        stop coming while the hand rests, because Algorithm 1 keeps no sample).
-    prune_factor : float or None
-        Exact pruning of the matchers (:class:`~framefree.online.matchers.MatcherBank` ``cutoffs``):
-        ``d_j`` is only computed exactly while it can still be below ``prune_factor × τ_g``;
-        above, it reads ``inf``. Decisions are identical for any value ≥ 1; the live view and the
-        timeline figure lose the values above the cutoff. ``None``: no pruning.
+        BILTS+ window scale [m] of the classifier (0.06; development people: 0.03 and 0.09 missed
+        more straight-line and elbow gestures, F1 0.945 and 0.944 against 0.955).
     presmooth : int
-        Causal moving average over the last ``presmooth`` raw pose samples before Algorithm 1
-        (1: off). Sensor jitter otherwise adds screw progress while the hand rests. Delay
-        ``(presmooth - 1) / 2`` sample periods.
+        Gaussian pre-smoothing window [samples at 50 Hz] of the classifier (5).
+    n_samples : int
+        Progress samples of the classifier's descriptor (50, as offline).
+    dt : float
+        Step of the uniform time grid [s] (0.02: the classifier's own 50 Hz grid).
+    speed_lag : int
+        Grid samples over which the motion speed is measured (5: 0.1 s).
+    noise_factor, peak_fraction : float
+        Rest level = max(noise_factor × the models' noise floor, peak_fraction × their smallest
+        stroke peak) (:func:`~framefree.online.segmentation.speed_levels`).
+    valley_ratio : float
+        A speed minimum below this fraction of the stroke's peak splits two strokes (0.5).
+    max_units, max_duration, max_pause : int, float, float or None
+        Candidate limits: units per candidate, duration [s], longest rest inside [s]. ``None``:
+        from the models — one unit more than the most units of any model recording;
+        ``span_factor`` × the longest model gesture; ``pause_factor`` × the longest rest inside a
+        model gesture (at least ``min_pause``).
+    span_factor : float
+        How much slower than the model demonstrations a person may be (2.5: a tempo factor of 0.6
+        with room for a long reversal pause).
+    pause_factor : float
+        How much longer than in the demonstrations a person may pause inside a gesture (1.5;
+        development people: 2.5 let reaching out, staying and coming back pass as *go left*,
+        11 false positives more, for 5 gestures more).
+    min_pause : float
+        Lower bound of the automatic ``max_pause`` [s] (0.5).
+    margin : int
+        Grid samples added before and after a candidate when it is cut out (5).
+    confirm : float
+        Rest [s] after a pending candidate before it fires (0.2).
+    max_wait : float
+        Latest firing time [s] after a pending candidate's end (1.0).
+    gesture_thresholds : dict of str to float or None
+        τ_g per gesture; ``None``: calibrated from the models
+        (:mod:`~framefree.online.thresholds`). Overridable per gesture.
+    threshold : float or None
+        One τ for every gesture (overrides the calibration).
+    negative_quantile : float
+        Quantile of the generic non-gesture episodes' scores taken as ``N_g`` (0.05).
+    threshold_position : float
+        ``τ_g = P_g^(1-a) N_g^a`` between the worst demonstration ``P_g`` and the generic motion
+        ``N_g`` (0.5: the geometric midpoint; development people: 0.7–1.0 gained a few false
+        positives less but lost *go up*, whose demonstrations are not separated from generic moves).
+    closure : bool
+        Accept a candidate only within its gesture's closure limit (True).
+    size : bool
+        Accept a candidate only within its gesture's size limits (True).
+    size_factor : float
+        People make a gesture up to this factor smaller or larger than the demonstrations (1.5:
+        the population's ±30 % with room; development people: 2.0 accepted 9 more turns of the
+        tracker in the hand as *go down*).
+    stop_threshold : float or None
+        Stop detector threshold on the windowed angular speed [rad/s]; ``None``: ``stop_margin`` ×
+        the fastest sustained rotation of any model recording, at least ``stop_floor``.
+    stop_margin, stop_floor : float
+        (1.3, 3.0 rad/s; development people: 1.2 fired on 6 fast forearm gestures, 1.3 on 2, with
+        the same stop signals found).
+    stop_window, stop_min_duration, stop_rearm, stop_refractory : float
+        Windowed stop detector (:class:`~framefree.online.stop.StopDetector`): 0.08 s, 0.04 s, 0.7,
+        1.5 s.
+    rest_speed, move_speed : float or None
+        Segmenter levels [m/s of screw path]; ``None``: from the models.
+    closure_limits : dict of str to float or None
+        Largest closure accepted per gesture; ``None``: from the models
+        (:func:`~framefree.online.thresholds.closure_limit`).
+    size_limits : dict of str to (float, float) or None
+        Smallest and largest size [m of screw path] accepted per gesture; ``None``: from the models
+        (:func:`~framefree.online.thresholds.size_limits`).
+    max_bridge : float
+        Longest dropout [s] bridged by ScLERP instead of restarting (0.5).
     """
 
-    L: float = 0.2
-    ds_scale: float = 0.09
-    resolution: float | None = None
-    resolution_samples: int = 80
-    window: int = 10
-    latency_fraction: float = 0.2
-    latency_min: int = 0
+    L: float = 0.1
+    ds_scale: float = 0.06
+    presmooth: int = 5
+    n_samples: int = 50
+    dt: float = 0.02
+    speed_lag: int = 5
+    noise_factor: float = 3.0
+    peak_fraction: float = 0.05
+    valley_ratio: float = 0.5
+    max_units: int | None = None
+    max_duration: float | None = None
+    max_pause: float | None = None
+    span_factor: float = 2.5
+    pause_factor: float = 1.5
+    min_pause: float = 0.5
+    margin: int = 5
+    confirm: float = 0.2
+    max_wait: float = 1.0
+    gesture_thresholds: dict[str, float] | None = None
     threshold: float | None = None
-    calibration_quantile: float = 0.75
-    calibration_margin: float = 0.8
+    negative_quantile: float = 0.05
+    threshold_position: float = 0.5
+    closure: bool = True
+    size: bool = True
+    size_factor: float = 1.5
     stop_threshold: float | None = None
-    stop_margin: float = 1.2
-    stop_floor: float = 1.5
-    stop_samples: int = 2
+    stop_margin: float = 1.3
+    stop_floor: float = 3.0
+    stop_window: float = 0.08
+    stop_min_duration: float = 0.04
     stop_rearm: float = 0.7
     stop_refractory: float = 1.5
-    refractory_reset: bool = True
-    max_gap: float = 0.25
-    jump_distance: float = 0.25
-    jump_angle: float = 1.0
-    jump_patience: int = 3
-    twist_noise: float = 1e-12
-    parallel_models: int = 1000
-    threshold_mode: str = "per_gesture"
-    calibration_negatives: tuple[str, ...] = ("rest", "moves", "cross")
-    calibration_position: float = 0.3
-    decision: str = "minimum"
-    decision_patience: int = 3
-    decision_wait: float = 0.15
-    decision_margin: float = 1.0
-    presmooth: int = 1
-    prune_factor: float | None = 2.0
+    rest_speed: float | None = None
+    move_speed: float | None = None
+    closure_limits: dict[str, float] | None = None
+    size_limits: dict[str, tuple[float, float]] | None = None
+    max_bridge: float = 0.5
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "calibration_negatives", tuple(self.calibration_negatives))
-        if not self.L > 0:
-            raise ValueError(f"L must be positive, got {self.L}")
-        if not self.ds_scale > 0:
-            raise ValueError(f"ds_scale must be positive, got {self.ds_scale}")
-        if self.resolution is not None and not self.resolution > 0:
-            raise ValueError(f"resolution must be positive, got {self.resolution}")
-        if self.window < 1:
-            raise ValueError(f"window must be at least 1, got {self.window}")
-        if not 0 <= self.latency_fraction < 1:
-            raise ValueError(f"latency_fraction must be in [0, 1), got {self.latency_fraction}")
-        if self.latency_min not in (0, 1):
-            raise ValueError(f"latency_min must be 0 or 1, got {self.latency_min}")
+        positive = ("L", "ds_scale", "dt", "span_factor", "pause_factor", "size_factor",
+                    "stop_margin", "stop_floor", "stop_window", "max_bridge", "max_wait")
+        for name in positive:
+            if not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
+        for name in ("presmooth", "speed_lag"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"{name} must be at least 1, got {getattr(self, name)}")
+        if self.n_samples < 5:
+            raise ValueError(f"n_samples must be at least 5, got {self.n_samples}")
+        if not 0 < self.valley_ratio < 1:
+            raise ValueError(f"valley_ratio must be in (0, 1), got {self.valley_ratio}")
         if self.threshold is not None and not self.threshold > 0:
             raise ValueError(f"threshold must be positive, got {self.threshold}")
-        if self.stop_samples < 1:
-            raise ValueError(f"stop_samples must be at least 1, got {self.stop_samples}")
-        if self.threshold_mode not in ("per_gesture", "global"):
-            raise ValueError(f"threshold_mode must be 'per_gesture' or 'global', got {self.threshold_mode!r}")
-        if self.decision not in ("minimum", "first"):
-            raise ValueError(f"decision must be 'minimum' or 'first', got {self.decision!r}")
-        if self.prune_factor is not None and not self.prune_factor >= 1.0:
-            raise ValueError(f"prune_factor must be >= 1 or None, got {self.prune_factor}")
-        if not self.decision_margin >= 1.0:
-            raise ValueError(f"decision_margin must be >= 1, got {self.decision_margin}")
-        if self.presmooth < 1:
-            raise ValueError(f"presmooth must be at least 1, got {self.presmooth}")
-        bad = set(self.calibration_negatives) - set(NEGATIVE_KINDS)
-        if bad:
-            raise ValueError(f"unknown calibration_negatives {sorted(bad)}; known: {NEGATIVE_KINDS}")
-        if not self.max_gap > 0:
-            raise ValueError(f"max_gap must be positive, got {self.max_gap}")
+        if self.stop_threshold is not None and not self.stop_threshold > 0:
+            raise ValueError(f"stop_threshold must be positive, got {self.stop_threshold}")
+        if self.max_units is not None and self.max_units < 1:
+            raise ValueError(f"max_units must be at least 1, got {self.max_units}")
+        if self.confirm < 0 or self.margin < 0:
+            raise ValueError("confirm and margin must not be negative")
+        if self.closure_limits is not None:
+            object.__setattr__(self, "closure_limits",
+                               {str(g): float(v) for g, v in self.closure_limits.items()})
+        if self.size_limits is not None:
+            object.__setattr__(self, "size_limits", {str(g): (float(v[0]), float(v[1]))
+                                                     for g, v in self.size_limits.items()})
+        if self.gesture_thresholds is not None:
+            bad = {g: v for g, v in self.gesture_thresholds.items() if not float(v) > 0}
+            if bad:
+                raise ValueError(f"gesture thresholds must be positive, got {bad}")
+            object.__setattr__(self, "gesture_thresholds",
+                               {str(g): float(v) for g, v in self.gesture_thresholds.items()})
 
     def replace(self, **changes: Any) -> RecognizerConfig:
         """A copy with some fields changed."""
@@ -208,6 +179,13 @@ class RecognizerConfig:
 
     def to_dict(self) -> dict[str, Any]:
         """All fields as a JSON-serializable dict."""
-        d = dataclasses.asdict(self)
-        d["calibration_negatives"] = list(self.calibration_negatives)
-        return d
+        return dataclasses.asdict(self)
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> RecognizerConfig:
+        """Inverse of :meth:`to_dict`; unknown keys raise ``ValueError`` naming them."""
+        names = {f.name for f in dataclasses.fields(cls)}
+        unknown = set(d) - names
+        if unknown:
+            raise ValueError(f"unknown recognizer settings {sorted(unknown)}")
+        return cls(**d)

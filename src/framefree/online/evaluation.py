@@ -192,7 +192,8 @@ def combine(results: Sequence[StreamResult]) -> StreamResult:
 
 class TracingRecognizer:
     """Wraps a recognizer: pushes samples, collects the events and the per-gesture dissimilarity
-    trace (the best matcher output of each gesture at every descriptor sample) for figures.
+    trace (the nearest model of each gesture at every observation the recognizer reports in its
+    ``observations``: each classified candidate, or each matched descriptor sample) for figures.
 
     Parameters
     ----------
@@ -212,13 +213,12 @@ class TracingRecognizer:
     def push(self, t: float, p: np.ndarray, q: np.ndarray) -> list[Event]:
         """Push one pose sample (see ``Recognizer.push``); returns its events."""
         rec = self.recognizer
-        n_before = rec.stats["descriptors"]
         events = rec.push(t, p, q)
         self.events.extend(events)
-        if rec.stats["descriptors"] != n_before:
+        for when, distances in rec.observations:
             row = np.full(len(self.gestures), np.inf)
-            np.minimum.at(row, self._gidx, rec.last_matched)
-            self._times.append(float(t))
+            np.minimum.at(row, self._gidx, distances)
+            self._times.append(float(when))
             self._rows.append(row)
         return events
 

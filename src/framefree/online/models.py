@@ -13,7 +13,7 @@ from .. import se3
 from ..errors import DatasetError, FramefreeError
 from ..progress import StreamingReparameterizer, cumulative_progress
 from ..trajectory import Trajectory
-from .config import RecognizerConfig
+from .paper_config import PaperConfig
 from .preprocess import filtered_poses, replay
 
 __all__ = ["GestureModels", "auto_resolution", "build_models", "load_model_recordings"]
@@ -84,7 +84,7 @@ def auto_resolution(
 
 
 def build_models(
-    trajectories: Sequence[Trajectory], labels: Sequence[str], config: RecognizerConfig
+    trajectories: Sequence[Trajectory], labels: Sequence[str], config: PaperConfig
 ) -> GestureModels:
     """Replay every recording through :class:`~framefree.online.preprocess.StreamingBILTSPlus`.
 

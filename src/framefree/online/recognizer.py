@@ -1,19 +1,21 @@
-"""The real-time recognizer: pose samples in, recognition events out (§8.1-8.7).
+"""framefree's live recognizer: whole gestures spotted in the stream and classified as offline.
 
-Per pose sample ``(t, p, q)``:
+Per pose sample ``(t, p, q)``, four small stages:
 
-1. validation (NaN, zero quaternion, repeated or backwards time stamps are skipped; a quaternion
-   sign flip is undone; a time gap restarts the stream; a sudden jump is skipped, and after
-   ``jump_patience`` consecutive jumps the stream restarts at the new place) — every case counted
-   in :attr:`Recognizer.stats`;
-2. the stop detector on ``|q̇|`` of the raw stream;
-3. the streaming preprocessor (Algorithm 1 + online BILTS+), which sometimes emits a descriptor
-   sample;
-4. for each descriptor sample, all matchers are updated at once and the minimum-dissimilarity
-   searcher compares the best model with the threshold τ.
+1. **acceptance** (:class:`~framefree.online.acceptance.SampleGate`): invalid, repeated, backwards
+   and glitched samples are dropped, quaternion signs made continuous, dropouts up to
+   ``max_bridge`` seconds bridged by ScLERP, longer gaps and relocations restart the stream;
+2. **stop detection** (:class:`~framefree.online.stop.StopDetector`): windowed angular speed; a
+   stop fires first and nothing that overlaps the fast rotation can become a gesture;
+3. **segmentation** (:mod:`~framefree.online.segmentation`): the samples are put on the uniform
+   50 Hz grid and cut into movement units at rests and speed minima;
+4. **classification and decision** (:mod:`~framefree.online.spotting`): every candidate segment
+   that ends with a unit is classified by the offline 1-NN classifier (same descriptor, same DTW),
+   accepted below its gesture's threshold and within its closure limit, and the best accepted
+   candidate fires once the hand rests after it.
 
-A stop takes precedence over any gesture (it is reported alone, and no gesture fires while the
-hand is still rotating fast). After every event all matcher windows are cleared (refractory reset).
+Everything the recognizer needs besides a few constants about people comes from the model
+recordings (:meth:`Recognizer.from_trajectories`). See ``docs/online.md``.
 """
 
 from __future__ import annotations
@@ -26,70 +28,121 @@ from typing import Any
 import numpy as np
 
 from .. import se3
+from ..descriptors.base import get_descriptor
 from ..trajectory import Trajectory
-from .calibration import Calibration, calibrate_threshold
+from .acceptance import SampleGate
 from .config import RecognizerConfig
 from .events import STOP, Event
-from .matchers import MatcherBank
-from .models import GestureModels, build_models, load_model_recordings
-from .preprocess import StreamingBILTSPlus
-from .stop import SampleRateStopDetector, debounced_peak_rate
-
-__all__ = ["STAT_KEYS", "Recognizer"]
-
-#: Counters of :attr:`Recognizer.stats`.
-STAT_KEYS = (
-    "samples",  # pose samples offered
-    "accepted",  # pose samples used
-    "nan",  # skipped: NaN or inf in t, p or q
-    "bad_quaternion",  # skipped: zero-norm quaternion
-    "repeated",  # skipped: same time stamp as the previous sample
-    "backwards",  # skipped: time stamp before the previous sample
-    "sign_flips",  # quaternion sign flips undone
-    "gaps",  # time gaps that restarted the stream
-    "jumps",  # skipped: sudden position or orientation jumps
-    "relocations",  # restarts after jump_patience consecutive jumps
-    "geometric",  # geometric samples kept by Algorithm 1
-    "descriptors",  # descriptor samples matched
-    "bad_descriptors",  # non-finite descriptor samples (preprocessor restarted)
-    "events",  # gesture events
-    "stops",  # stop events
-    "ambiguous",  # gesture decisions suppressed by decision_margin
+from .models import load_model_recordings
+from .segmentation import MotionSegmenter, SpeedLevels, UniformResampler, speed_levels
+from .spotting import SegmentClassifier, Spotter
+from .stop import StopDetector, sustained_peak_speed
+from .thresholds import (
+    SegmentThresholds,
+    calibrate_segment_thresholds,
+    candidate_limits,
+    closure_limit,
+    gesture_geometry,
+    size_limits,
 )
+
+__all__ = ["STAT_KEYS", "Recognizer", "resolve_config"]
+
+#: Counters of the recognizer's own stages (the acceptance stage adds its own, see
+#: :data:`~framefree.online.acceptance.GATE_STAT_KEYS`).
+STAT_KEYS = ("grid", "units", "candidates", "events", "stops", "restarts")
+
+
+def _descriptor(config: RecognizerConfig):
+    return get_descriptor("bilts+", progress="screw", L=config.L, ds_scale=config.ds_scale,
+                          n_samples=config.n_samples, presmooth=config.presmooth)
+
+
+def resolve_config(
+    trajectories: Sequence[Trajectory],
+    labels: Sequence[str],
+    config: RecognizerConfig,
+    classifier: SegmentClassifier,
+) -> tuple[RecognizerConfig, SegmentThresholds | None]:
+    """Fill every ``None`` field of ``config`` from the model recordings.
+
+    Returns the resolved configuration and the threshold calibration (``None`` when the thresholds
+    were given).
+    """
+    c = config
+    gestures = list(dict.fromkeys(labels))
+    if c.rest_speed is None or c.move_speed is None:
+        lv = speed_levels(trajectories, c.L, c.dt, c.speed_lag, c.noise_factor, c.peak_fraction)
+        c = c.replace(rest_speed=c.rest_speed or lv.rest, move_speed=c.move_speed or lv.move)
+    levels = SpeedLevels(c.rest_speed, c.move_speed)
+    if c.max_units is None or c.max_duration is None or c.max_pause is None:
+        units, duration, pause = candidate_limits(trajectories, levels, c.L, c.span_factor,
+                                                  c.pause_factor, c.min_pause, c.dt)
+        c = c.replace(max_units=c.max_units or units, max_duration=c.max_duration or duration,
+                      max_pause=c.max_pause or pause)
+    if c.closure_limits is None or c.size_limits is None:
+        closed, sizes = gesture_geometry(trajectories, labels, classifier, levels, c.L, c.margin,
+                                         c.dt)
+        if c.closure_limits is None:
+            c = c.replace(closure_limits={g: closure_limit(closed.get(g, 1.0)) for g in gestures})
+        if c.size_limits is None:
+            c = c.replace(size_limits={g: size_limits(*sizes.get(g, (0.0, np.inf)), c.size_factor)
+                                       for g in gestures})
+    calibration = None
+    if c.threshold is not None:
+        c = c.replace(gesture_thresholds=dict.fromkeys(gestures, c.threshold))
+    elif c.gesture_thresholds is None:
+        spotter = _spotter(classifier, np.ones(len(labels)), c, list(labels))
+        calibration = calibrate_segment_thresholds(
+            trajectories, labels, classifier, levels, spotter, c.L, c.negative_quantile,
+            c.threshold_position)
+        c = c.replace(gesture_thresholds=calibration.thresholds)
+    if c.stop_threshold is None:
+        peak = max(sustained_peak_speed(tr.t, tr.q, c.stop_window, c.stop_min_duration)
+                   for tr in trajectories)
+        c = c.replace(stop_threshold=max(c.stop_floor, c.stop_margin * peak))
+    return c, calibration
+
+
+def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: RecognizerConfig,
+             labels: list[str]) -> Spotter:
+    closures = sizes = None
+    if c.closure and c.closure_limits is not None:
+        closures = np.array([c.closure_limits.get(g, 1.0) for g in labels])
+    if c.size and c.size_limits is not None:
+        sizes = np.array([c.size_limits.get(g, (0.0, np.inf)) for g in labels])
+    return Spotter(classifier, model_thresholds, c.max_units, c.max_duration, c.max_pause,
+                   c.margin, c.confirm, c.max_wait, closures, c.L, sizes)
 
 
 class Recognizer:
-    """Streaming gesture recognizer over a fixed set of gesture models.
+    """Streaming gesture recognizer: segment spotting with offline-identical classification.
+
+    Build it with :meth:`from_trajectories` or :meth:`from_dataset` (which derive and calibrate
+    everything left ``None`` in the configuration); the constructor takes a fully resolved one.
 
     Parameters
     ----------
-    models : GestureModels
-        Model descriptors (built by :func:`~framefree.online.models.build_models`).
+    classifier : SegmentClassifier
+        Model descriptors and the descriptor that computed them.
+    labels : sequence of str, length M
+        Gesture of each model.
     config : RecognizerConfig
-        All parameters; ``threshold`` and ``stop_threshold`` must be set (use the constructors
-        :meth:`from_trajectories` / :meth:`from_dataset` for automatic calibration).
-    calibration : Calibration, optional
+        Resolved configuration (see :func:`resolve_config`).
+    calibration : SegmentThresholds, optional
         Kept for reporting.
-    gesture_thresholds : dict of str to float, optional
-        τ_g per gesture (``threshold_mode="per_gesture"``); default: ``config.threshold`` for all.
 
     Attributes
     ----------
-    threshold : float
-        Decision threshold τ on the average pointwise dissimilarity (with per-gesture thresholds:
-        their median, for reporting).
     gesture_thresholds : dict of str to float
-        τ_g of each gesture.
-    model_thresholds : ndarray, shape (M,)
-        τ of each model's gesture; a model is a candidate when ``d_j < model_thresholds[j]``.
+        τ_g per gesture.
     stop_threshold : float
-        Stop detector threshold on ``|q̇|`` [1/s].
+        Stop detector threshold [rad/s].
     stats : dict of str to int
-        Counters (see :data:`STAT_KEYS`).
-    dissimilarities : ndarray, shape (M,)
-        Live view of every matcher's output (``inf`` while not ready or just reset).
-    last_matched : ndarray, shape (M,)
-        Copy of the matcher outputs at the latest descriptor sample, before any reset.
+        Counters of every stage.
+    observations : list of (float, ndarray (M,))
+        Candidates classified during the latest :meth:`push`: end time [s] and distance to every
+        model (for traces and figures).
 
     Examples
     --------
@@ -100,50 +153,41 @@ class Recognizer:
     ...         print(event.label, event.time)
     """
 
+    method = "segments"
+
     def __init__(
         self,
-        models: GestureModels,
+        classifier: SegmentClassifier,
+        labels: Sequence[str],
         config: RecognizerConfig,
-        calibration: Calibration | None = None,
-        gesture_thresholds: dict[str, float] | None = None,
+        calibration: SegmentThresholds | None = None,
     ) -> None:
-        if config.threshold is None or config.stop_threshold is None:
-            raise ValueError("config.threshold and config.stop_threshold must be set")
-        self.models = models
-        self.config = config.replace(resolution=models.resolution)
+        c = config
+        missing = [n for n in ("rest_speed", "move_speed", "max_units", "max_duration", "max_pause",
+                               "gesture_thresholds", "stop_threshold") if getattr(c, n) is None]
+        if missing:
+            raise ValueError(f"unresolved settings {missing}: use Recognizer.from_trajectories")
+        self.classifier = classifier
+        self.labels = [str(s) for s in labels]
+        self.gestures = list(dict.fromkeys(self.labels))
+        absent = set(self.gestures) - set(c.gesture_thresholds)
+        if absent:
+            raise ValueError(f"gesture_thresholds lacks {sorted(absent)}")
+        self.config = c
         self.calibration = calibration
-        self.threshold = float(config.threshold)
-        self.stop_threshold = float(config.stop_threshold)
-        self.labels = list(models.labels)
-        self.gestures = models.gestures
-        self._label_index = np.array([self.gestures.index(s) for s in self.labels])
-        self._other = [self._label_index != g for g in range(len(self.gestures))]
-        gt = dict.fromkeys(self.gestures, self.threshold)
-        if gesture_thresholds:
-            missing = set(self.gestures) - set(gesture_thresholds)
-            if missing:
-                raise ValueError(f"gesture_thresholds lacks {sorted(missing)}")
-            gt = {g: float(gesture_thresholds[g]) for g in self.gestures}
-        self.gesture_thresholds = gt
-        self.model_thresholds = np.array([gt[s] for s in self.labels])
-        self._pending: tuple[int, float, float, float, int, float] | None = None  # j, ratio, d, t, stale, r2
-        c = self.config
-        self.preprocessor = StreamingBILTSPlus(models.resolution, c.L, c.ds_scale, c.window,
-                                               c.twist_noise, c.presmooth)
-        self.bank = MatcherBank(models.descriptors, c.latency_fraction, c.latency_min,
-                                c.parallel_models)
-        if c.prune_factor is not None:
-            self.bank.set_cutoffs(c.prune_factor * self.model_thresholds)
-        self.stop = SampleRateStopDetector(self.stop_threshold, c.stop_samples, c.stop_rearm,
-                                           c.stop_refractory)
-        self.stats: dict[str, int] = dict.fromkeys(STAT_KEYS, 0)
-        self.dissimilarities = self.bank.d
-        self.last_matched = self.bank.d.copy()
-        self._t: float | None = None
-        self._p = np.zeros(3)
-        self._q = np.array([1.0, 0.0, 0.0, 0.0])
-        self._jump_run = 0
-        self._cos_jump = math.cos(0.5 * c.jump_angle)
+        self.gesture_thresholds = {g: float(c.gesture_thresholds[g]) for g in self.gestures}
+        self.model_thresholds = np.array([self.gesture_thresholds[g] for g in self.labels])
+        self.stop_threshold = float(c.stop_threshold)
+        self.gate = SampleGate(max_bridge=c.max_bridge, nominal_period=c.dt)
+        self.stop = StopDetector(self.stop_threshold, c.stop_window, c.stop_min_duration,
+                                 c.stop_rearm, c.stop_refractory)
+        self.resampler = UniformResampler(c.dt)
+        capacity = math.ceil((c.max_duration + c.max_wait + 2.0) / c.dt) + 2 * c.margin
+        self.segmenter = MotionSegmenter(SpeedLevels(c.rest_speed, c.move_speed), c.L, c.dt,
+                                         c.speed_lag, c.valley_ratio, capacity)
+        self.spotter = _spotter(classifier, self.model_thresholds, c, self.labels)
+        self._counts = dict.fromkeys(STAT_KEYS, 0)
+        self.observations: list[tuple[float, np.ndarray]] = []
 
     # ------------------------------------------------------------------------------ construction
     @classmethod
@@ -154,31 +198,27 @@ class Recognizer:
         config: RecognizerConfig | None = None,
         **overrides: Any,
     ) -> Recognizer:
-        """Build models from recordings and calibrate what the config leaves as ``None``.
+        """Build the models from recordings and derive what the configuration leaves ``None``.
 
         Parameters
         ----------
         trajectories : sequence of Trajectory
-            Model recordings (one gesture performance each).
+            Model recordings, one gesture performance each (with a little rest before and after).
         labels : sequence of str
-            Gesture label of each recording.
+            Gesture of each recording.
         config : RecognizerConfig, optional
-            Defaults to ``RecognizerConfig()``; keyword ``overrides`` replace its fields.
+            Defaults to ``RecognizerConfig()``; keyword ``overrides`` replace its fields (e.g.
+            ``gesture_thresholds={...}`` to skip the calibration).
         """
+        if len(trajectories) != len(labels):
+            raise ValueError(f"{len(trajectories)} trajectories but {len(labels)} labels")
+        if not trajectories:
+            raise ValueError("no model recordings")
         config = (config or RecognizerConfig()).replace(**overrides)
-        models = build_models(trajectories, labels, config)
-        config = config.replace(resolution=models.resolution)
-        calibration = None
-        gesture_thresholds = None
-        if config.threshold is None:
-            calibration = calibrate_threshold(models, trajectories, config)
-            config = config.replace(threshold=calibration.threshold)
-            if config.threshold_mode == "per_gesture":
-                gesture_thresholds = calibration.gesture_thresholds
-        if config.stop_threshold is None:
-            peak = max(debounced_peak_rate(tr, config.stop_samples) for tr in trajectories)
-            config = config.replace(stop_threshold=max(config.stop_floor, config.stop_margin * peak))
-        return cls(models, config, calibration, gesture_thresholds)
+        descriptor = _descriptor(config)
+        classifier = SegmentClassifier(descriptor, [descriptor.compute(tr) for tr in trajectories])
+        resolved, calibration = resolve_config(trajectories, labels, config, classifier)
+        return cls(classifier, labels, resolved, calibration)
 
     @classmethod
     def from_dataset(
@@ -188,50 +228,42 @@ class Recognizer:
         config: RecognizerConfig | None = None,
         **overrides: Any,
     ) -> Recognizer:
-        """Models from ``<root>/<gesture>/<model_context>/*.csv`` (all trials, Ambiguity 8.4)."""
+        """Models from ``<root>/<gesture>/<model_context>/*.csv`` (every recording)."""
         trajs, labels = load_model_recordings(root, model_context)
         return cls.from_trajectories(trajs, labels, config, **overrides)
 
     # ---------------------------------------------------------------------------------- running
-    def warmup(self) -> None:
-        """Compile/load every numba kernel on the live path, then reset (call before a session)."""
-        rng = np.random.default_rng(0)
-        t = 0.0
-        p = np.zeros(3)
-        for k in range(400):
-            t += 0.02
-            ang = 0.05 * k
-            p = np.array([0.3 * math.sin(ang), 0.2 * math.cos(1.3 * ang), 0.01 * k])
-            q = np.array([math.cos(0.5 * ang), 0.3 * math.sin(0.5 * ang), 0.2, 0.1])
-            q = q + 1e-3 * rng.standard_normal(4)
-            self.push(t, p, q / np.linalg.norm(q))
-        self.reset()
+    @property
+    def stats(self) -> dict[str, int]:
+        """Counters of the acceptance stage and of the recognizer's own stages."""
+        return {**self.gate.stats, **self._counts}
 
     def reset(self) -> None:
-        """Forget the stream (buffers, windows, stop detector, counters)."""
+        """Forget the stream and the counters (a new session)."""
+        self.gate.reset()
+        self.stop.rearm_now()
         self._restart()
-        self.stop.armed = True
-        self.stop._fired_at = -math.inf
-        self._t = None
-        self._jump_run = 0
-        self.stats = dict.fromkeys(STAT_KEYS, 0)
+        self._counts = dict.fromkeys(STAT_KEYS, 0)
 
     def _restart(self) -> None:
-        self._pending = None
-        self.preprocessor.reset()
-        self.bank.reset()
+        self.resampler.reset()
+        self.segmenter.reset()
+        self.spotter.reset()
         self.stop.reset()
 
-    def gesture_dissimilarities(self) -> dict[str, float]:
-        """Latest best (lowest) matcher output per gesture label."""
-        d = self.bank.d
-        out = dict.fromkeys(self.gestures, math.inf)
-        for j, lab in enumerate(self.labels):
-            if d[j] < out[lab]:
-                out[lab] = float(d[j])
-        return out
+    def warmup(self) -> None:
+        """Run every stage once on a synthetic motion (loads the compiled kernels), then reset."""
+        t = np.arange(0.0, 6.0, self.config.dt)
+        x = np.clip((t - 1.0) / 1.5, 0.0, 1.0)
+        s = np.sin(np.pi * x**3 * (10 - 15 * x + 6 * x**2))
+        for k in range(t.size):
+            p = np.array([0.3 * s[k], 0.05 * s[k] ** 2, 0.0])
+            q = np.array([math.cos(0.4 * s[k]), 0.0, 0.0, math.sin(0.4 * s[k])])
+            self.push(float(t[k]), p, q)
+        self.reset()
 
-    def push(self, t: float, p: Sequence[float] | np.ndarray, q: Sequence[float] | np.ndarray) -> list[Event]:
+    def push(self, t: float, p: Sequence[float] | np.ndarray, q: Sequence[float] | np.ndarray
+             ) -> list[Event]:
         """Offer one pose sample; return the events it triggers (usually none).
 
         Parameters
@@ -241,122 +273,60 @@ class Recognizer:
         p : array_like, shape (3,)
             Position [m].
         q : array_like, shape (4,)
-            Orientation quaternion ``(w, x, y, z)`` (normalized here).
+            Orientation quaternion ``(w, x, y, z)`` (any norm and sign).
 
         Returns
         -------
         list of Event
-            A stop event, or a gesture event, or nothing.
+            Stop events and gesture events, in time order.
         """
-        st = self.stats
-        st["samples"] += 1
-        t = float(t)
-        p = np.asarray(p, dtype=np.float64).reshape(3)
-        q = np.asarray(q, dtype=np.float64).reshape(4)
-        if not (math.isfinite(t) and np.isfinite(p).all() and np.isfinite(q).all()):
-            st["nan"] += 1
-            return []
-        nq = math.sqrt(float(q @ q))
-        if nq < 1e-9:
-            st["bad_quaternion"] += 1
-            return []
-        q = q / nq
-        c = self.config
-        if self._t is not None:
-            dt = t - self._t
-            if dt == 0.0:
-                st["repeated"] += 1
-                return []
-            if dt < 0.0:
-                st["backwards"] += 1
-                return []
-            if se3.quaternion_sign(q, self._q) < 0.0:
-                q = -q
-                st["sign_flips"] += 1
-            dot = float(q @ self._q)
-            if dt > c.max_gap:
-                st["gaps"] += 1
-                self._restart()
-                self._jump_run = 0
-            else:
-                dp = p - self._p
-                if float(dp @ dp) > c.jump_distance**2 or dot < self._cos_jump:
-                    self._jump_run += 1
-                    if self._jump_run < c.jump_patience:
-                        st["jumps"] += 1
-                        return []
-                    st["relocations"] += 1
-                    self._restart()
-                self._jump_run = 0
-        self._t = t
-        self._p = p
-        self._q = q
-        st["accepted"] += 1
-        stop = self.stop.update(t, q)
-        n_geo = self.preprocessor.n_geometric
-        d = self.preprocessor.push(p, q)
-        if self.preprocessor.n_geometric != n_geo:
-            st["geometric"] += 1
-        if stop:
-            st["stops"] += 1
-            self._pending = None
-            if c.refractory_reset:
-                self.bank.reset()
-            return [Event(STOP, t, -1.0, -1)]
-        if d is None:
-            pend = self._pending
-            if pend is not None and t - pend[3] >= c.decision_wait and not self.stop.active:
-                return self._fire(t)
-            return []
-        if not np.isfinite(d).all():
-            st["bad_descriptors"] += 1
+        self.spotter.evaluated.clear()
+        accepted = self.gate.push(t, p, q)
+        if accepted.restarted:
+            self._counts["restarts"] += 1
             self._restart()
-            return []
-        dj = self.bank.update(d)
-        self.last_matched = dj.copy()
-        st["descriptors"] += 1
-        if self.stop.active:
-            self._pending = None
-            return []
-        ratio = dj / self.model_thresholds
-        j = int(np.argmin(ratio))
-        r = float(ratio[j])
-        if c.decision == "first":
-            if r < 1.0:
-                self._pending = (j, r, float(dj[j]), t, 0, self._second(ratio, j))
-                return self._fire(t)
-            return []
-        pend = self._pending
-        if r < 1.0 and (pend is None or r < pend[1]):
-            self._pending = (j, r, float(dj[j]), t, 0, self._second(ratio, j))
-            return []
-        if pend is None:
-            return []
-        stale = pend[4] + 1
-        self._pending = (*pend[:4], stale, pend[5])
-        if r >= 1.0 or stale >= c.decision_patience or t - pend[3] >= c.decision_wait:
-            return self._fire(t)
-        return []
+        events: list[Event] = []
+        for ts, ps, qs in accepted.samples:
+            events.extend(self._on_sample(ts, ps, qs))
+        self.observations = self.spotter.evaluated
+        return events
 
-    def _fire(self, t: float) -> list[Event]:
-        """Emit the pending candidate at time ``t`` [s] and apply the refractory reset."""
-        assert self._pending is not None
-        j, r, d, _, _, r2 = self._pending
-        self._pending = None
-        if self.config.refractory_reset:
-            self.bank.reset()
-        if r2 < self.config.decision_margin * r:
-            self.stats["ambiguous"] += 1
-            return []
-        self.stats["events"] += 1
-        return [Event(self.labels[j], t, d, j)]
+    def _on_sample(self, t: float, p: np.ndarray, q: np.ndarray) -> list[Event]:
+        events: list[Event] = []
+        if self.stop.update(t, q):
+            self._counts["stops"] += 1
+            self.spotter.discard_before(self.segmenter.buffer.count)
+            events.append(Event(STOP, t, -1.0, -1))
+        T = np.eye(4)
+        T[:3, :3] = se3.matrix_from_quaternion(q)
+        T[:3, 3] = p
+        times, poses = self.resampler.push(t, T)
+        for k in range(times.size):
+            event = self._on_grid(float(times[k]), poses[k])
+            if event is not None:
+                events.append(event)
+        return events
 
-    def _second(self, ratio: np.ndarray, j: int) -> float:
-        """Lowest ratio ``d/τ`` among the models of gestures other than model ``j``'s."""
-        if self.config.decision_margin <= 1.0:
-            return math.inf
-        other = ratio[self._other[self._label_index[j]]]
-        return float(other.min()) if other.size else math.inf
+    def _on_grid(self, t: float, T: np.ndarray) -> Event | None:
+        self._counts["grid"] += 1
+        unit = self.segmenter.push(t, T)
+        spotter = self.spotter
+        if not self.stop.armed:  # a stop fired and the hand still turns fast: it is not a gesture
+            spotter.discard_before(self.segmenter.buffer.count)
+            return None
+        fired = None
+        if unit is not None:
+            self._counts["units"] += 1
+            n_before = len(spotter.evaluated)
+            fired = spotter.on_unit(unit, self.segmenter.buffer)
+            self._counts["candidates"] += len(spotter.evaluated) - n_before
+        if fired is None:
+            fired = spotter.poll(t, self.segmenter.resting)
+        if fired is None:
+            return None
+        spotter.discard_before(fired.end + 1)
+        self._counts["events"] += 1
+        return Event(self.labels[fired.model], t, fired.distance, fired.model)
 
     def run(self, traj: Trajectory) -> list[Event]:
         """Push a whole recording; return all events (the recognizer is not reset)."""
@@ -365,16 +335,24 @@ class Recognizer:
             events.extend(self.push(traj.t[k], traj.p[k], traj.q[k]))
         return events
 
+    def gesture_dissimilarities(self) -> dict[str, float]:
+        """Distance of the latest classified candidate to each gesture's nearest model."""
+        out = dict.fromkeys(self.gestures, math.inf)
+        d = self.spotter.last_distances
+        if d is not None:
+            for j, g in enumerate(self.labels):
+                out[g] = min(out[g], float(d[j]))
+        return out
+
     def describe(self) -> dict[str, Any]:
-        """Parameters, model summary and calibration as a JSON-friendly dict."""
+        """Parameters (resolved), models and calibration as a JSON-friendly dict."""
         return {
+            "method": self.method,
             "config": self.config.to_dict(),
-            "threshold": self.threshold,
             "gesture_thresholds": dict(self.gesture_thresholds),
             "stop_threshold": self.stop_threshold,
             "n_models": len(self.labels),
             "gestures": self.gestures,
-            "model_lengths": [int(n) for n in self.bank.lengths],
-            "window_spacing": self.preprocessor.m,
+            "model_lengths": [int(m.shape[0]) for m in self.classifier.models],
             "calibration": None if self.calibration is None else self.calibration.summary(),
         }

@@ -25,18 +25,21 @@ import json
 import math
 import struct
 import time
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from ..errors import FramefreeError
+from ..posecsv import UNITS, warn_if_implausible
 from ..trajectory import Trajectory
 
 __all__ = [
     "MESSAGE_FORMAT",
     "CsvReplay",
     "OpenVRSource",
+    "UnitsAndOrder",
     "ZmqPublisher",
     "ZmqSource",
     "check_loopback",
@@ -71,6 +74,24 @@ def check_loopback(endpoint: str) -> str:
             f"{endpoint}: only loopback endpoints are allowed (127.0.0.1, localhost, [::1])"
         )
     return endpoint
+
+
+def _attach(sock: Any, endpoint: str, bind: bool) -> None:
+    """Bind or connect ``sock``; a busy port or a bad endpoint becomes a one-line error."""
+    import zmq
+
+    try:
+        if bind:
+            sock.bind(endpoint)
+        else:
+            sock.connect(endpoint)
+    except zmq.ZMQError as exc:
+        if exc.errno == zmq.EADDRINUSE:
+            raise FramefreeError(
+                f"{endpoint}: the port is already in use (another 'framefree stream'?); "
+                "choose another --port"
+            ) from None
+        raise FramefreeError(f"{endpoint}: cannot {'bind' if bind else 'connect'} ({exc})") from None
 
 
 def encode_pose(t: float, p: np.ndarray, q: np.ndarray) -> bytes:
@@ -157,11 +178,10 @@ class ZmqSource:
         self._sock = self._ctx.socket(zmq.SUB)
         self._sock.setsockopt(zmq.SUBSCRIBE, b"")
         self._sock.setsockopt(zmq.LINGER, 0)
-        if bind:
-            self._sock.bind(self.endpoint)
-        else:
-            self._sock.connect(self.endpoint)
+        _attach(self._sock, self.endpoint, bind)
         self.received = 0
+        #: whether the stream ended because no message came for ``timeout`` seconds
+        self.timed_out = False
 
     def __iter__(self) -> Iterator[Pose]:
         import zmq
@@ -172,6 +192,7 @@ class ZmqSource:
         try:
             while True:
                 if not poller.poll(wait_ms):
+                    self.timed_out = True
                     return
                 pose = decode_pose(self._sock.recv())
                 if pose is None:
@@ -212,10 +233,11 @@ class ZmqPublisher:
         self.fmt = fmt
         self._sock = zmq.Context.instance().socket(zmq.PUB)
         self._sock.setsockopt(zmq.LINGER, 1000)
-        if bind:
-            self._sock.bind(self.endpoint)
-        else:
-            self._sock.connect(self.endpoint)
+        try:
+            _attach(self._sock, self.endpoint, bind)
+        except FramefreeError:
+            self._sock.close(0)
+            raise
         time.sleep(join_wait)
         self.sent = 0
 
@@ -308,13 +330,64 @@ class OpenVRSource:
             ovr.shutdown()
 
 
-def open_source(spec: str, speed: float = 1.0, timeout: float | None = 5.0):
-    """Source from a command-line spec: ``zmq://127.0.0.1:PORT``, ``tcp://...``, ``openvr`` or a CSV."""
+class UnitsAndOrder:
+    """Convert a pose source's positions to metres and quaternions to scalar first, and warn once
+    when its first samples look implausible for a hand (see :mod:`framefree.posecsv`).
+
+    Parameters
+    ----------
+    source : iterable of (t, p, q)
+    name : str
+        Shown in warnings (the endpoint).
+    quat_order : {"wxyz", "xyzw"}
+        Order of the source's quaternions.
+    units : {"m", "cm", "mm"}
+        Unit of the source's positions.
+    check_after : int
+        Samples collected before the plausibility check.
+    """
+
+    def __init__(self, source: Iterable[Pose], name: str, quat_order: str = "wxyz",
+                 units: str = "m", check_after: int = 250) -> None:
+        self.source = source
+        self.name = name
+        self.scale = UNITS[units]
+        self.order = [3, 0, 1, 2] if quat_order == "xyzw" else [0, 1, 2, 3]
+        self.quat_order = quat_order
+        self.check_after = check_after
+
+    @property
+    def timed_out(self) -> bool:
+        """Whether the wrapped source ended for lack of data (see :attr:`ZmqSource.timed_out`)."""
+        return bool(getattr(self.source, "timed_out", False))
+
+    def __iter__(self) -> Iterator[Pose]:
+        first: list[np.ndarray] = []
+        for t, p, q in self.source:
+            p = p * self.scale
+            q = q[self.order]
+            if len(first) < self.check_after:
+                first.append(np.concatenate([[t], p, q]))
+                if len(first) == self.check_after:
+                    warn_if_implausible(np.asarray(first), self.name, self.quat_order)
+            yield t, p, q
+
+
+def open_source(
+    spec: str, speed: float = 1.0, timeout: float | None = 5.0, quat_order: str = "wxyz",
+    units: str = "m",
+):
+    """Source from a command-line spec: ``zmq://127.0.0.1:PORT``, ``tcp://...``, ``openvr`` or a CSV.
+
+    The spec is checked here, before anything slow: a non-loopback endpoint, a missing file or a
+    missing OpenVR raise :class:`FramefreeError`. ``quat_order`` and ``units`` describe the source's
+    numbers (a CSV file's columns, or the pose messages).
+    """
     if spec.startswith(("zmq://", "tcp://", "ipc://")):
-        return ZmqSource(spec, timeout=timeout)
+        return UnitsAndOrder(ZmqSource(spec, timeout=timeout), spec, quat_order, units)
     if spec == "openvr":
-        return OpenVRSource()
+        return UnitsAndOrder(OpenVRSource(), spec, quat_order, units)
     path = Path(spec)
     if not path.is_file():
         raise FramefreeError(f"{spec}: not a file, and not zmq://127.0.0.1:PORT or 'openvr'")
-    return CsvReplay(path, speed=speed)
+    return CsvReplay(Trajectory.from_csv(path, quat_order=quat_order, units=units), speed=speed)

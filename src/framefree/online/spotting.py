@@ -27,6 +27,7 @@ import numpy as np
 
 from ..descriptors.base import Descriptor
 from ..errors import DegenerateMotionError
+from ..progress import reparameterize
 from ..trajectory import Trajectory
 from .segmentation import PoseBuffer, Unit, closure
 
@@ -48,22 +49,30 @@ class SegmentClassifier:
         self.descriptor = descriptor
         self.models = list(models)
 
-    def describe(self, times: np.ndarray, poses: np.ndarray) -> np.ndarray | None:
-        """Descriptor of a segment (times (n,) [s], poses (n, 4, 4)); None if it has no motion."""
+    def describe(self, times: np.ndarray, poses: np.ndarray) -> tuple[np.ndarray, float] | None:
+        """Descriptor of a segment (times (n,) [s], poses (n, 4, 4)) and its size: the total
+        progress [m of screw path] of its pre-smoothed poses. ``None`` if it has no motion.
+
+        The two steps of ``descriptor.compute`` (reparameterize, then describe), so the descriptor
+        is the offline one bit for bit and the size comes for free.
+        """
         if poses.shape[0] < 5:
             return None
         traj = Trajectory.from_poses(times - times[0], poses, source="live segment")
+        D = self.descriptor
         try:
-            return self.descriptor.compute(traj)
+            rep = reparameterize(traj, D.progress, D.L, D.n_samples, presmooth=D.presmooth)
+            return D.from_reparameterized(rep.poses, rep.ds), rep.total
         except DegenerateMotionError:
             return None
 
-    def distances(self, times: np.ndarray, poses: np.ndarray) -> np.ndarray:
-        """Distance (M,) from the segment to every model (``inf`` if it has no motion)."""
-        d = self.describe(times, poses)
-        if d is None:
-            return np.full(len(self.models), math.inf)
-        return self.descriptor.distance_matrix([d], self.models)[0]
+    def distances(self, times: np.ndarray, poses: np.ndarray) -> tuple[np.ndarray, float]:
+        """Distance (M,) from the segment to every model (``inf`` if it has no motion) and the
+        segment's size [m] (0 if it has no motion)."""
+        out = self.describe(times, poses)
+        if out is None:
+            return np.full(len(self.models), math.inf), 0.0
+        return self.descriptor.distance_matrix([out[0]], self.models)[0], out[1]
 
 
 @dataclass(frozen=True)
@@ -86,8 +95,10 @@ class Candidate:
         Number of movement units it spans.
     closure : float
         Screw path from its first to its last pose over its length (0: back at the start).
+    size : float
+        Total screw path [m] of its pre-smoothed poses.
     accepted : bool
-        Below the threshold and within the closure limit of its nearest model's gesture.
+        Below the threshold and within the closure and size limits of its nearest model's gesture.
     """
 
     start: int
@@ -99,6 +110,7 @@ class Candidate:
     ratio: float
     n_units: int
     closure: float = 0.0
+    size: float = 0.0
     accepted: bool = False
 
 
@@ -149,6 +161,9 @@ class Spotter:
         as each model's gesture (default: no limit).
     L : float
         Scale length of the screw path [m] (for the closure).
+    size_limits : ndarray, shape (M, 2), optional
+        Smallest and largest size [m] a candidate may have to be accepted as each model's gesture
+        (default: no limit).
     """
 
     def __init__(
@@ -163,6 +178,7 @@ class Spotter:
         max_wait: float = 1.0,
         closure_limits: np.ndarray | None = None,
         L: float = 0.1,
+        size_limits: np.ndarray | None = None,
     ) -> None:
         self.classifier = classifier
         self.model_thresholds = np.asarray(model_thresholds, dtype=np.float64)
@@ -176,6 +192,8 @@ class Spotter:
         self.closure_limits = (np.ones(n_models) if closure_limits is None
                                else np.asarray(closure_limits, dtype=np.float64))
         self.L = float(L)
+        self.size_limits = (np.tile([0.0, np.inf], (n_models, 1)) if size_limits is None
+                            else np.asarray(size_limits, dtype=np.float64).reshape(n_models, 2))
         self.units: deque[Unit] = deque(maxlen=max(1, self.max_units))
         self.reset()
 
@@ -185,6 +203,8 @@ class Spotter:
         self.pending: Candidate | None = None
         self.consumed = -1  # candidates must start after this running index
         self.last_distances: np.ndarray | None = None
+        #: (end time [s], distances (M,)) of every candidate classified since the owner cleared it
+        self.evaluated: list[tuple[float, np.ndarray]] = []
 
     def discard_before(self, index: int) -> None:
         """Drop the pending candidate and every unit that started before ``index`` (after a stop
@@ -202,14 +222,16 @@ class Spotter:
         for first, n in candidate_spans(list(self.units), self.max_units, self.max_duration,
                                         self.max_pause, after):
             times, poses = buffer.slice(first.start - self.margin, last.end + self.margin)
-            d = self.classifier.distances(times, poses)
+            d, size = self.classifier.distances(times, poses)
             self.last_distances = d
+            self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
             ratio = float(d[j] / self.model_thresholds[j])
             c = closure(poses[self.margin:poses.shape[0] - self.margin], self.L)
-            ok = ratio < 1.0 and c <= self.closure_limits[j]
+            lo, hi = self.size_limits[j]
+            ok = ratio < 1.0 and c <= self.closure_limits[j] and lo <= size <= hi
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
-                                 ratio, n, c, ok))
+                                 ratio, n, c, size, ok))
         return out
 
     def on_unit(self, unit: Unit, buffer: PoseBuffer) -> Candidate | None:

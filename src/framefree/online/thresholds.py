@@ -8,16 +8,19 @@ candidate segment of it is classified against the *other* recordings of its gest
 **Negatives.** Generic motion that is no gesture, built around every recording's start and end
 pose with the recording's own sensor noise (:func:`framefree.online.calibration.non_gesture_motions`):
 holding still, and unhurried via-point moves (repositioning, reaching). Their candidate segments are
-classified against the models of ``g``; ``N_g`` is the smallest distance.
+classified against the models of ``g`` (only candidates within ``g``'s closure limit: see
+:func:`closure_limit`); an episode's score is its best candidate's distance, and ``N_g`` is the
+``negative_quantile`` (5 %) quantile of the episodes' scores.
 
 **Rule.** Distances are scale-like, so the threshold sits at the geometric midpoint
-``τ_g = √(P_g · N_g)`` when ``P_g < N_g``: as far, in ratio, from the worst demonstration as from
-the nearest non-gesture. When they overlap, ``τ_g = overlap_factor · N_g`` (rejection wins) and the
-gesture is reported as not separated.
+``τ_g = √(P_g · N_g)``: as far, in ratio, from the worst demonstration as from the nearest generic
+motion. When ``P_g ≥ N_g`` the gesture is reported as not separated (the midpoint is then a
+compromise between missing demonstrations and accepting generic motion).
 """
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
@@ -31,9 +34,11 @@ from .spotting import SegmentClassifier, Spotter, candidate_spans
 __all__ = [
     "SegmentThresholds",
     "calibrate_segment_thresholds",
+    "candidate_limits",
     "closure_limit",
-    "gesture_closures",
+    "gesture_geometry",
     "segment_distances",
+    "size_limits",
 ]
 
 
@@ -48,30 +53,25 @@ class SegmentThresholds:
     positives : dict of str to list of float
         Leave-one-out scores of each gesture's recordings.
     negatives : dict of str to float
-        ``N_g``: the nearest non-gesture candidate's distance to the models of ``g``.
+        ``N_g``: the low quantile of the non-gesture episodes' distances to the models of ``g``.
     separated : dict of str to bool
         ``P_g < N_g``.
-    closure_limits : dict of str to float
-        Largest closure a candidate may have to be accepted as ``g``
-        (:func:`closure_limit` of the demonstrations' largest closure).
     """
 
     thresholds: dict[str, float]
     positives: dict[str, list[float]]
     negatives: dict[str, float]
     separated: dict[str, bool] = field(default_factory=dict)
-    closure_limits: dict[str, float] = field(default_factory=dict)
 
     def summary(self) -> dict:
         """JSON-friendly summary."""
         return {
             "rule": "tau_g = sqrt(P_g * N_g) (P_g: worst leave-one-out demonstration, "
-                    "N_g: nearest non-gesture motion)",
+                    "N_g: 5 % quantile of generic non-gesture episodes)",
             "thresholds": dict(self.thresholds),
             "positives_max": {g: float(max(v)) for g, v in self.positives.items()},
-            "negatives_min": dict(self.negatives),
+            "negatives_quantile": dict(self.negatives),
             "separated": dict(self.separated),
-            "closure_limits": dict(self.closure_limits),
         }
 
 
@@ -90,9 +90,9 @@ def segment_distances(
     spotter: Spotter,
     L: float,
     dt: float = 0.02,
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Distances (C, M) of every candidate segment of a recording to every model, and the closure
-    (C,) of each candidate.
+    (C,) and size (C,) [m] of each candidate.
 
     The recording is resampled on the uniform grid, cut by :class:`MotionSegmenter` and its
     candidates formed with the limits of ``spotter`` (no threshold is applied).
@@ -100,31 +100,70 @@ def segment_distances(
     seg, units = _units(traj, levels, L, dt)
     rows: list[np.ndarray] = []
     closures: list[float] = []
+    sizes: list[float] = []
     for k in range(len(units)):
         for first, _ in candidate_spans(units[: k + 1], spotter.max_units, spotter.max_duration,
                                         spotter.max_pause):
             t, P = seg.buffer.slice(first.start - spotter.margin, units[k].end + spotter.margin)
-            rows.append(classifier.distances(t, P))
+            d, size = classifier.distances(t, P)
+            rows.append(d)
+            sizes.append(size)
             closures.append(closure(P[spotter.margin:P.shape[0] - spotter.margin], L))
     if not rows:
-        return np.full((0, len(classifier.models)), np.inf), np.zeros(0)
-    return np.vstack(rows), np.array(closures)
+        return np.full((0, len(classifier.models)), np.inf), np.zeros(0), np.zeros(0)
+    return np.vstack(rows), np.array(closures), np.array(sizes)
 
 
-def gesture_closures(
-    trajectories: Sequence[Trajectory], labels: Sequence[str], levels: SpeedLevels, L: float,
-    dt: float = 0.02,
-) -> dict[str, float]:
-    """Largest closure of each gesture's recordings (from the first unit's start to the last
-    unit's end: the whole gesture without its rests)."""
-    out: dict[str, float] = {}
+def gesture_geometry(
+    trajectories: Sequence[Trajectory], labels: Sequence[str], classifier: SegmentClassifier,
+    levels: SpeedLevels, L: float, margin: int = 5, dt: float = 0.02,
+) -> tuple[dict[str, float], dict[str, tuple[float, float]]]:
+    """Largest closure and size range [m] of each gesture's recordings, measured on the whole
+    gesture (first unit's start to last unit's end; the size with ``margin`` samples around it, as
+    a live candidate is cut)."""
+    closures: dict[str, float] = {}
+    sizes: dict[str, tuple[float, float]] = {}
     for tr, g in zip(trajectories, labels, strict=True):
         seg, units = _units(tr, levels, L, dt)
         if not units:
             continue
         _, P = seg.buffer.slice(units[0].start, units[-1].end)
-        out[g] = max(out.get(g, 0.0), closure(P, L))
-    return out
+        closures[g] = max(closures.get(g, 0.0), closure(P, L))
+        t, P = seg.buffer.slice(units[0].start - margin, units[-1].end + margin)
+        _, size = classifier.distances(t, P)
+        lo, hi = sizes.get(g, (np.inf, 0.0))
+        sizes[g] = (min(lo, size), max(hi, size))
+    return closures, sizes
+
+
+def size_limits(smallest: float, largest: float, factor: float) -> tuple[float, float]:
+    """Sizes accepted for a gesture whose demonstrations span ``[smallest, largest]`` [m]: people
+    make the same gesture smaller or larger by up to ``factor``."""
+    return smallest / factor, largest * factor
+
+
+def candidate_limits(
+    trajectories: Sequence[Trajectory], levels: SpeedLevels, L: float, span_factor: float,
+    pause_factor: float, min_pause: float, dt: float = 0.02,
+) -> tuple[int, float, float]:
+    """Candidate limits from the model recordings: ``(max_units, max_duration, max_pause)``.
+
+    One unit more than the most units of any recording; ``span_factor`` × the longest gesture (first
+    unit's start to last unit's end); ``pause_factor`` × the longest rest between two units of one
+    recording, at least ``min_pause`` [s].
+    """
+    most, longest, pause = 1, 0.0, 0.0
+    for tr in trajectories:
+        _, units = _units(tr, levels, L, dt)
+        if not units:
+            continue
+        most = max(most, len(units))
+        longest = max(longest, units[-1].end_t - units[0].start_t)
+        for a, b in itertools.pairwise(units):
+            pause = max(pause, b.start_t - a.end_t)
+    if longest == 0.0:
+        raise ValueError("no movement found in the model recordings")
+    return most + 1, span_factor * longest, max(min_pause, pause_factor * pause)
 
 
 def closure_limit(largest: float) -> float:
@@ -140,7 +179,8 @@ def calibrate_segment_thresholds(
     levels: SpeedLevels,
     spotter: Spotter,
     L: float,
-    overlap_factor: float = 0.8,
+    negative_quantile: float = 0.05,
+    position: float = 0.5,
     seed: int = 0,
 ) -> SegmentThresholds:
     """τ_g for every gesture (see the module docstring).
@@ -150,41 +190,55 @@ def calibrate_segment_thresholds(
     trajectories, labels
         The model recordings (the same as ``classifier.models``, in order) and their gestures.
     classifier, levels, spotter, L
-        The live recognizer's stages, so the calibration cuts and classifies as it will.
-    overlap_factor : float
-        τ_g = overlap_factor · N_g when positives and negatives overlap.
+        The live recognizer's stages, so the calibration cuts, classifies and admits candidates
+        (closure and size limits of ``spotter``) as it will.
+    negative_quantile : float
+        ``N_g`` is this quantile of the non-gesture episodes' scores (0.05: one generic motion
+        episode in twenty may come closer to ``g`` than ``N_g``; the minimum would hinge on the
+        single most gesture-like of an arbitrary number of random episodes).
+    position : float
+        Where τ_g lies between ``P_g`` and ``N_g`` on a log scale: ``τ_g = P_g^(1-a) N_g^a``
+        (0.5: the geometric midpoint).
     seed : int
         Seed of the generated non-gesture motion (the calibration is deterministic).
     """
     labels_arr = np.asarray(labels)
     gestures = list(dict.fromkeys(labels))
-    closed = gesture_closures(trajectories, labels, levels, L)
-    limits = {g: closure_limit(closed.get(g, 1.0)) for g in gestures}
+    lim_c = spotter.closure_limits
+    lim_s = spotter.size_limits
+
+    def admissible(j: int, c: np.ndarray, size: np.ndarray) -> np.ndarray:
+        return (c <= lim_c[j]) & (size >= lim_s[j, 0]) & (size <= lim_s[j, 1])
+
+    first = {g: int(np.flatnonzero(labels_arr == g)[0]) for g in gestures}
     positives: dict[str, list[float]] = {g: [] for g in gestures}
     for r, tr in enumerate(trajectories):
-        D, c = segment_distances(tr, classifier, levels, spotter, L)
+        D, c, size = segment_distances(tr, classifier, levels, spotter, L)
         same = labels_arr == labels[r]
         same[r] = False
-        ok = c <= limits[labels[r]]
+        ok = admissible(r, c, size)
         score = float(D[ok][:, same].min()) if ok.any() and same.any() else np.inf
         positives[labels[r]].append(score)
-    negatives = dict.fromkeys(gestures, np.inf)
+    episodes: dict[str, list[float]] = {g: [] for g in gestures}
     for _, neg in non_gesture_motions(trajectories, labels, L, kinds=("rest", "moves"), seed=seed):
-        D, c = segment_distances(neg, classifier, levels, spotter, L)
+        D, c, size = segment_distances(neg, classifier, levels, spotter, L)
         for g in gestures:
-            ok = c <= limits[g]
+            ok = admissible(first[g], c, size)
             if ok.any():
-                negatives[g] = min(negatives[g], float(D[ok][:, labels_arr == g].min()))
-    thresholds, separated = {}, {}
+                episodes[g].append(float(D[ok][:, labels_arr == g].min()))
+    thresholds, separated, negatives = {}, {}, {}
     for g in gestures:
         finite = [p for p in positives[g] if np.isfinite(p)]
         P = max(finite) if finite else np.inf
-        N = negatives[g]
+        N = float(np.quantile(episodes[g], negative_quantile)) if episodes[g] else np.inf
+        negatives[g] = N
         separated[g] = bool(P < N)
-        if np.isfinite(P) and P < N:
-            thresholds[g] = float(np.sqrt(P * N)) if np.isfinite(N) else 2.0 * P
+        if np.isfinite(P) and np.isfinite(N):
+            thresholds[g] = float(P ** (1.0 - position) * N**position)
+        elif np.isfinite(P):  # nothing generic comes close to this gesture
+            thresholds[g] = 2.0 * P
         elif np.isfinite(N):
-            thresholds[g] = overlap_factor * N
+            thresholds[g] = 0.5 * N
         else:
             raise ValueError(f"cannot calibrate gesture {g!r}: no positive and no negative score")
-    return SegmentThresholds(thresholds, positives, negatives, separated, limits)
+    return SegmentThresholds(thresholds, positives, negatives, separated)

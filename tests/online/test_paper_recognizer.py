@@ -5,13 +5,13 @@ import numpy as np
 import pytest
 
 from framefree import Trajectory
-from framefree.online import STOP, Recognizer
+from framefree.online import STOP, PaperRecognizer
 
 
 @pytest.fixture(scope="module")
 def rec(model_set, config):
     trajs, labels = model_set
-    r = Recognizer.from_trajectories(trajs, labels, config)
+    r = PaperRecognizer.from_trajectories(trajs, labels, config)
     r.warmup()
     return r
 
@@ -108,7 +108,7 @@ def _fast_rotation(t0, p, q0, speed=12.0, duration=0.3):
 def test_stop_takes_precedence(model_set, config, session):
     trajs, labels = model_set
     # threshold so loose that every ready matcher fires: a stop must still win
-    rec = Recognizer.from_trajectories(trajs, labels, config.replace(threshold=1e9))
+    rec = PaperRecognizer.from_trajectories(trajs, labels, config.replace(threshold=1e9))
     rows = _rows(session)
     k = len(rows) // 2
     t, p, q = rows[k]
@@ -130,13 +130,13 @@ def test_stop_takes_precedence(model_set, config, session):
 
 def test_refractory_reset(model_set, config, session):
     trajs, labels = model_set
-    rec = Recognizer.from_trajectories(trajs, labels, config.replace(threshold=1e9))
+    rec = PaperRecognizer.from_trajectories(trajs, labels, config.replace(threshold=1e9))
     _, stats = _run(rec, _rows(session))
     assert stats["events"] >= 2
     # after each event all windows restart: the next one needs a full (latency-shortened) window
     shortest = int(min(rec.bank.lengths - rec.bank.lat_hi))
     assert stats["events"] <= stats["descriptors"] // shortest + 1
-    loose = Recognizer.from_trajectories(trajs, labels,
+    loose = PaperRecognizer.from_trajectories(trajs, labels,
                                          config.replace(threshold=1e9, refractory_reset=False))
     _, stats2 = _run(loose, _rows(session))
     assert stats2["events"] > stats["events"]
@@ -172,7 +172,7 @@ def test_memory_stays_flat(rec):
 
 def test_automatic_calibration(model_set, session):
     trajs, labels = model_set
-    rec = Recognizer.from_trajectories(trajs, labels, resolution=0.04)
+    rec = PaperRecognizer.from_trajectories(trajs, labels, resolution=0.04)
     cal = rec.calibration
     assert cal is not None and rec.threshold > 0
     assert cal.negatives.size >= len(trajs)
@@ -186,12 +186,12 @@ def test_automatic_calibration(model_set, session):
     for j, lab in enumerate(rec.labels):
         assert rec.model_thresholds[j] == rec.gesture_thresholds[lab]
     # the cut pieces of the recordings remain available; global mode gives one τ
-    rec3 = Recognizer.from_trajectories(trajs, labels, resolution=0.04, threshold_mode="global",
+    rec3 = PaperRecognizer.from_trajectories(trajs, labels, resolution=0.04, threshold_mode="global",
                                         calibration_negatives=("head", "middle", "tail", "splice"))
     assert set(rec3.calibration.negative_kinds) <= {"head", "middle", "tail", "splice"}
     assert len(set(rec3.gesture_thresholds.values())) == 1
     # the user can override both
-    rec2 = Recognizer.from_trajectories(trajs, labels, resolution=0.04, threshold=0.123,
+    rec2 = PaperRecognizer.from_trajectories(trajs, labels, resolution=0.04, threshold=0.123,
                                         stop_threshold=9.0)
     assert rec2.threshold == 0.123 and rec2.stop_threshold == 9.0 and rec2.calibration is None
 
@@ -200,7 +200,7 @@ def test_from_dataset_layout(tmp_path, model_set):
     trajs, labels = model_set
     for k, (tr, lab) in enumerate(zip(trajs, labels, strict=True)):
         tr.to_csv(tmp_path / lab / "original_1" / f"trial_{k + 1}.csv")
-    rec = Recognizer.from_dataset(tmp_path, model_context="original_1", resolution=0.04,
+    rec = PaperRecognizer.from_dataset(tmp_path, model_context="original_1", resolution=0.04,
                                   threshold=0.5, stop_threshold=3.0)
     assert sorted(rec.gestures) == sorted(set(labels))
     assert len(rec.labels) == len(trajs)
@@ -224,15 +224,15 @@ def test_decision_rules_and_pruning(model_set, config, session):
     minimum; pruning (any factor >= 1) changes no decision."""
     trajs, labels = model_set
     base = config.replace(prune_factor=None)
-    first = Recognizer.from_trajectories(trajs, labels, base.replace(decision="first"))
+    first = PaperRecognizer.from_trajectories(trajs, labels, base.replace(decision="first"))
     ev_first, _ = _run(first, _rows(session))
-    mini = Recognizer.from_trajectories(trajs, labels, base.replace(decision="minimum"))
+    mini = PaperRecognizer.from_trajectories(trajs, labels, base.replace(decision="minimum"))
     ev_min, _ = _run(mini, _rows(session))
     assert 0 < len(ev_min) <= len(ev_first)
     assert ev_min[0].time >= ev_first[0].time
     assert ev_min[0].dissimilarity <= ev_first[0].dissimilarity + 1e-12
     for factor in (1.0, 3.0):
-        pr = Recognizer.from_trajectories(trajs, labels, base.replace(prune_factor=factor))
+        pr = PaperRecognizer.from_trajectories(trajs, labels, base.replace(prune_factor=factor))
         ev_pr, _ = _run(pr, _rows(session))
         assert [(e.label, e.time, e.model) for e in ev_pr] == [(e.label, e.time, e.model) for e in ev_min]
         np.testing.assert_allclose([e.dissimilarity for e in ev_pr], [e.dissimilarity for e in ev_min],
@@ -244,10 +244,10 @@ def test_second_best_margin(model_set, config, session):
     an impossible margin suppresses every gesture event whose runner-up is finite."""
     trajs, labels = model_set
     base = config.replace(prune_factor=None)
-    plain = Recognizer.from_trajectories(trajs, labels, base)
+    plain = PaperRecognizer.from_trajectories(trajs, labels, base)
     ev_plain, st_plain = _run(plain, _rows(session))
     assert st_plain["ambiguous"] == 0
-    strict = Recognizer.from_trajectories(trajs, labels, base.replace(decision_margin=1e6))
+    strict = PaperRecognizer.from_trajectories(trajs, labels, base.replace(decision_margin=1e6))
     ev_strict, st_strict = _run(strict, _rows(session))
     gestures = [e for e in ev_plain if e.label != STOP]
     assert len([e for e in ev_strict if e.label != STOP]) + st_strict["ambiguous"] == len(gestures)

@@ -1,0 +1,132 @@
+"""Live recognition on streams of simulated people: tune on some, report on others.
+
+Models: the replica's ``original_1`` recordings (one person, the replica's). Streams: sessions of
+people drawn from the population of :mod:`framefree.datasets.people` — ``--people dev`` (seeds
+0-19, the only ones used to choose parameters) or ``--people heldout`` (seeds 1000-1019, for
+reporting once the parameters are frozen). Both methods can run side by side on the same streams:
+``segments`` (framefree's recognizer) and ``paper`` (the paper's).
+
+Prints per-person and pooled precision / recall / F1, false positives per minute of non-gesture
+motion, the detection latency after the gesture's end, misses per gesture, and which activity each
+false positive came from; ``--json`` writes it all.
+
+    .venv/bin/python benchmarks/online_people.py --people dev --per-person 1 --method both
+    .venv/bin/python benchmarks/online_people.py --people heldout --per-person 2 --json out.json
+    .venv/bin/python benchmarks/online_people.py --people dev --set confirm=0.3
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import json
+import time
+from pathlib import Path
+
+from joblib import Parallel, delayed
+
+from framefree.datasets import replica_path
+from framefree.datasets.people import DEV_PEOPLE, HELDOUT_PEOPLE
+from framefree.datasets.people_streams import make_person_streams
+from framefree.online import PaperRecognizer, Recognizer
+from framefree.online.evaluation import combine, match_events, run_stream
+from framefree.online.models import load_model_recordings
+
+_RECOGNIZERS: dict = {}
+
+
+def _recognizer(method: str, overrides: dict):
+    key = (method, tuple(sorted(overrides.items())))
+    if key not in _RECOGNIZERS:
+        trajs, labels = load_model_recordings(replica_path(0), "original_1")
+        cls = Recognizer if method == "segments" else PaperRecognizer
+        rec = cls.from_trajectories(trajs, labels, **overrides)
+        rec.warmup()
+        _RECOGNIZERS[key] = rec
+    return _RECOGNIZERS[key]
+
+
+def _activity_at(activities, t: float) -> str:
+    """What the person was doing shortly before an event fired (the motion it was spotted in)."""
+    kinds = [a.kind if a.kind != "gesture" else f"gesture:{a.label}" for a in activities
+             if a.start_t <= t - 0.2 <= a.end_t]
+    return kinds[-1] if kinds else "?"
+
+
+def _evaluate(method: str, overrides: dict, item) -> dict:
+    rec = _recognizer(method, overrides)
+    events, _ = run_stream(rec, item.traj)
+    res = match_events(events, item.segments, item.traj.duration)
+    fps = [{"time": d["time"], "label": d["label"], "verdict": d["verdict"],
+            "during": _activity_at(item.activities, d["time"])}
+           for d in res.details if d["verdict"] != "tp"]
+    return {"person": item.person_seed, "stream": item.stream_seed, "result": res,
+            "false_positives": fps, "missed": res.missed}
+
+
+def _parse_set(values: list[str]) -> dict:
+    out = {}
+    for kv in values:
+        k, v = kv.split("=", 1)
+        try:
+            out[k] = json.loads(v)
+        except json.JSONDecodeError:
+            out[k] = v
+    return out
+
+
+def _report(method: str, rows: list[dict]) -> dict:
+    pooled = combine([r["result"] for r in rows])
+    per_person = collections.defaultdict(list)
+    for r in rows:
+        per_person[r["person"]].append(r["result"])
+    misses = collections.Counter(m["label"] for r in rows for m in r["missed"])
+    fp_kinds = collections.Counter(f"{f['label']} during {f['during']}" for r in rows
+                                   for f in r["false_positives"])
+    s = pooled.summary()
+    print(f"\n== {method}: TP {s['tp']} FP {s['fp']} FN {s['fn']}  P {s['precision']:.3f} "
+          f"R {s['recall']:.3f} F1 {s['f1']:.3f}  FP/min {s['fp_per_minute']:.3f}  "
+          f"latency median {s['latency_median_s']}")
+    for p, res in per_person.items():
+        c = combine(res).summary()
+        print(f"   person {p}: TP {c['tp']} FP {c['fp']} FN {c['fn']} F1 {c['f1']:.3f}")
+    print("   misses:", dict(misses))
+    print("   false positives:", dict(fp_kinds))
+    return {"pooled": s, "per_person": {str(p): combine(v).summary() for p, v in per_person.items()},
+            "misses": dict(misses), "false_positives": dict(fp_kinds),
+            "streams": [{"person": r["person"], "stream": r["stream"], **r["result"].summary(),
+                         "false_positive_details": r["false_positives"], "missed": r["missed"]}
+                        for r in rows]}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--people", default="dev", help="dev, heldout, or comma-separated seeds")
+    ap.add_argument("--per-person", type=int, default=1, help="streams per person")
+    ap.add_argument("--method", default="segments", choices=["segments", "paper", "both"])
+    ap.add_argument("--set", action="append", default=[], help="recognizer setting KEY=VALUE")
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--json", type=Path)
+    args = ap.parse_args()
+    seeds = {"dev": DEV_PEOPLE, "heldout": HELDOUT_PEOPLE}.get(args.people)
+    if seeds is None:
+        seeds = [int(s) for s in args.people.split(",")]
+    overrides = _parse_set(args.set)
+    t0 = time.perf_counter()
+    items = make_person_streams(seeds, n_streams_per_person=args.per_person, progress=True)
+    print(f"{len(items)} streams, {sum(len(i.segments) for i in items)} labelled items, "
+          f"{sum(i.traj.duration for i in items) / 60:.1f} min ({time.perf_counter() - t0:.0f} s)")
+    methods = ["segments", "paper"] if args.method == "both" else [args.method]
+    out = {"people": args.people, "per_person": args.per_person, "settings": overrides}
+    for method in methods:
+        rows = Parallel(n_jobs=args.jobs)(
+            delayed(_evaluate)(method, overrides if method == "segments" else {}, it) for it in items)
+        out[method] = _report(method, rows)
+    print(f"\nwall {time.perf_counter() - t0:.0f} s")
+    if args.json:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps(out, indent=1, default=float))
+
+
+if __name__ == "__main__":
+    main()

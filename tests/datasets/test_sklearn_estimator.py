@@ -1,0 +1,100 @@
+"""NearestNeighborClassifier as a scikit-learn estimator, on the replica (seed 7)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from sklearn.base import clone, is_classifier
+from sklearn.exceptions import NotFittedError
+from sklearn.model_selection import GridSearchCV, StratifiedKFold, cross_val_score
+from sklearn.pipeline import Pipeline
+from sklearn.preprocessing import FunctionTransformer
+from sklearn.utils.validation import check_is_fitted
+
+from framefree import NearestNeighborClassifier, get_descriptor
+
+
+@pytest.fixture(scope="module")
+def xy(replica):
+    """70 trials: the 7 gestures in original_1 and original_2 (5 trials each)."""
+    trials = replica.select(context=("original_1", "original_2"))
+    return [t.trajectory for t in trials], np.array([t.gesture for t in trials])
+
+
+def test_parameters_are_stored_as_given_and_round_trip():
+    clf = NearestNeighborClassifier("bilts+", L=1, ds_scale=0.1)
+    assert clf.L == 1 and type(clf.L) is int  # not converted, not validated, until fit
+    params = clf.get_params()
+    assert params["descriptor"] == "bilts+" and params["ds_scale"] == 0.1
+    assert params["progress"] is None and params["round_digits"] is None
+    assert clf.set_params(L=0.3, progress="angle") is clf
+    assert (clf.L, clf.progress) == (0.3, "angle")
+    with pytest.raises(ValueError, match="invalid parameter 'window'"):
+        clf.set_params(window=3)
+    assert repr(clf) == "NearestNeighborClassifier(progress='angle', L=0.3, ds_scale=0.1)"
+    assert is_classifier(clf)
+
+
+def test_fit_builds_the_descriptor_from_the_parameters(xy):
+    X, y = xy
+    clf = NearestNeighborClassifier("bilts+", L=0.4, ds_scale=0.07).fit(X[:14], y[:14])
+    assert clf.descriptor_.params == get_descriptor("bilts+", L=0.4, ds_scale=0.07).params
+    assert list(clf.classes_) == sorted(set(y[:14]))
+    # a descriptor instance plus an override: the instance is not modified
+    desc = get_descriptor("bilts+", L=0.5)
+    clf2 = NearestNeighborClassifier(desc, L=0.3).fit(X[:14], y[:14])
+    assert desc.L == 0.5 and clf2.descriptor_.L == 0.3 and clf2.descriptor is desc
+
+
+def test_clone_gives_an_unfitted_copy_with_equal_parameters(xy):
+    X, y = xy
+    clf = NearestNeighborClassifier("bilts+", L=0.5, ds_scale=0.09).fit(X, y)
+    copy = clone(clf)
+    assert copy.get_params() == clf.get_params()
+    assert not hasattr(copy, "models_") and not hasattr(copy, "descriptor_")
+    with pytest.raises(RuntimeError, match="fit"):
+        copy.predict(X[:1])
+    check_is_fitted(clf)
+    with pytest.raises(NotFittedError):
+        check_is_fitted(copy)
+
+
+def test_cross_val_score_on_the_replica(xy):
+    X, y = xy
+    cv = StratifiedKFold(5, shuffle=True, random_state=0)
+    scores = cross_val_score(NearestNeighborClassifier("bilts+"), X, y, cv=cv)
+    assert scores.shape == (5,)
+    # 14 test trials per fold, 7 classes: far above chance (1/7) on every fold
+    assert scores.min() >= 0.5, scores
+
+
+def test_grid_search_over_L_and_ds_scale(xy):
+    X, y = xy
+    grid = {"L": [0.3, 0.5], "ds_scale": [0.05, 0.09]}
+    search = GridSearchCV(
+        NearestNeighborClassifier("bilts+"), grid, cv=StratifiedKFold(3, shuffle=True, random_state=0)
+    )
+    search.fit(X, y)
+    assert len(search.cv_results_["params"]) == 4
+    assert search.best_params_ in search.cv_results_["params"]
+    best = search.best_estimator_
+    assert (best.L, best.ds_scale) == (search.best_params_["L"], search.best_params_["ds_scale"])
+    assert best.descriptor_.L == best.L
+    assert search.score(X, y) == best.score(X, y)
+
+
+def test_pipeline_with_a_trajectory_transformer(xy):
+    X, y = xy
+
+    def slow_down(trajs):
+        return [t.time_scaled(2.0) for t in trajs]
+
+    pipe = Pipeline([("slower", FunctionTransformer(slow_down)), ("nn", NearestNeighborClassifier())])
+    pipe.fit(X[::2], y[::2])
+    bare = NearestNeighborClassifier().fit(slow_down(X[::2]), y[::2])
+    np.testing.assert_array_equal(pipe.predict(X[1::2]), bare.predict(slow_down(X[1::2])))
+    # screw progress ignores speed: the slowed-down motions are still recognized
+    assert pipe.score(X[1::2], y[1::2]) >= 0.6
+    assert pipe.get_params()["nn__L"] is None
+    pipe.set_params(nn__L=0.3)
+    assert pipe.named_steps["nn"].L == 0.3

@@ -1,0 +1,137 @@
+"""framefree's live recognizer (segment spotting) end to end: offline-identical classification,
+held-out people, real non-gesture motion, faults, reproducible configuration."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from framefree import Trajectory
+from framefree.datasets import replica_path
+from framefree.datasets.faults import FAULT_KINDS, inject
+from framefree.datasets.people import HELDOUT_PEOPLE, person
+from framefree.datasets.people_streams import person_stream
+from framefree.descriptors import get_descriptor
+from framefree.online import Recognizer, RecognizerConfig, spotting
+from framefree.online import recognizer as recognizer_module
+from framefree.online.evaluation import match_events, run_stream
+from framefree.online.events import STOP
+from framefree.online.models import load_model_recordings
+
+REAL = Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "real_motions"
+if not REAL.is_dir():
+    REAL = Path("/work/shared/data/real_motions")
+
+
+@pytest.fixture(scope="module")
+def models() -> tuple[list[Trajectory], list[str]]:
+    return load_model_recordings(replica_path(0), "original_1")
+
+
+@pytest.fixture(scope="module")
+def recognizer(models) -> Recognizer:
+    rec = Recognizer.from_trajectories(*models)
+    rec.warmup()
+    return rec
+
+
+@pytest.fixture(scope="module")
+def heldout_stream():
+    """A session of a held-out simulated person (never used to choose any parameter)."""
+    return person_stream(7, person(HELDOUT_PEOPLE[3]), n_gestures=14, n_stops=2)
+
+
+def _events_f1(rec: Recognizer, item) -> tuple[list, float]:
+    events, _ = run_stream(rec, item.traj)
+    return events, match_events(events, item.segments, item.traj.duration).f1
+
+
+def test_a_segment_is_classified_live_as_offline(recognizer, models, heldout_stream, monkeypatch):
+    seen: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+    live = spotting.SegmentClassifier.distances
+
+    def record(self, times, poses):
+        d, size = live(self, times, poses)
+        seen.append((times.copy(), poses.copy(), d))
+        return d, size
+
+    monkeypatch.setattr(spotting.SegmentClassifier, "distances", record)
+    run_stream(recognizer, heldout_stream.traj)
+    assert len(seen) > 10
+    c = recognizer.config
+    offline = get_descriptor("bilts+", progress="screw", L=c.L, ds_scale=c.ds_scale,
+                             n_samples=c.n_samples, presmooth=c.presmooth)
+    model_desc = [offline.compute(tr) for tr in models[0]]
+    for times, poses, d in seen[::5]:
+        query = Trajectory.from_poses(times - times[0], poses)
+        expected = offline.distance_matrix([offline.compute(query)], model_desc)[0]
+        np.testing.assert_allclose(d, expected, rtol=1e-12)
+        assert recognizer.labels[int(np.argmin(d))] == models[1][int(np.argmin(expected))]
+
+
+def test_a_heldout_person_is_recognized(recognizer, heldout_stream):
+    events, f1 = _events_f1(recognizer, heldout_stream)
+    assert f1 >= 0.85
+    assert any(e.label == STOP for e in events)
+
+
+def test_real_non_gesture_motion_gives_no_event(recognizer):
+    files = sorted(REAL.glob("**/*.csv"))
+    if not files:
+        pytest.skip("real recordings not available")
+    for f in files:
+        recognizer.reset()
+        assert recognizer.run(Trajectory.from_csv(f)) == [], f.name
+
+
+@pytest.mark.parametrize("kind", FAULT_KINDS)
+def test_each_fault_kind_costs_little(recognizer, heldout_stream, kind):
+    _, clean = _events_f1(recognizer, heldout_stream)
+    tr = heldout_stream.traj
+    t, p, q = inject(kind, tr.t, tr.p, tr.q, np.random.default_rng(5))
+    recognizer.reset()
+    events = []
+    for k in range(t.size):
+        events.extend(recognizer.push(t[k], p[k], q[k]))
+    faulty = match_events(events, heldout_stream.segments, tr.duration).f1
+    assert faulty >= clean - 0.08, (kind, clean, faulty)
+    assert recognizer.stats["samples"] == t.size
+
+
+def test_a_resolved_configuration_rebuilds_without_calibration(recognizer, models, heldout_stream,
+                                                               monkeypatch):
+    restored = RecognizerConfig.from_dict(recognizer.config.to_dict())
+    assert restored == recognizer.config
+
+    def fail(*args, **kwargs):
+        raise AssertionError("calibration must not run")
+
+    monkeypatch.setattr(recognizer_module, "calibrate_segment_thresholds", fail)
+    rebuilt = Recognizer.from_trajectories(*models, restored)
+    a, _ = run_stream(recognizer, heldout_stream.traj)
+    b, _ = run_stream(rebuilt, heldout_stream.traj)
+    assert a == b
+
+
+def test_memory_stays_bounded(recognizer, heldout_stream):
+    rec = recognizer
+    rec.reset()
+    shapes = rec.segmenter.buffer._poses.shape
+    rec.run(heldout_stream.traj)
+    assert rec.segmenter.buffer._poses.shape == shapes
+    assert len(rec.spotter.units) <= rec.spotter.units.maxlen
+    assert rec.segmenter.units.maxlen is not None
+
+
+def test_unresolved_configuration_is_refused(recognizer):
+    with pytest.raises(ValueError, match="unresolved"):
+        Recognizer(recognizer.classifier, recognizer.labels, RecognizerConfig())
+
+
+def test_configuration_is_validated():
+    with pytest.raises(ValueError):
+        RecognizerConfig(L=-1.0)
+    with pytest.raises(ValueError, match="unknown"):
+        RecognizerConfig.from_dict({"nonsense": 1})
