@@ -41,7 +41,7 @@ def round_significant(x: np.ndarray, digits: int) -> np.ndarray:
 
 
 #: constructor parameters that are passed on to the descriptor when set (``None``: its default)
-_DESCRIPTOR_PARAMS = ("progress", "L", "ds_scale", "lam", "presmooth")
+_DESCRIPTOR_PARAMS = ("progress", "L", "ds_scale", "lam", "presmooth", "open_end")
 
 
 class NearestNeighborClassifier:
@@ -68,6 +68,10 @@ class NearestNeighborClassifier:
         λ weight of DHB, eFS and ISA (``None``: the descriptor's default).
     presmooth : int, optional
         Gaussian pre-smoothing window of the 50 Hz poses [samples], for descriptors that offer it.
+    open_end : bool, optional
+        Open-end alignment (an unfinished query may match the beginning of a model), for
+        descriptors that offer it (``supports_open_end``: BILTS, BILTS+); ``None``: their default
+        (closed end). See ``docs/algorithms/dtw.md``.
     round_digits : int, optional
         Round descriptors to this many significant digits before comparing them, as the reference
         does by storing them with ``csvwrite`` (5). Default: full precision.
@@ -103,6 +107,7 @@ class NearestNeighborClassifier:
         ds_scale: float | None = None,
         lam: float | None = None,
         presmooth: int | None = None,
+        open_end: bool | None = None,
         round_digits: int | None = None,
         descriptor_params: dict[str, Any] | None = None,
     ) -> None:
@@ -112,6 +117,7 @@ class NearestNeighborClassifier:
         self.ds_scale = ds_scale
         self.lam = lam
         self.presmooth = presmooth
+        self.open_end = open_end
         self.round_digits = round_digits
         self.descriptor_params = descriptor_params
 

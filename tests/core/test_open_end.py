@@ -72,8 +72,9 @@ def test_recommended_classifier_recognizes_unfinished_motions(real_dir) -> None:
     names = ["ip_pouring_motion", "ip_scooping_motion", "seg_Trial1_coffee_kettle_ref_CoM"]
     models = [ff.Trajectory.from_csv(real_dir / "reference_set" / f"{n}.csv") for n in names]
     clf = ff.NearestNeighborClassifier.recommended().fit(models, names)
-    assert clf.descriptor.params == {
-        **clf.descriptor.params,
+    assert clf.descriptor_.name == RECOMMENDED["descriptor"]
+    assert clf.descriptor_.params == {
+        **clf.descriptor_.params,
         **{k: v for k, v in RECOMMENDED.items() if k != "descriptor"},
     }
     moved = [
@@ -81,5 +82,5 @@ def test_recommended_classifier_recognizes_unfinished_motions(real_dir) -> None:
     ]
     assert list(clf.predict(moved)) == names
     assert list(clf.predict([m.head(0.6) for m in moved])) == names
-    with pytest.raises(ValueError):
-        ff.NearestNeighborClassifier.recommended(progress="arclength")
+    with pytest.raises(ValueError):  # BILTS+ has no arclength progress
+        ff.NearestNeighborClassifier.recommended(progress="arclength").fit(models, names)
