@@ -16,7 +16,7 @@ from . import __version__
 from .errors import FramefreeError, FramefreeWarning
 
 #: command modules, each exposing ``register(group)``
-COMMAND_MODULES = ("core", "dataset", "benchmark", "online", "robot", "demo")
+COMMAND_MODULES = ("core", "dataset", "benchmark", "online", "robot", "demo", "library")
 
 
 def _one_line(exc: BaseException) -> str:

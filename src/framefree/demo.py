@@ -2,7 +2,7 @@
 
 1. the HPM replica (generated on first use and cached) supplies the gesture models (``original_1``);
 2. a simulated person commands the robot through the paper's pick-and-place and stacking session
-   ([P2] Table II; the scenario is described in ``docs/robot.md``): the same 18 commands in the same
+   (the paper's Table II; the scenario is described in ``docs/robot.md``): the same 18 commands in the same
    order and at the same times, walking between gestures (the tracker's world frame drifts) and
    re-gripping the tracker (its body frame changes), with distractor motions, tremor and tracker
    noise. The person watches the robot: when a command is not obeyed, they perform it again — as
@@ -56,7 +56,7 @@ __all__ = [
     "write_outputs",
 ]
 
-#: The paper's live result ([P2] Section V): 18 of 21 gestures detected, no false positive.
+#: The paper's live result (the paper, Section V): 18 of 21 gestures detected, no false positive.
 PAPER_RESULT = {"precision": 1.0, "recall": 18 / 21, "f1": 2 * (18 / 21) / (1 + 18 / 21)}
 #: Seconds of stream before the first command (the paper's first gesture is at 0:31).
 DEMO_LEAD_IN = 6.0
@@ -366,6 +366,7 @@ def run_demo(
     replica_seed: int = 0,
     method: str = "segments",
     recognizer: Any = None,
+    models: str | Path | None = None,
 ) -> DemoResult:
     """Run the whole pipeline and write figures and a JSON summary into ``out_dir``.
 
@@ -392,9 +393,13 @@ def run_demo(
     replica_seed : int
         Seed of the HPM replica whose ``original_1`` trials are the gesture models.
     method : {"segments", "paper"}
-        Recognizer (see :func:`build_recognizer`); ignored when ``recognizer`` is given.
+        Recognizer (see :func:`build_recognizer`); ignored when ``recognizer`` or ``models`` is
+        given.
     recognizer : Recognizer or PaperRecognizer, optional
         A ready recognizer (it is reset); saves building the models again across sessions.
+    models : str or Path, optional
+        A gesture library file (``framefree enroll``) to use instead of the replica's models; it
+        must contain the seven HPM gestures.
 
     Returns
     -------
@@ -412,6 +417,12 @@ def run_demo(
     seconds: dict[str, float] = {}
 
     tic = time.perf_counter()
+    if recognizer is None and models is not None:
+        from .online import Recognizer
+
+        _say(echo, f"1/3  gesture models: library {models} ...")
+        recognizer = Recognizer.load(models)
+        recognizer.warmup()
     if recognizer is None:
         _say(echo, f"1/3  gesture models ({method}): HPM replica (generated once, then cached) ...")
         recognizer = build_recognizer(method, replica_seed)

@@ -1,4 +1,4 @@
-"""BILTS / BILTS+: golden eQR, agreement with a literal transcription of the spec, invariances."""
+"""BILTS / BILTS+: golden eQR, agreement with a literal transcription (spec_reference), invariances."""
 
 from __future__ import annotations
 
@@ -76,7 +76,7 @@ def test_window_spacing_rounds_halves_away_from_zero_and_caps():
     assert window_spacing(10.0, 0.02) == 23
 
 
-# ------------------------------------------------------------ agreement with the specification
+# ------------------------------------------- agreement with the literal transcription (spec_reference)
 @pytest.mark.parametrize(("L", "ds_scale"), [(0.3, 0.06), (0.5, 0.09), (0.1, 0.03)])
 @pytest.mark.parametrize(
     "name", ["kettle_pour_trial1_ref_com.csv", "reference_set/ip_scooping_motion.csv"]

@@ -1,4 +1,4 @@
-"""Each context of the replica is what §1.4 says it is, up to the stated noise."""
+"""Each context of the replica is what docs/dataset.md (*The twelve contexts*) says, up to the noise."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Geometry of every synthetic gesture, measured on the recorded (noisy) *Original 1* trials.
 
-Each test fails if a gesture drifts from its description in ALGORITHMS.md §1.4 / the issue.
+Each test fails if a gesture drifts from its description in docs/dataset.md (*Gesture geometry*).
 """
 
 from __future__ import annotations

@@ -34,7 +34,9 @@ from ..demo import DEMO_PEOPLE, METHODS, PAPER_RESULT
     "paper: the paper's recognizer (fixed windows).",
 )
 @click.option("--no-render", is_flag=True, help="Skip the MuJoCo images even if OpenGL works.")
-def demo(out, seed, method, no_render):
+@click.option("--models", type=click.Path(exists=True, dir_okay=False), default=None,
+              help="Gesture library file (framefree enroll) with the seven HPM gestures.")
+def demo(out, seed, method, no_render, models):
     """Replica dataset → gesture models → a person gives the paper's stacking commands by hand
     gestures → live recognition → planner → simulated Panda stacking blocks.
     """
@@ -47,14 +49,15 @@ def demo(out, seed, method, no_render):
         raise click.ClickException(str(exc)) from None
     from ..demo import run_demo
 
-    result = run_demo(out, seed=seed, render=not no_render, echo=click.echo, method=method)
+    result = run_demo(out, seed=seed, render=not no_render, echo=click.echo, method=method,
+                      models=models)
     rec = result.recognition
     click.echo("")
     click.echo(
         f"  commands obeyed    {result.obeyed:5d} of {result.commands}  (the person repeats an "
         "ignored command up to twice)"
     )
-    click.echo(f"                      {method:<9}     paper ([P2] Table II)")
+    click.echo(f"                      {method:<9}     paper (its Table II)")
     for key in ("precision", "recall", "f1"):
         click.echo(f"  {key:<18} {100 * rec[key]:9.1f} %  {100 * PAPER_RESULT[key]:9.1f} %")
     click.echo(f"  false positives    {rec['fp']:9d}    {0:9d}")

@@ -20,9 +20,10 @@ __all__ = ["register"]
 
 def _model_options(f):
     opts = [
-        click.option("--models", "models", required=True, type=click.Path(exists=True, file_okay=False),
-                     help="A dataset root <gesture>/<context>/*.csv (see --model-context) or a "
-                     "folder of <label>/*.csv recordings."),
+        click.option("--models", "models", required=True, type=click.Path(exists=True),
+                     help="A dataset root <gesture>/<context>/*.csv (see --model-context), a "
+                     "folder of <label>/*.csv recordings, or a gesture library file from "
+                     "`framefree enroll` (nothing recalibrated)."),
         click.option("--model-context", default="original_1", show_default=True,
                      help="Context folder of the models when --models is a dataset root."),
         click.option("--model-quat-order", default="wxyz", show_default=True,
@@ -83,6 +84,8 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
             raise FramefreeError(f"{names} only apply to --method paper")
     if "latency_min" in overrides:
         overrides["latency_min"] = int(overrides["latency_min"])
+    if Path(models).is_file():
+        return _library_recognizer(models, method, overrides)
     found = read_models(models, model_context, model_quat_order, units)
     click.echo(f"building the gesture models ({method} method) and calibrating ...", err=True)
     t0 = time.perf_counter()
@@ -94,6 +97,23 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
         f"{_stop_and_resolution(rec)} ({time.perf_counter() - t0:.1f} s)",
         err=True,
     )
+    return rec
+
+
+def _library_recognizer(path: str, method: str, overrides: dict[str, Any]):
+    """A recognizer from a gesture library file (:mod:`framefree.library`): no calibration."""
+    from ..online import Recognizer
+
+    if method != "segments" or overrides:
+        given = "--method paper" if method != "segments" else "--" + next(iter(overrides)).replace("_", "-")
+        raise FramefreeError(f"{given} does not apply to a gesture library file; its settings are fixed "
+                             "when enrolling (framefree enroll ... --set KEY=VALUE)")
+    click.echo(f"loading gesture library {path} ...", err=True)
+    t0 = time.perf_counter()
+    rec = Recognizer.load(path)
+    rec.warmup()
+    click.echo(f"{len(rec.labels)} models, {len(rec.gestures)} gestures, {_thresholds(rec)}, "
+               f"{_stop_and_resolution(rec)} ({time.perf_counter() - t0:.1f} s)", err=True)
     return rec
 
 

@@ -19,9 +19,11 @@ other_person       not an augmentation: a new recording of the same gesture by a
 The last four are framefree's stress contexts, beyond the paper; the twelve paper contexts and
 their random draws do not depend on them.
 
-Noise (Ambiguity 1.4-b): positions + N(0, (1 mm)²) per coordinate; rotations right-multiplied by
-``exp([n]×)``, ``n ~ N(0, (1°)² I₃)``, independently per sample. For *combination* the paper does not
-say which frame changes were used (Ambiguity 1.4-c); we use Δ{b} 1 and Δ{w} 1.
+Noise: positions + N(0, (1 mm)²) per coordinate; rotations right-multiplied by ``exp([n]×)``,
+``n ~ N(0, (1°)² I₃)``, independently per sample. For *combination* the paper does not say which
+frame changes were used; we use Δ{b} 1 and Δ{w} 1. How the replica reads the paper where it is
+silent (frame-change matrices, noise model, rounding of "half", order in *combination*):
+docs/dataset.md, *How the replica reads the paper's description*.
 """
 
 from __future__ import annotations
@@ -51,9 +53,9 @@ __all__ = [
     "random_frames",
 ]
 
-#: Position noise [m] per coordinate ([P2] §III).
+#: Position noise [m] per coordinate (the paper, Section III).
 NOISE_POS_STD = 0.001
-#: Orientation noise [rad] per rotation-vector component ([P2] §III, Ambiguity 1.4-b).
+#: Orientation noise [rad] per rotation-vector component (the paper, Section III; docs/dataset.md).
 NOISE_ROT_STD = math.radians(1.0)
 #: Sample period of the ScLERP resampling of *slower* and *faster* [s].
 RESAMPLE_PERIOD = 0.02

@@ -1,8 +1,8 @@
 """The seven hand-palm gestures of the HPM dataset as a person holding a tracker makes them.
 
-Geometry ([P2] §III, ALGORITHMS.md §1.4), in the *user frame* (x forward, y to the user's left,
-z up) for a right hand whose *hand frame* has x along the fingers, y towards the thumb when the
-palm faces down, z out of the back of the hand:
+Geometry (the paper, Section III; docs/dataset.md, *Gesture geometry*), in the *user frame*
+(x forward, y to the user's left, z up) for a right hand whose *hand frame* has x along the
+fingers, y towards the thumb when the palm faces down, z out of the back of the hand:
 
 ==============  ===========================================================================
 go_left         straight-line translation to the left (≈ 30 cm), pause, back

@@ -1,4 +1,7 @@
-"""Dataset layout ``<root>/<gesture>/<context>/<trial>.csv``: names and the loader (ALGORITHMS §1.3)."""
+"""Dataset layout ``<root>/<gesture>/<context>/<trial>.csv``: names and the loader.
+
+See docs/dataset.md (*Loader*) and docs/algorithms/table1-protocol.md (*Sets*).
+"""
 
 from __future__ import annotations
 
@@ -27,10 +30,11 @@ __all__ = [
     "resolve_models",
 ]
 
-#: The seven HPM gesture folders, in the paper's order ([P2] §III). A loaded dataset lists its
+#: The seven HPM gesture folders, in the order of the paper's Section III. A loaded dataset lists its
 #: gestures sorted (the class-label order of the reference).
 GESTURES = ("go_left", "go_right", "go_up", "go_down", "open_gripper", "close_gripper", "go_home")
-#: The twelve HPM contexts, in the paper's order ([P2] §III, ALGORITHMS §1.4).
+#: The twelve HPM contexts, in the order of the paper's Section III (docs/dataset.md, *The twelve
+#: contexts*).
 CONTEXTS = (
     "original_1",
     "original_2",
@@ -60,7 +64,10 @@ _SPLITS = ("train", "test", "all")
 
 
 def is_training_trial(name: str) -> bool:
-    """Reference split rule (§1.3): a file stem ending in ``1`` or ``2`` is a training trial."""
+    """Reference split rule: a file stem ending in ``1`` or ``2`` is a training trial.
+
+    See docs/algorithms/table1-protocol.md, *Sets*.
+    """
     return name[-1:] in ("1", "2")
 
 

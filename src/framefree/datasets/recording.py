@@ -53,7 +53,7 @@ __all__ = [
 ]
 
 # ------------------------------------------------------------------------------------------ sampling
-#: Nominal sample period [s]: the HPM recordings are 50 Hz ([P2] §III).
+#: Nominal sample period [s]: the HPM recordings are 50 Hz (the paper, Section III).
 SAMPLE_PERIOD = 0.02
 #: Standard deviation of the time-stamp jitter [s] of a software logging loop (assumption: ~1 ms OS
 #: scheduling jitter; truncated at ±4 ms so stamps stay strictly increasing).
@@ -86,7 +86,7 @@ TRACKER_JITTER_ROT = math.radians(0.1)
 #: Lienhart & Jost, Sensors 21:1622, 2021; accuracy 0.5 ± 0.2 cm in-plane, Sansone et al., Virtual
 #: Reality 26:903, 2022).
 TRACKER_DRIFT_POS = 0.002
-#: Slowly varying orientation error [rad], std: "a few degrees" ([P2] §III); 1.5°.
+#: Slowly varying orientation error [rad], std: "a few degrees" (the paper, Section III); 1.5°.
 TRACKER_DRIFT_ROT = math.radians(1.5)
 #: Correlation time [s] of the slowly varying error (assumption: errors change as the tracker's
 #: pose relative to the base stations changes, i.e. on the time scale of the motion).

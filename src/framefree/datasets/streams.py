@@ -28,6 +28,7 @@ import numpy as np
 
 from .. import se3
 from ..errors import DatasetError
+from ..labels import STOP
 from ..trajectory import Trajectory
 from .activities import (
     ACTIVITIES,
@@ -67,8 +68,6 @@ __all__ = [
     "save_stream",
 ]
 
-#: Label of a stop signal.
-STOP = "stop"
 
 _MIN_SETTLE = 0.2  # shortest rest before a gesture [s]
 _FILL_MARGIN = 3.0  # time kept free before a scripted onset for the approach and the settling [s]

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..labels import STOP
+
 __all__ = ["STOP", "Event"]
 
-#: Label of the stop signal (a fast rotation of the hand).
-STOP = "stop"
 
 
 @dataclass(frozen=True)

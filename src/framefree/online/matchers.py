@@ -1,4 +1,6 @@
-"""Incremental dissimilarity calculators, one per gesture model, packed into one bank (§8.5).
+"""Incremental dissimilarity calculators, one per gesture model, packed into one bank.
+
+See docs/online-paper.md, *Matchers: the latency search and running sums*.
 
 For model ``j`` with descriptor samples ``a_0..a_{N-1}`` and live samples ``b_0..b_t`` the average
 pointwise BILTS+ dissimilarity at latency ``ℓ`` compares the first ``N - ℓ`` model samples with the
@@ -131,7 +133,7 @@ def latency_bounds(length: int, fraction: float = 0.2, latency_min: int = 1) -> 
 
 
 class MatcherBank:
-    """All gesture matchers in one packed state (§8.5).
+    """All gesture matchers in one packed state (docs/online-paper.md, *Matchers*).
 
     Parameters
     ----------

@@ -1,4 +1,7 @@
-"""Gesture models for the live recognizer: recordings replayed through the streaming routine (§8.4)."""
+"""Gesture models for the live recognizer: recordings replayed through the streaming routine.
+
+See docs/online-paper.md, *Gesture models*.
+"""
 
 from __future__ import annotations
 
@@ -54,12 +57,12 @@ def auto_resolution(
 ) -> float:
     """Resolution Δs_res [m] at which Algorithm 1 keeps a median of ``samples`` geometric samples.
 
-    Ambiguity 4.8 suggests the median total screw path divided by ``samples - 1``; but the total
+    The obvious guess is the median total screw path divided by ``samples - 1``; but the total
     screw path of a real recording also integrates the sensor noise of its rests, whereas
     Algorithm 1 (displacement from the last kept sample) does not accumulate noise. So the
     resolution is found by bisection (in log space) on the median number of kept samples, starting
-    from that suggestion. ``presmooth``: the causal pre-filter of the streaming routine is applied
-    first.
+    from that guess (docs/online-paper.md, *Gesture models*). ``presmooth``: the causal pre-filter
+    of the streaming routine is applied first.
     """
     poses = [tr.poses() if presmooth <= 1 else se3.poses_from_pq(*filtered_poses(tr, presmooth))
              for tr in trajectories]

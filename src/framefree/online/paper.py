@@ -1,4 +1,6 @@
-"""The paper's real-time recognizer (its proof of concept, §8.1-8.7), kept as a selectable method.
+"""The paper's real-time recognizer (its proof of concept), kept as a selectable method.
+
+See docs/online-paper.md.
 
 framefree's default live recognizer is :class:`framefree.online.Recognizer` (segment spotting);
 this one is ``--method paper`` on the command line.
@@ -194,7 +196,7 @@ class PaperRecognizer:
         config: PaperConfig | None = None,
         **overrides: Any,
     ) -> PaperRecognizer:
-        """Models from ``<root>/<gesture>/<model_context>/*.csv`` (all trials, Ambiguity 8.4)."""
+        """Models from ``<root>/<gesture>/<model_context>/*.csv``, all trials (docs/online-paper.md)."""
         trajs, labels = load_model_recordings(root, model_context)
         return cls.from_trajectories(trajs, labels, config, **overrides)
 

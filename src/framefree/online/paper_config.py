@@ -1,8 +1,9 @@
-"""Parameters of the real-time recognizer, with every choice the paper leaves open (§8, Ambiguities).
+"""Parameters of the real-time recognizer, with every choice the paper leaves open.
 
 All values are plain data in one frozen dataclass so that a session can be reproduced from its
-JSON dump (:meth:`PaperConfig.to_dict`). Each field states which ambiguity of ALGORITHMS.md it
-resolves and why the default was chosen.
+JSON dump (:meth:`PaperConfig.to_dict`). Each field states which open point of the paper it
+settles and why the default was chosen; docs/online-paper.md (*Choices for the paper's open
+points*) collects them in one table.
 """
 
 from __future__ import annotations
@@ -24,31 +25,34 @@ class PaperConfig:
     Attributes
     ----------
     L : float
-        Scale length [m] of the screw path, of the BILTS+ rotational weight and clamp (§2.10).
-        Ambiguity 8.3: the HPM-trained value is not published; 0.2 m gave the best
-        calibrated precision/recall on replica models with synthetic streams (0.1, 0.2, 0.3,
-        0.5 tried; 0.5 gave F1 0.44, 0.2 gave 0.80 with no false positive).
+        Scale length [m] of the screw path, of the BILTS+ rotational weight and clamp
+        (docs/algorithms/se3.md, *The scale length L*). The paper does not publish the value it
+        used online; 0.2 m gave the best calibrated precision/recall on replica models with
+        synthetic streams (0.1, 0.2, 0.3, 0.5 tried; 0.5 gave F1 0.44, 0.2 gave 0.80 with no
+        false positive).
     ds_scale : float
-        BILTS+ window scale [m] (§5.7). Window spacing ``m = min(23, max(1, round(ds_scale /
-        resolution)))`` in geometric samples (Ambiguity 8.3).
+        BILTS+ window scale [m] (docs/algorithms/bilts.md). Window spacing ``m = min(23, max(1,
+        round(ds_scale / resolution)))`` in geometric samples (not published by the paper).
     resolution : float or None
         Screw-path resolution Δs_res [m] of Algorithm 1, also the nominal progress step of the
-        finite differences (Ambiguity 4.8: the nominal step, not the accumulated one). ``None``:
-        the median total screw path of the model recordings divided by ``resolution_samples - 1``,
-        so that a typical gesture yields about as many samples as offline (recommendation of 4.8).
+        finite differences (the nominal step, not the accumulated one; the paper gives neither).
+        ``None``: found by bisection so that Algorithm 1 keeps a median of ``resolution_samples``
+        geometric samples per model recording (docs/online-paper.md, *Gesture models*).
     resolution_samples : int
         Target number of geometric samples per model gesture for the automatic resolution (80;
         dev streams: 50 gave F1 0.857, 80 gave 0.875 with the other defaults — translations get
         few samples at a coarse resolution and were the main misses).
     window : int
         Gaussian smoothing window in geometric samples (10 for BILTS+): centred kernel, offsets
-        -5..+4, so a smoothed pose is final 4 samples later (Ambiguity 8.3: central smoothing with
-        its delay, truncated and renormalized at the start of a sequence as offline).
+        -5..+4, so a smoothed pose is final 4 samples later (the paper does not say how it
+        smoothed online; framefree smooths centrally with this delay, truncated and renormalized
+        at the start of a sequence as offline: docs/online-paper.md, *Streaming preprocessing*).
     latency_fraction : float
-        Largest latency searched, as a fraction of the model length: ``round(0.2 N_j)`` (§8.5).
+        Largest latency searched, as a fraction of the model length: ``round(0.2 N_j)``
+        (docs/online-paper.md, *Matchers: the latency search and running sums*).
     latency_min : int
         Smallest latency: 1 (literal reading of the paper) or 0 (also test the fully aligned case).
-        Ambiguity 8.5; default 0 (dev streams: one more true positive, same false positives).
+        Default 0 (dev streams: one more true positive, same false positives).
     threshold : float or None
         Decision threshold τ on the average pointwise dissimilarity. ``None``: calibrated
         automatically from the model recordings (:mod:`framefree.online.calibration`).
@@ -60,7 +64,8 @@ class PaperConfig:
         When positives and negatives overlap, τ = margin × smallest negative score (favour
         rejection, as the paper tuned its threshold "strict").
     stop_threshold : float or None
-        Stop detector threshold on ``|q̇|`` [1/s] (= half the angular speed, §8.7). ``None``:
+        Stop detector threshold on ``|q̇|`` [1/s] (= half the angular speed; docs/online-paper.md,
+        *The paper's stop detector*). ``None``:
         ``stop_margin`` × the largest debounced ``|q̇|`` seen in any model recording, at least
         ``stop_floor``.
     stop_margin : float
@@ -70,7 +75,8 @@ class PaperConfig:
     stop_floor : float
         Lower bound of the automatic stop threshold [1/s] (1.5 = 3 rad/s).
     stop_samples : int
-        Debouncing: consecutive samples above the threshold before a stop fires (Ambiguity 8.7).
+        Debouncing: consecutive samples above the threshold before a stop fires (the paper
+        publishes no debouncing).
     stop_rearm : float
         The stop detector re-arms once ``|q̇|`` falls below ``stop_rearm`` × threshold.
     stop_refractory : float
@@ -78,7 +84,7 @@ class PaperConfig:
         back-and-forth rotation whose reversals would otherwise re-arm the detector).
     refractory_reset : bool
         After every event clear all matcher windows and caches so one gesture yields one event
-        (Ambiguity 8.6).
+        (the paper does not say what follows an event).
     max_gap : float
         A time step longer than this [s] is a gap: the preprocessor and matchers restart.
     jump_distance : float

@@ -1,15 +1,18 @@
-"""Streaming preprocessing: online screw-path reparameterization and online BILTS+ (§8.2-8.3).
+"""Streaming preprocessing: online screw-path reparameterization and online BILTS+.
+
+See docs/online-paper.md, *Streaming preprocessing*.
 
 One routine serves model building and live recognition: :class:`StreamingBILTSPlus` receives raw
-pose samples one at a time, keeps the geometric samples of Algorithm 1 (§4.8, reusing
-:class:`framefree.progress.StreamingReparameterizer`), and emits one BILTS+ descriptor sample
-(18 numbers: ``Lω'₋, v'₋, Lω'₀, v'₀, Lω'₊, v'₊``) as soon as its window is complete:
+pose samples one at a time, keeps the geometric samples of Algorithm 1
+(docs/algorithms/progress.md, reusing :class:`framefree.progress.StreamingReparameterizer`), and
+emits one BILTS+ descriptor sample (18 numbers: ``Lω'₋, v'₋, Lω'₀, v'₀, Lω'₊, v'₊``) as soon as
+its window is complete:
 
 * geometric sample ``j`` is Gaussian-smoothed (window 10, offsets -5..+4, σ = 2) once the 4 samples
   after it exist; at the start of a sequence the window is truncated and renormalized, exactly as
-  offline (§3.4);
+  offline (docs/algorithms/smoothing.md, *Gaussian moving average*);
 * the central spatial twist ``i`` needs smoothed poses ``i-1`` and ``i+1`` (the first one is the
-  reference's one-sided quirk, §2.7), divided by ``2 Δs_res``;
+  reference's one-sided quirk, docs/algorithms/se3.md, *Twists*), divided by ``2 Δs_res``;
 * descriptor sample ``k`` needs twists ``k-m, k, k+m``; it is computed by
   :func:`framefree.descriptors.bilts.bilts_sample` (eQR with the L-clamp around the smoothed position).
 
@@ -199,7 +202,7 @@ def descriptor_from_samples(
 
 
 class StreamingBILTSPlus:
-    """Online reparameterizer + online BILTS+ calculator (§8.2-8.3); one per stream.
+    """Online reparameterizer + online BILTS+ calculator; one per stream (docs/online-paper.md).
 
     Parameters
     ----------

@@ -232,6 +232,15 @@ class Recognizer:
         trajs, labels = load_model_recordings(root, model_context)
         return cls.from_trajectories(trajs, labels, config, **overrides)
 
+    @classmethod
+    def load(cls, path: str | Path) -> Recognizer:
+        """A recognizer from a gesture library file written by ``framefree enroll``
+        (:mod:`framefree.library`): models rebuilt from the stored takes, thresholds restored, no
+        calibration."""
+        from ..library.store import load_recognizer
+
+        return load_recognizer(path)
+
     # ---------------------------------------------------------------------------------- running
     @property
     def stats(self) -> dict[str, int]:

@@ -1,12 +1,15 @@
-"""The per-sample stop detector of the paper's recognizer: a fast rotation of the hand (§8.7).
+"""The per-sample stop detector of the paper's recognizer: a fast rotation of the hand.
+
+See docs/online-paper.md, *The paper's stop detector*.
 
 The signal is the magnitude of the quaternion derivative of the raw time stream,
 ``|q̇| ≈ |q_k - q_{k-1}| / Δt`` with sign-continuous unit quaternions; for unit quaternions
 ``|q̇| = |ω| / 2``, so the threshold is half an angular speed [rad/s].
 
-Debouncing (Ambiguity 8.7): the detector fires when ``|q̇|`` has exceeded the threshold on
-``samples`` consecutive samples, then stays silent until ``|q̇|`` has fallen below
-``rearm × threshold`` (one stop per fast rotation).
+Debouncing (the paper publishes none; docs/online-paper.md, *Choices for the paper's open
+points*): the detector fires when ``|q̇|`` has exceeded the threshold on ``samples`` consecutive
+samples, then stays silent until ``|q̇|`` has fallen below ``rearm × threshold`` (one stop per
+fast rotation).
 """
 
 from __future__ import annotations

@@ -1,4 +1,6 @@
-"""Velocity-level inverse kinematics and joint impedance control of the Panda (ALGORITHMS §8.8).
+"""Velocity-level inverse kinematics and joint impedance control of the Panda.
+
+See docs/robot.md, *From the paper to the simulation* and *Control*.
 
 Each control period ``dt``:
 

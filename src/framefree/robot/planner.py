@@ -3,7 +3,8 @@
 Pure logic (no simulator, no robot model): :meth:`Planner.handle` takes a recognition
 :class:`~framefree.online.events.Event`, :meth:`Planner.step` advances the plan by one control
 period given the measured tool-centre-point (TCP) pose and returns a :class:`Command` — a 6-D TCP
-twist, a desired TCP orientation and a gripper opening reference (ALGORITHMS §8.8).
+twist, a desired TCP orientation and a gripper opening reference (docs/robot.md, *Planner
+states*).
 
 Mapping (default :class:`PlannerParams`; the gesture names are arbitrary labels for frame-free
 hand-palm motions, the directions are those of the **robot base frame**: x forward, y to the

@@ -1,4 +1,6 @@
-"""The paper's pick-and-place and stacking task (ALGORITHMS §8.9) as a reproducible scenario.
+"""The paper's pick-and-place and stacking task (its Section V, Table II) as a reproducible scenario.
+
+See docs/robot.md, *The stacking scenario*.
 
 Scene (robot base frame, table top z = 0, blocks are 4 cm cubes of 50 g):
 
@@ -73,7 +75,8 @@ __all__ = [
     "paper_events",
 ]
 
-#: The 21 gestures of the paper's PoC ([P2] Table II): (time [s], performed gesture, detected as).
+#: The 21 gestures of the paper's demonstration (its Table II): (time [s], performed gesture,
+#: detected as).
 #: "detected as" is the gesture itself, ``None`` (missed) or ``"stop"``.
 PAPER_TIMELINE: tuple[tuple[float, str, str | None], ...] = (
     (31.0, "go_home", "go_home"),

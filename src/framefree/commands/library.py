@@ -1,0 +1,232 @@
+"""``framefree record``, ``framefree enroll`` and ``framefree check``: your own gestures."""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import click
+
+__all__ = ["register"]
+
+#: Seconds of stream time between two looks for finished takes while recording.
+_POLL_PERIOD = 0.5
+
+
+def _pose_source(spec: str, timeout: float):
+    """Iterator of (t, p, q): a CSV file is read at once, anything else via ``open_source``."""
+    path = Path(spec)
+    if path.suffix.lower() == ".csv" or path.is_file():
+        from ..trajectory import Trajectory
+
+        traj = Trajectory.from_csv(path)
+        return zip(traj.t, traj.p, traj.q, strict=True)
+    from ..online.sources import open_source
+
+    return open_source(spec, timeout=timeout)
+
+
+@click.command("record")
+@click.option("--source", required=True,
+              help="zmq://127.0.0.1:PORT (live, see `framefree stream`), 'openvr', or a CSV recording.")
+@click.option("--gesture", required=True, help="Name of the gesture (folder name, e.g. wave).")
+@click.option("--library", "library", required=True, type=click.Path(file_okay=False),
+              help="Library folder; takes go to LIBRARY/GESTURE/CONTEXT/trial_<k>.csv.")
+@click.option("--context", default="own", show_default=True, help="Context folder of the takes.")
+@click.option("--takes", "max_takes", type=int, default=None, help="Stop after this many takes.")
+@click.option("--timeout", type=float, default=10.0, show_default=True,
+              help="Stop after this many seconds without a pose (live sources).")
+@click.option("--min-rest", type=float, default=None, help="Shortest rest between takes [s] (0.9).")
+@click.option("--margin", type=float, default=None, help="Rest kept before and after each take [s] (0.75).")
+def record_cmd(source: str, gesture: str, library: str, context: str, max_takes: int | None,
+               timeout: float, min_rest: float | None, margin: float | None):
+    """Record takes of a gesture: perform it, rest a second, perform it again, ...
+
+    \b
+    One long recording is cut into takes at the rests (frame-free motion speed), each trimmed to
+    its motion with a short rest before and after, and written in the dataset layout.
+    Stop with Ctrl-C, --takes N, or by ending the stream.
+    """
+    from ..library.takes import TakeRecorder, TakeSettings, write_take
+
+    changes = {k: v for k, v in (("min_rest", min_rest), ("margin", margin)) if v is not None}
+    recorder = TakeRecorder(TakeSettings(**changes))
+    src = _pose_source(source, timeout)
+    click.echo(f"recording {gesture!r} from {source}: perform it, rest a second or two, perform it again "
+               "... (Ctrl-C to stop)", err=True)
+    written: list[Path] = []
+
+    def save(found) -> None:
+        for span, take in found:
+            path = write_take(take, library, gesture, context)
+            written.append(path)
+            click.secho(f"take {len(written)} recorded ({span.duration:.1f} s) — rest, then perform the next"
+                        f"   [{path}]", fg="green", err=True)
+
+    last = None
+    try:
+        for t, p, q in src:
+            recorder.push(t, p, q)
+            if last is None or t - last >= _POLL_PERIOD:
+                last = t
+                save(recorder.poll())
+            if max_takes is not None and len(written) >= max_takes:
+                break
+    except KeyboardInterrupt:
+        pass
+    if max_takes is None or len(written) < max_takes:
+        save(recorder.finish()[: None if max_takes is None else max_takes - len(written)])
+    folder = Path(library) / gesture / context
+    total = len(list(folder.glob("*.csv"))) if folder.is_dir() else 0
+    click.echo(f"{len(written)} takes of {gesture} written to {folder} ({total} there now). "
+               f"Next: framefree check {library}", err=True)
+    if not written:
+        raise click.ClickException("no take found: perform the gesture between rests of about a second")
+
+
+def _parse_sets(sets: tuple[str, ...]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for item in sets:
+        key, sep, value = item.partition("=")
+        if not sep:
+            raise click.BadParameter(f"{item!r}: expected KEY=VALUE", param_hint="--set")
+        try:
+            out[key.strip()] = json.loads(value)
+        except json.JSONDecodeError:
+            out[key.strip()] = None if value.lower() == "none" else value
+    return out
+
+
+def _gather(sources: tuple[str, ...], context: str | None):
+    """Takes of all sources (folders or library files) and the settings of the first library file."""
+    from ..library.store import load_library, read_takes
+
+    takes = None
+    settings: dict[str, Any] | None = None
+    for src in sources:
+        if Path(src).is_dir():
+            part = read_takes(src, context)
+        else:
+            lib = load_library(src)
+            part = lib.takes
+            settings = settings if settings is not None else dict(lib.settings)
+        takes = part if takes is None else takes + part
+    return takes, settings
+
+
+def _changes(old, new) -> str:
+    if old is None:
+        return "new library"
+    before, after = old.takes.counts(), new.counts()
+    parts = [f"+{g} ({n})" for g, n in after.items() if g not in before]
+    parts += [f"-{g}" for g in before if g not in after]
+    parts += [f"{g} {before[g]}→{n} takes" for g, n in after.items() if g in before and before[g] != n]
+    return "changes: " + (", ".join(parts) if parts else "same gestures and take counts")
+
+
+@click.command("enroll")
+@click.argument("sources", nargs=-1, required=True, type=click.Path(exists=True))
+@click.option("-o", "--out", type=click.Path(dir_okay=False), default=None,
+              help="Library file to write (default: FOLDER.npz beside a single source folder).")
+@click.option("--context", default=None,
+              help="Context folder to read in each gesture (default: own, else original_1, else the "
+                   "only one).")
+@click.option("--remove", "removals", multiple=True,
+              help="Leave out a gesture (wave) or a take (wave/own/trial_3); repeatable.")
+@click.option("--set", "sets", multiple=True,
+              help="Recognizer setting KEY=VALUE (a RecognizerConfig field); repeatable.")
+@click.option("--force", is_flag=True, help="Recalibrate even if the library file is up to date.")
+def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, removals: tuple[str, ...],
+               sets: tuple[str, ...], force: bool):
+    """Build the models and calibrate the thresholds once; write a library file for live use.
+
+    \b
+    SOURCES are library folders (<gesture>/<context>/trial_k.csv) and/or library files (.npz),
+    merged. Adding a gesture: framefree enroll lib.npz new_takes/ -o lib.npz
+    Removing one:        framefree enroll lib.npz --remove wave -o lib.npz
+    Then: framefree check / live / evaluate-stream / demo --models LIBRARY.npz
+    """
+    from ..library.store import enroll, load_library
+    from ..online.config import RecognizerConfig
+
+    if out is None:
+        if len(sources) != 1 or not Path(sources[0]).is_dir():
+            raise click.UsageError("give the library file to write with -o/--out")
+        folder = Path(sources[0]).resolve()
+        out = str(folder.with_name(folder.name + ".npz"))
+    takes, settings = _gather(sources, context)
+    if removals:
+        takes = takes.without(removals)
+    base = RecognizerConfig.from_dict(settings) if settings else RecognizerConfig()
+    config = base.replace(**_parse_sets(sets))
+    old = load_library(out) if Path(out).is_file() and not force else None
+    if old is not None and old.fingerprint == _fingerprint(takes, config):
+        click.echo(f"{out} is up to date ({len(takes)} takes of {len(takes.gestures)} gestures); "
+                   "nothing to do (--force recalibrates)", err=True)
+        return
+    click.echo(f"{_changes(old, takes)}; building models and calibrating thresholds for "
+               f"{len(takes)} takes of {len(takes.gestures)} gestures ...", err=True)
+    t0 = time.perf_counter()
+    lib = enroll(takes, config, built_from=[str(Path(s).resolve()) for s in sources])
+    path = lib.save(out)
+    click.echo(lib.summary())
+    click.echo(f"wrote {path} ({time.perf_counter() - t0:.1f} s). Next: framefree check {path}; "
+               f"framefree live --models {path} --source zmq://127.0.0.1:5556", err=True)
+
+
+def _fingerprint(takes, config) -> str:
+    from ..library.store import fingerprint
+
+    return fingerprint(takes, config.to_dict())
+
+
+@click.command("check")
+@click.argument("library", type=click.Path(exists=True))
+@click.option("--context", default=None, help="Context folder to read (library folders).")
+@click.option("--out", type=click.Path(file_okay=False), default=".", show_default=True,
+              help="Folder for the report (JSON) and figures; never inside the library.")
+@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random probes.")
+def check_cmd(library: str, context: str | None, out: str, seed: int):
+    """Can these gestures be told apart? Leave-one-out recognition, margins, robustness to frames
+    and speed, closeness to stop signals and everyday motion, with advice.
+
+    LIBRARY is a library folder or file. Exit status 1 when there is a problem.
+    """
+    from ..library.check import CheckSettings, check_takes
+    from ..library.figures import plot_distance_map, plot_take_gallery
+    from ..library.store import load_library, read_takes
+    from ..online.config import RecognizerConfig
+
+    lib_path = Path(library).resolve()
+    out_dir = Path(out).resolve()
+    if lib_path.is_dir() and (out_dir == lib_path or lib_path in out_dir.parents):
+        raise click.UsageError(f"--out {out} is inside the library {library}; choose another folder")
+    if lib_path.is_dir():
+        takes, config = read_takes(lib_path, context), RecognizerConfig()
+    else:
+        lib = load_library(lib_path)
+        takes, config = lib.takes, lib.recognizer_config()
+    settings = CheckSettings(seed=seed)
+    report = check_takes(takes, config, settings, progress=True)
+    click.echo(report.format())
+    stem = lib_path.stem
+    files = {
+        "report": out_dir / f"{stem}_check.json",
+        "distances": plot_distance_map(report, out_dir / f"{stem}_distances.png", settings),
+        "gallery": plot_take_gallery(takes, out_dir / f"{stem}_gallery.png"),
+    }
+    files["report"].write_text(json.dumps({**report.to_dict(), "library": str(lib_path),
+                                           "distances": report.distances.tolist()}, indent=1, default=float))
+    for name, path in files.items():
+        click.echo(f"  {name:<10} {path}")
+    if not report.ok:
+        raise SystemExit(1)
+
+
+def register(group: click.Group) -> None:
+    """Add ``record``, ``enroll`` and ``check`` to the CLI."""
+    group.add_command(record_cmd)
+    group.add_command(enroll_cmd)
+    group.add_command(check_cmd)

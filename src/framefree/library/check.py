@@ -1,0 +1,364 @@
+"""Can these gestures be told apart? A report on a vocabulary before it goes live.
+
+Every take is compared with every other by the offline classifier (BILTS+ with screw-path
+progress and DTW, the descriptor settings of the recognizer's configuration: :func:`descriptor_for`).
+
+For a take ``i`` of gesture ``g``, ``same_i`` is the distance to its nearest other take of ``g``
+and ``other_i(h)`` the distance to the nearest take of gesture ``h``. Leave-one-out 1-NN
+recognizes the take iff ``min_h other_i(h) > same_i``.
+
+* **spread** of ``g``: the median of ``same_i`` over its takes (how differently it is performed);
+* **margin** of ``g`` against ``h``: the median over ``g``'s takes of ``other_i(h)``, divided by the
+  spread of ``g`` — how much farther the other gesture lies than a repetition of the same one. The
+  **nearest other gesture** is the one with the smallest margin;
+* the same under random changes of world frame, grip and speed
+  (:func:`~framefree.library.probes.perturbed`): a perturbed copy of each take is compared with
+  the other (original) takes;
+* **stop**: the margin of ``g`` against fast wrist rotations
+  (:func:`~framefree.library.probes.stop_rotations`), and whether ``g`` itself rotates nearly as
+  fast as a stop signal (then the stop threshold, ``stop_margin`` above the fastest gesture, would
+  miss slow stop signals);
+* **everyday**: the margin of ``g`` against reaching and repositioning moves
+  (:func:`~framefree.library.probes.everyday_motions`).
+
+A margin between gestures below :attr:`CheckSettings.fail_margin`, or several takes of a gesture
+recognized as another, is a *problem*: the vocabulary should not go live. A margin below
+:attr:`CheckSettings.warn_margin`, a lone take recognized as another gesture (an outlier to
+re-record), a gesture close to stop signals or to everyday motion, or one that turns nearly as fast
+as a stop signal is a *warning*: it will work, with lower precision or recall. Each comes with a
+concrete advice.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..descriptors.base import Descriptor, get_descriptor
+from ..online.config import RecognizerConfig
+from ..online.stop import sustained_peak_speed
+from .probes import everyday_motions, perturbed, slowest_stop_speed, stop_rotations
+from .store import TakeSet
+
+__all__ = ["CheckReport", "CheckSettings", "Finding", "GestureCheck", "check_takes", "descriptor_for"]
+
+
+@dataclass(frozen=True)
+class CheckSettings:
+    """What :func:`check_takes` tries and when it complains.
+
+    Attributes
+    ----------
+    warn_margin, fail_margin : float
+        Margins below these are a warning / a problem (ratios, see the module docstring).
+    perturbations : int
+        Perturbed copies (random frames and speed) per take.
+    speed_range : (float, float)
+        Speed factors of the perturbed copies (log-uniform).
+    probes_per_take : int
+        Stop rotations per take; everyday motions come from the first takes of each gesture.
+    probe_quantile : float
+        The stop and everyday margins are this quantile over the probe motions (0.1: one in ten
+        ordinary motions comes that close), not their minimum, which depends on luck.
+    seed : int
+        Seed of every random choice (the report is deterministic).
+    """
+
+    warn_margin: float = 1.5
+    fail_margin: float = 1.15
+    perturbations: int = 1
+    speed_range: tuple[float, float] = (0.5, 2.0)
+    probes_per_take: int = 1
+    probe_quantile: float = 0.1
+    seed: int = 0
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One problem or warning: ``level`` (``"problem"`` or ``"warning"``), the gesture, the advice."""
+
+    level: str
+    gesture: str
+    message: str
+
+
+@dataclass
+class GestureCheck:
+    """Per-gesture results (distances are BILTS+ DTW distances, margins are ratios)."""
+
+    gesture: str
+    takes: int
+    spread: float
+    loo_correct: int
+    nearest: str | None
+    margin: float
+    perturbed_correct: int
+    perturbed_nearest: str | None
+    perturbed_margin: float
+    stop_margin: float
+    everyday_margin: float
+    everyday_nearest: str
+    peak_speed: float
+
+
+@dataclass
+class CheckReport:
+    """Everything :func:`check_takes` found.
+
+    Attributes
+    ----------
+    names, labels : list of str
+        The takes.
+    distances : ndarray, shape (M, M)
+        Take-to-take distances (row: query, column: model; the diagonal is 0).
+    predicted : list of str
+        Leave-one-out 1-NN label of each take.
+    perturbed_predicted : list of str
+        Label given to each take's perturbed copies (the first copy).
+    gestures : dict of str to GestureCheck
+    findings : list of Finding
+    """
+
+    names: list[str]
+    labels: list[str]
+    distances: np.ndarray
+    predicted: list[str]
+    perturbed_predicted: list[str]
+    gestures: dict[str, GestureCheck]
+    findings: list[Finding] = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        """No problem (warnings allowed)."""
+        return not any(f.level == "problem" for f in self.findings)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-friendly form (without the distance matrix)."""
+        return {
+            "ok": self.ok,
+            "takes": [{"name": n, "gesture": g, "loo": p, "perturbed": pp}
+                      for n, g, p, pp in zip(self.names, self.labels, self.predicted,
+                                             self.perturbed_predicted, strict=True)],
+            "gestures": {g: vars(c) for g, c in self.gestures.items()},
+            "findings": [vars(f) for f in self.findings],
+        }
+
+    def format(self) -> str:
+        """A table per gesture, then the findings, as text."""
+        head = (f"{'gesture':<16}{'takes':>5}{'LOO':>6}  {'nearest other':<16}{'margin':>7}  "
+                f"{'changed frames/speed':<22}{'stop':>6}{'everyday':>9}")
+        lines = [head, "-" * len(head)]
+        for c in self.gestures.values():
+            pert = f"{c.perturbed_correct}/{c.takes} {c.perturbed_margin:5.2f}x"
+            lines.append(f"{c.gesture:<16}{c.takes:>5}{f'{c.loo_correct}/{c.takes}':>6}  "
+                         f"{c.nearest or '-':<16}{c.margin:>6.2f}x  {pert:<22}{c.stop_margin:>5.1f}x"
+                         f"{c.everyday_margin:>8.1f}x")
+        lines.append("")
+        if not self.findings:
+            lines.append("no problems: every gesture is well apart from the others, from stop signals "
+                         "and from everyday motion")
+        lines += [f"{f.level.upper()}: {f.message}" for f in self.findings]
+        return "\n".join(lines)
+
+
+def descriptor_for(config: RecognizerConfig | None = None) -> Descriptor:
+    """The offline descriptor the recognizer classifies segments with: BILTS+, screw-path progress,
+    the configuration's ``L``, ``ds_scale``, ``n_samples`` and ``presmooth``."""
+    c = config or RecognizerConfig()
+    return get_descriptor("bilts+", progress="screw", L=c.L, ds_scale=c.ds_scale, n_samples=c.n_samples,
+                          presmooth=c.presmooth)
+
+
+def _nearest_by_gesture(D: np.ndarray, labels: np.ndarray, gestures: Sequence[str]) -> np.ndarray:
+    """(Q, G) smallest distance of each query row to the takes of each gesture (``inf`` if none)."""
+    out = np.full((D.shape[0], len(gestures)), np.inf)
+    for k, g in enumerate(gestures):
+        sel = labels == g
+        if sel.any():
+            out[:, k] = np.where(np.isfinite(D[:, sel]), D[:, sel], np.inf).min(axis=1)
+    return out
+
+
+def _loo(D: np.ndarray, labels: np.ndarray, gestures: list[str]) -> tuple[np.ndarray, np.ndarray]:
+    """Per query row: nearest distance by gesture with the query's own take excluded (diagonal)."""
+    D = D.astype(float).copy()
+    np.fill_diagonal(D, np.inf)
+    near = _nearest_by_gesture(D, labels, gestures)
+    return near, np.array(gestures)[np.argmin(near, axis=1)]
+
+
+def _margins(near: np.ndarray, labels: np.ndarray, gestures: list[str], spread: dict[str, float]
+             ) -> dict[str, tuple[str | None, float]]:
+    """Nearest other gesture and its margin, for each gesture."""
+    out: dict[str, tuple[str | None, float]] = {}
+    for g in gestures:
+        rows = near[labels == g]
+        best: tuple[str | None, float] = (None, math.inf)
+        for h_idx, h in enumerate(gestures):
+            if h == g:
+                continue
+            m = float(np.median(rows[:, h_idx])) / spread[g]
+            if m < best[1]:
+                best = (h, m)
+        out[g] = best
+    return out
+
+
+def _probe_margin(D: np.ndarray, labels: np.ndarray, g: str, spread: float, q: float) -> float:
+    """Quantile ``q`` over probe motions of the distance to the nearest take of ``g``, divided by
+    ``g``'s spread."""
+    sel = labels == g
+    return float(np.quantile(D[:, sel].min(axis=1), q)) / spread if D.size else math.inf
+
+
+def check_takes(
+    takes: TakeSet,
+    config: RecognizerConfig | None = None,
+    settings: CheckSettings | None = None,
+    progress: bool = False,
+) -> CheckReport:
+    """Check that the gestures of a vocabulary can be told apart (see the module docstring).
+
+    Parameters
+    ----------
+    takes : TakeSet
+        At least two takes per gesture.
+    config : RecognizerConfig, optional
+        Recognizer settings (descriptor scale length and window; stop margin).
+    settings : CheckSettings, optional
+    progress : bool
+        Show progress bars.
+
+    Returns
+    -------
+    CheckReport
+    """
+    s = settings or CheckSettings()
+    config = config or RecognizerConfig()
+    rng = np.random.default_rng(s.seed)
+    desc = descriptor_for(config)
+    labels = np.array(takes.labels)
+    gestures = takes.gestures
+    base = _describe(desc, takes.takes, progress, "descriptors")
+    D = desc.distance_matrix(base, base)
+    near, predicted = _loo(D, labels, gestures)
+    same = near[np.arange(len(labels)), [gestures.index(g) for g in labels]]
+    spread = {g: max(float(np.median(same[labels == g])), 1e-12) for g in gestures}
+    margins = _margins(near, labels, gestures, spread)
+
+    Dp, plabels = _perturbed_distances(takes, desc, base, rng, s, progress)
+    pnear = _nearest_by_gesture(Dp, labels, gestures)
+    ppred = np.array(gestures)[np.argmin(pnear, axis=1)]
+    pmargins = _margins(pnear, plabels, gestures, spread)
+    Ds, De, ekinds = _probe_distances(takes, desc, base, rng, s, config, progress)
+
+    checks: dict[str, GestureCheck] = {}
+    for g in gestures:
+        sel = labels == g
+        psel = plabels == g
+        ecol = De[:, sel].min(axis=1) if De.size else np.zeros(0)
+        checks[g] = GestureCheck(
+            g, int(sel.sum()), spread[g], int((predicted[sel] == g).sum()), margins[g][0], margins[g][1],
+            int((ppred[psel] == g).sum()) // max(s.perturbations, 1), pmargins[g][0], pmargins[g][1],
+            _probe_margin(Ds, labels, g, spread[g], s.probe_quantile),
+            _probe_margin(De, labels, g, spread[g], s.probe_quantile),
+            str(ekinds[int(np.argmin(ecol))]) if ecol.size else "-",
+            max(sustained_peak_speed(takes.takes[k].t, takes.takes[k].q, config.stop_window,
+                                     config.stop_min_duration) for k in np.flatnonzero(sel)),
+        )
+    report = CheckReport(list(takes.names), list(takes.labels), D, list(predicted),
+                         [str(x) for x in ppred[:: max(s.perturbations, 1)]], checks)
+    report.findings = _findings(report, s, config)
+    return report
+
+
+def _perturbed_distances(takes: TakeSet, desc: Descriptor, base: list[np.ndarray], rng: np.random.Generator,
+                         s: CheckSettings, progress: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Distances (P, M) of perturbed copies of every take to the takes (its own take excluded),
+    and the gesture of each copy."""
+    pert = [perturbed(tr, rng, speed_range=s.speed_range)
+            for tr in takes.takes for _ in range(s.perturbations)]
+    Dp = desc.distance_matrix(_describe(desc, pert, progress, "changed frames and speed"), base)
+    owner = np.repeat(np.arange(len(takes)), s.perturbations)
+    Dp[np.arange(owner.size), owner] = np.inf
+    return Dp, np.array(takes.labels)[owner]
+
+
+def _probe_distances(takes: TakeSet, desc: Descriptor, base: list[np.ndarray], rng: np.random.Generator,
+                     s: CheckSettings, config: RecognizerConfig, progress: bool
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Distances of stop rotations (S, M) and of everyday motions (E, M) to the takes, and the kind
+    of each everyday motion."""
+    labels = np.array(takes.labels)
+    stops = [m for tr in takes.takes for m in stop_rotations(tr, rng, s.probes_per_take)]
+    Ds = desc.distance_matrix(_describe(desc, stops, progress, "stop rotations"), base)
+    everyday = [pr for g in takes.gestures for k in np.flatnonzero(labels == g)[:2]
+                for pr in everyday_motions(takes.takes[k], rng, config.L)]
+    De = desc.distance_matrix(_describe(desc, [tr for _, tr in everyday], progress, "everyday motion"), base)
+    return Ds, De, np.array([kind for kind, _ in everyday])
+
+
+def _describe(desc: Descriptor, trajs: Sequence, progress: bool, what: str) -> list[np.ndarray]:
+    from tqdm import tqdm
+
+    return [desc.compute(tr) for tr in tqdm(trajs, desc=what, disable=not progress, leave=False)]
+
+
+def _findings(r: CheckReport, s: CheckSettings, config: RecognizerConfig) -> list[Finding]:
+    out: list[Finding] = []
+
+    slowest_stop = slowest_stop_speed(config.stop_window, config.stop_min_duration)
+    fastest = max(r.gestures.values(), key=lambda c: c.peak_speed).gesture
+
+    def level(m: float) -> str | None:
+        return "problem" if m < s.fail_margin else "warning" if m < s.warn_margin else None
+
+    for g, c in r.gestures.items():
+        out += _misrecognized(r, g)
+        if c.takes < 3:
+            out.append(Finding("warning", g, f"{g} has only {c.takes} takes: record 3–5 for a reliable "
+                                             "threshold"))
+        if c.nearest is not None and level(c.margin):
+            out.append(Finding(level(c.margin), g, f"{g} is within {c.margin:.2f}x of {c.nearest}: make it "
+                                                   "more distinct or record more takes"))
+        elif c.perturbed_nearest is not None and level(c.perturbed_margin):
+            out.append(Finding(level(c.perturbed_margin), g,
+                               f"{g} comes within {c.perturbed_margin:.2f}x of {c.perturbed_nearest} when "
+                               "frames, grip or speed change: make it more distinct"))
+        if c.perturbed_correct < c.takes:
+            out.append(Finding("warning", g, f"{c.takes - c.perturbed_correct} of {c.takes} takes of {g} are "
+                                             "not recognized after a change of frames, grip or speed"))
+        if c.stop_margin < s.warn_margin:
+            out.append(Finding("warning", g, f"{g} is within {c.stop_margin:.2f}x of a stop rotation "
+                                             "(fast wrist back-and-forth): give it another shape"))
+        if g == fastest and c.peak_speed * config.stop_margin > slowest_stop:
+            out.append(Finding("warning", g, f"{g} turns almost as fast as a stop signal (sustained "
+                                             f"{c.peak_speed:.1f} rad/s): the stop threshold becomes "
+                                             f"{c.peak_speed * config.stop_margin:.1f} rad/s, above the "
+                                             f"slowest stop signals ({slowest_stop:.1f} rad/s): "
+                                             "perform it more slowly"))
+        if c.everyday_margin < s.warn_margin:
+            out.append(Finding("warning", g,
+                               f"{g} is within {c.everyday_margin:.2f}x of everyday motion "
+                               f"({c.everyday_nearest}): it may fire while the hand just moves; "
+                               "add a rotation or a distinctive turn"))
+    return out
+
+
+def _misrecognized(r: CheckReport, g: str) -> list[Finding]:
+    """A lone outlier take is a warning (re-record or remove it); more are a confusion (problem)."""
+    miss = [(n, p) for n, lab, p in zip(r.names, r.labels, r.predicted, strict=True) if lab == g and p != g]
+    n = r.gestures[g].takes
+    if len(miss) == 1 and n >= 3:
+        name, p = miss[0]
+        return [Finding("warning", g, f"take {name} is nearer to {p} than to the other takes of {g}: "
+                                      f"re-record it, or remove it (framefree enroll --remove {name})")]
+    if miss:
+        others = ", ".join(sorted({p for _, p in miss}))
+        return [Finding("problem", g, f"{len(miss)} of {n} takes of {g} are nearer to {others} than to "
+                                      f"the other takes of {g}: make {g} more distinct")]
+    return []

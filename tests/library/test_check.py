@@ -1,0 +1,126 @@
+"""The vocabulary check: passes the HPM seven, flags a confusable pair, probes, figures."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from framefree.datasets import synthesize_gesture
+from framefree.library import (
+    CheckReport,
+    TakeSet,
+    check_takes,
+    descriptor_for,
+    everyday_motions,
+    perturbed,
+    plot_distance_map,
+    plot_take_gallery,
+    slowest_stop_speed,
+    stop_rotations,
+)
+from framefree.online import Recognizer, RecognizerConfig
+from framefree.online.stop import sustained_peak_speed
+
+from .conftest import scaled
+
+
+@pytest.fixture(scope="module")
+def hpm_report(hpm_takes: TakeSet) -> CheckReport:
+    return check_takes(hpm_takes)
+
+
+@pytest.fixture(scope="module")
+def confusable(hpm_takes: TakeSet) -> tuple[TakeSet, CheckReport]:
+    """The HPM seven plus a straight line only 20 % longer than go_left, from 5 new performances."""
+    rng = np.random.default_rng(5)
+    longer = tuple(scaled(synthesize_gesture("go_left", rng), 1.2, f"long {k}") for k in range(5))
+    extra = TakeSet(longer, ("go_left_long",) * 5, tuple(f"go_left_long/own/trial_{k + 1}" for k in range(5)))
+    vocab = hpm_takes + extra
+    return vocab, check_takes(vocab)
+
+
+def test_hpm_seven_pass(hpm_report: CheckReport) -> None:
+    assert hpm_report.ok, hpm_report.format()
+    assert not [f for f in hpm_report.findings if f.level == "problem"]
+    assert sum(p == g for p, g in zip(hpm_report.predicted, hpm_report.labels, strict=True)) >= 33
+    for c in hpm_report.gestures.values():
+        assert c.margin >= 1.15 and c.nearest in hpm_report.gestures and c.nearest != c.gesture
+
+
+def test_confusable_pair_is_flagged(confusable: tuple[TakeSet, CheckReport]) -> None:
+    _, report = confusable
+    assert not report.ok
+    pair = {"go_left", "go_left_long"}
+    assert report.gestures["go_left"].nearest == "go_left_long"
+    assert report.gestures["go_left_long"].nearest == "go_left"
+    problems = [f for f in report.findings if f.level == "problem" and f.gesture in pair]
+    assert problems and all(set(f.message.split()) & pair for f in problems)
+    assert any("within" in f.message and "go_left_long" in f.message and "more distinct" in f.message
+               for f in report.findings)
+    # the other gestures keep their verdicts
+    assert report.gestures["go_down"].margin > 5
+
+
+def test_report_table_and_dict(confusable: tuple[TakeSet, CheckReport]) -> None:
+    vocab, report = confusable
+    text = report.format()
+    assert "go_left_long" in text and "PROBLEM" in text
+    d = report.to_dict()
+    assert d["ok"] is False and len(d["takes"]) == len(vocab)
+    assert set(d["gestures"]) == set(vocab.gestures)
+    np.testing.assert_allclose(np.diag(report.distances), 0.0, atol=1e-12)
+
+
+def test_distances_are_the_recognizers(hpm_takes: TakeSet) -> None:
+    """The check classifies with the recognizer's own descriptor settings."""
+    cfg = RecognizerConfig()
+    few = hpm_takes.without(["go_up", "go_down", "go_home", "open_gripper", "close_gripper"])
+    taus = dict.fromkeys(few.gestures, 1.0)
+    rec = Recognizer.from_trajectories(list(few.takes), list(few.labels), cfg, gesture_thresholds=taus,
+                                       stop_threshold=10.0)
+    desc = descriptor_for(cfg)
+    mine = [desc.compute(tr) for tr in few.takes]
+    for a, b in zip(mine, rec.classifier.models, strict=True):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_perturbed_copy_changes_frames_and_speed(hpm_takes: TakeSet) -> None:
+    take = hpm_takes.takes[0]
+    rng = np.random.default_rng(1)
+    copy = perturbed(take, rng, speed_range=(2.0, 2.0 + 1e-12))
+    assert copy.duration == pytest.approx(take.duration / 2.0, abs=0.03)
+    assert not np.allclose(copy.p[0], take.p[0])
+    desc = descriptor_for()
+    d_self = desc.distance_matrix([desc.compute(copy)], [desc.compute(take)])[0, 0]
+    d_other = desc.distance_matrix([desc.compute(copy)], [desc.compute(hpm_takes.takes[-1])])[0, 0]
+    assert d_self < d_other
+
+
+def test_stop_probes_are_fast_and_everyday_probes_are_not(hpm_takes: TakeSet) -> None:
+    rng = np.random.default_rng(2)
+    take = hpm_takes.takes[3]
+    slowest = slowest_stop_speed()
+    for stop in stop_rotations(take, rng, 3):
+        assert sustained_peak_speed(stop.t, stop.q) >= 0.9 * slowest
+    kinds = [k for k, _ in everyday_motions(take, rng)]
+    assert kinds[:2] == ["reach", "reach and return"] and "moves" in kinds
+    for _, tr in everyday_motions(take, rng):
+        assert sustained_peak_speed(tr.t, tr.q) < 0.8 * slowest
+
+
+def test_figures(confusable: tuple[TakeSet, CheckReport], tmp_path: Path) -> None:
+    vocab, report = confusable
+    a = plot_distance_map(report, tmp_path / "d.png")
+    b = plot_take_gallery(vocab, tmp_path / "sub" / "g.png")
+    for f in (a, b):
+        assert f.is_file() and f.stat().st_size > 10_000
+
+
+def test_stop_probes_follow_the_simulated_people() -> None:
+    from framefree.datasets.streams import STOP_SIGNAL
+    from framefree.library import probes
+
+    assert probes.STOP_AMPLITUDE == pytest.approx(STOP_SIGNAL["amplitude"])
+    assert probes.STOP_STROKE == pytest.approx(STOP_SIGNAL["stroke"])

@@ -1,0 +1,187 @@
+"""``framefree record``, ``enroll`` and ``check``, and library files in ``evaluate-stream``/``live``.
+
+The whole path on a small vocabulary: two gestures recorded from one long CSV recording each
+(and one over ZeroMQ on 127.0.0.1), enrolled, checked, and used on a labelled stream.
+"""
+
+from __future__ import annotations
+
+import json
+import socket
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from framefree.cli import cli
+from framefree.datasets import make_stream, save_stream, synthesize_gesture
+
+from .conftest import chain
+
+GESTURES = ("go_right", "open_gripper")
+
+
+def _session_csv(path: Path, gesture: str, seed: int, n: int = 3) -> Path:
+    rng = np.random.default_rng([seed, 99])
+    traj = chain([synthesize_gesture(gesture, rng) for _ in range(n)])
+    traj.to_csv(path)
+    return path
+
+
+@pytest.fixture(scope="module")
+def recorded(tmp_path_factory) -> tuple[Path, Path]:
+    """``(library folder, stream CSV)`` after ``framefree record`` of both gestures."""
+    root = tmp_path_factory.mktemp("vocab")
+    lib = root / "mine"
+    for k, g in enumerate(GESTURES):
+        csv = _session_csv(root / f"{g}_session.csv", g, k)
+        res = CliRunner().invoke(cli, ["record", "--source", str(csv), "--gesture", g, "--library", str(lib)])
+        assert res.exit_code == 0, res.output
+    traj, segs = make_stream(11, sequence=[*GESTURES, *GESTURES])
+    stream = save_stream(root / "stream.csv", traj, segs)
+    return lib, stream
+
+
+def test_record_writes_takes_with_cues(recorded, tmp_path) -> None:
+    lib, _ = recorded
+    for g in GESTURES:
+        assert sorted(f.name for f in (lib / g / "own").iterdir()) == [f"trial_{k}.csv" for k in (1, 2, 3)]
+    csv = _session_csv(tmp_path / "again.csv", "go_right", 5)
+    res = CliRunner().invoke(cli, ["record", "--source", str(csv), "--gesture", "go_right", "--library",
+                                   str(tmp_path / "lib"), "--takes", "2", "--context", "today"])
+    assert res.exit_code == 0, res.output
+    assert "take 2 recorded (" in res.output and "rest, then perform the next" in res.output
+    assert len(list((tmp_path / "lib" / "go_right" / "today").glob("*.csv"))) == 2
+
+
+def test_record_without_motion_fails_clearly(tmp_path) -> None:
+    n = 200
+    still = np.column_stack([0.02 * np.arange(n), np.zeros((n, 3)), np.tile([1.0, 0, 0, 0], (n, 1))])
+    np.savetxt(tmp_path / "still.csv", still, delimiter=",")
+    res = CliRunner().invoke(cli, ["record", "--source", str(tmp_path / "still.csv"), "--gesture", "wave",
+                                   "--library", str(tmp_path / "lib")])
+    assert res.exit_code == 1 and "no take found" in res.output
+    assert not (tmp_path / "lib").exists()
+
+
+def test_record_over_zmq(tmp_path) -> None:
+    csv = _session_csv(tmp_path / "s.csv", "go_down", 3, n=2)
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = int(s.getsockname()[1])
+    out: dict[str, object] = {}
+
+    def publish() -> None:
+        time.sleep(0.5)
+        out["pub"] = CliRunner().invoke(cli, ["stream", str(csv), "--port", str(port), "--speed", "0",
+                                              "--join-wait", "1.0"])
+
+    th = threading.Thread(target=publish, daemon=True)
+    th.start()
+    res = CliRunner().invoke(cli, ["record", "--source", f"zmq://127.0.0.1:{port}", "--gesture", "go_down",
+                                   "--library", str(tmp_path / "lib"), "--timeout", "8"])
+    th.join(30)
+    assert res.exit_code == 0, res.output
+    assert len(list((tmp_path / "lib" / "go_down" / "own").glob("*.csv"))) == 2
+
+
+@pytest.fixture(scope="module")
+def enrolled(recorded) -> Path:
+    lib, _ = recorded
+    res = CliRunner().invoke(cli, ["enroll", str(lib)])
+    assert res.exit_code == 0, res.output
+    out = lib.parent / "mine.npz"
+    assert out.is_file() and f"wrote {out}" in res.output
+    return out
+
+
+def test_enroll_again_is_up_to_date_and_updates_on_change(recorded, enrolled, tmp_path) -> None:
+    lib, _ = recorded
+    res = CliRunner().invoke(cli, ["enroll", str(lib)])
+    assert res.exit_code == 0 and "up to date" in res.output
+    smaller = tmp_path / "smaller.npz"
+    res = CliRunner().invoke(cli, ["enroll", str(enrolled), "--remove", "go_right/trial_3",
+                                   "-o", str(smaller)])
+    assert res.exit_code == 0, res.output
+    assert "go_right" in res.output and smaller.is_file()
+    res = CliRunner().invoke(cli, ["enroll", str(enrolled)])
+    assert res.exit_code == 2 and "-o" in res.output
+
+
+def test_enroll_adds_a_gesture_to_a_library_file(recorded, enrolled, tmp_path) -> None:
+    extra = tmp_path / "extra"
+    csv = _session_csv(tmp_path / "d.csv", "go_down", 8)
+    assert CliRunner().invoke(cli, ["record", "--source", str(csv), "--gesture", "go_down",
+                                    "--library", str(extra)]).exit_code == 0
+    bigger = tmp_path / "bigger.npz"
+    res = CliRunner().invoke(cli, ["enroll", str(enrolled), str(extra), "-o", str(bigger)])
+    assert res.exit_code == 0, res.output
+    assert "new library" in res.output
+    assert "go_down" in res.output and "9 takes of 3 gestures" in res.output
+
+
+def test_check_writes_report_and_figures(recorded, enrolled, tmp_path) -> None:
+    lib, _ = recorded
+    res = CliRunner().invoke(cli, ["check", str(enrolled), "--out", str(tmp_path / "chk")])
+    assert res.exit_code in (0, 1), res.output
+    report = json.loads((tmp_path / "chk" / "mine_check.json").read_text())
+    assert set(report["gestures"]) == set(GESTURES)
+    assert len(report["distances"]) == len(report["takes"]) == 6
+    assert res.exit_code == (0 if report["ok"] else 1)
+    assert (tmp_path / "chk" / "mine_distances.png").is_file()
+    assert (tmp_path / "chk" / "mine_gallery.png").is_file()
+    inside = CliRunner().invoke(cli, ["check", str(lib), "--out", str(lib / "report")])
+    assert inside.exit_code == 2 and "inside the library" in inside.output
+
+
+def test_evaluate_stream_and_live_use_the_library(recorded, enrolled, tmp_path) -> None:
+    _, stream = recorded
+    out = tmp_path / "eval.json"
+    res = CliRunner().invoke(cli, ["evaluate-stream", "--models", str(enrolled), "--stream", str(stream),
+                                   "--json", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "loading gesture library" in res.output
+    data = json.loads(out.read_text())
+    assert data["total"]["tp"] + data["total"]["fn"] == 2 * len(GESTURES)
+    live = CliRunner().invoke(cli, ["live", "--models", str(enrolled), "--source", str(stream),
+                                    "--speed", "0", "--no-view"])
+    assert live.exit_code == 0, live.output
+    bad = CliRunner().invoke(cli, ["evaluate-stream", "--models", str(enrolled), "--stream", str(stream),
+                                   "--threshold", "0.5"])
+    assert bad.exit_code == 2 and "enroll" in bad.output
+
+
+def test_old_library_is_one_line_error(enrolled, tmp_path) -> None:
+    import zipfile
+
+    old = tmp_path / "old.npz"
+    with zipfile.ZipFile(enrolled) as zin, zipfile.ZipFile(old, "w") as zout:
+        for item in zin.namelist():
+            data = zin.read(item)
+            if item == "library.json":
+                meta = json.loads(data)
+                meta["format_version"] = 99
+                data = json.dumps(meta).encode()
+            zout.writestr(item, data)
+    res = CliRunner().invoke(cli, ["check", str(old), "--out", str(tmp_path)])
+    assert res.exit_code == 2
+    lines = res.output.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error:") and "framefree enroll" in lines[0]
+    assert "Traceback" not in res.output
+
+
+def test_enroll_keeps_settings(recorded, tmp_path) -> None:
+    lib, _ = recorded
+    out = tmp_path / "strict.npz"
+    res = CliRunner().invoke(cli, ["enroll", str(lib), "-o", str(out), "--set", "negative_quantile=0.1",
+                                   "--set", "confirm=0.3"])
+    assert res.exit_code == 0, res.output
+    from framefree.library import load_library
+
+    loaded = load_library(out)
+    assert loaded.settings["negative_quantile"] == 0.1 and loaded.config["confirm"] == 0.3
+    bad = CliRunner().invoke(cli, ["enroll", str(lib), "-o", str(out), "--set", "nonsense"])
+    assert bad.exit_code == 2 and "KEY=VALUE" in bad.output

@@ -1,0 +1,164 @@
+"""Gesture library files: round trip, no recalibration on load, versions, updates."""
+
+from __future__ import annotations
+
+import json
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import framefree.online.recognizer as recognizer_module
+from framefree.datasets import make_stream
+from framefree.library import (
+    FORMAT_VERSION,
+    GestureLibrary,
+    LibraryError,
+    TakeSet,
+    enroll,
+    load_library,
+    load_recognizer,
+    read_takes,
+)
+from framefree.online import Recognizer
+from framefree.online.evaluation import run_stream
+
+#: Everything the recognizer derives from its models (each must not run when a library loads);
+#: names of earlier and later versions of the recognizer module, those present are patched.
+DERIVATIONS = ("calibrate_segment_thresholds", "speed_levels", "candidate_limits", "gesture_closures",
+               "gesture_geometry", "size_limits", "closure_limit", "sustained_peak_speed")
+
+
+@pytest.fixture(scope="module")
+def stream():
+    """A short session with every HPM gesture and a stop signal."""
+    return make_stream(7, n_gestures=7, n_stops=1)
+
+
+def test_round_trip_gives_identical_decisions(hpm_takes: TakeSet, hpm_library_file: Path, stream) -> None:
+    traj, segments = stream
+    stored = hpm_takes.as_stored()
+    calibrated = Recognizer.from_trajectories(list(stored.takes), list(stored.labels))
+    loaded = load_recognizer(hpm_library_file)
+    assert loaded.gesture_thresholds == calibrated.gesture_thresholds
+    assert loaded.stop_threshold == calibrated.stop_threshold
+    assert loaded.config == calibrated.config
+    for a, b in zip(loaded.classifier.models, calibrated.classifier.models, strict=True):
+        np.testing.assert_array_equal(a, b)
+    events_a, _ = run_stream(calibrated, traj)
+    events_b, _ = run_stream(loaded, traj)
+    assert len(events_a) >= len(segments) // 2  # the stream is recognized at all
+    assert events_b == events_a
+
+
+def test_loading_calibrates_nothing(hpm_library_file: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    def forbidden(*args, **kwargs):
+        raise AssertionError("a library load must not derive or calibrate anything")
+
+    present = [name for name in DERIVATIONS if hasattr(recognizer_module, name)]
+    assert {"calibrate_segment_thresholds", "speed_levels", "sustained_peak_speed"} <= set(present)
+    for name in present:
+        monkeypatch.setattr(recognizer_module, name, forbidden)
+    rec = Recognizer.load(hpm_library_file)
+    assert len(rec.labels) == 35 and len(rec.gestures) == 7
+    with pytest.raises(AssertionError, match="must not"):  # the patch is in effect
+        Recognizer.from_trajectories(*_first_two(hpm_library_file))
+
+
+def _first_two(path: Path):
+    lib = load_library(path)
+    keep = [k for k, g in enumerate(lib.takes.labels) if g in lib.gestures[:2]]
+    return [lib.takes.takes[k] for k in keep], [lib.takes.labels[k] for k in keep]
+
+
+def test_file_is_plain_arrays_and_json(hpm_library_file: Path, hpm_takes: TakeSet) -> None:
+    with np.load(hpm_library_file, allow_pickle=False) as npz:
+        offsets = npz["offsets"]
+        samples = npz["samples"]
+    assert offsets.dtype == np.int64 and samples.shape == (offsets[-1], 8)
+    np.testing.assert_array_equal(samples[offsets[0]:offsets[1]], hpm_takes.takes[0].to_array())
+    with zipfile.ZipFile(hpm_library_file) as zf:
+        meta = json.loads(zf.read("library.json"))
+    assert meta["format_version"] == FORMAT_VERSION
+    assert meta["names"][0] == hpm_takes.names[0] and len(meta["labels"]) == 35
+    assert set(meta["gesture_thresholds"]) == set(hpm_takes.gestures)
+
+
+def test_loaded_library_keeps_everything(hpm_library: GestureLibrary, hpm_library_file: Path) -> None:
+    lib = load_library(hpm_library_file)
+    assert lib.fingerprint == hpm_library.fingerprint
+    assert lib.takes.names == hpm_library.takes.names
+    assert lib.gesture_thresholds == hpm_library.gesture_thresholds
+    assert lib.config == hpm_library.config and lib.settings == hpm_library.settings
+    assert "35 takes of 7 gestures" in lib.summary()
+
+
+def _rewrite(src: Path, dst: Path, change) -> Path:
+    with zipfile.ZipFile(src) as zin, zipfile.ZipFile(dst, "w") as zout:
+        for item in zin.namelist():
+            data = zin.read(item)
+            if item == "library.json":
+                meta = json.loads(data)
+                change(meta)
+                data = json.dumps(meta).encode()
+            zout.writestr(item, data)
+    return dst
+
+
+def test_other_format_version_says_how_to_rebuild(hpm_library_file: Path, tmp_path: Path) -> None:
+    old = _rewrite(hpm_library_file, tmp_path / "old.npz", lambda m: m.update(format_version=0))
+    hint = r"format 0 .*rebuild it with: framefree enroll .*-o .*old\.npz"
+    with pytest.raises(LibraryError, match=hint) as exc:
+        load_library(old)
+    assert "\n" not in str(exc.value)
+
+
+def test_settings_of_another_version_say_how_to_rebuild(hpm_library_file: Path, tmp_path: Path) -> None:
+    def alien(meta):
+        meta["config"]["latency_fraction"] = 0.2
+
+    bad = _rewrite(hpm_library_file, tmp_path / "alien.npz", alien)
+    with pytest.raises(LibraryError, match="rebuild it with"):
+        load_library(bad)
+
+
+def test_not_a_library(tmp_path: Path) -> None:
+    junk = tmp_path / "junk.npz"
+    junk.write_bytes(b"not a zip")
+    with pytest.raises(LibraryError, match="not a framefree gesture library"):
+        load_library(junk)
+    with pytest.raises(LibraryError):
+        load_library(tmp_path / "missing.npz")
+
+
+def test_remove_gesture_and_take(hpm_takes: TakeSet) -> None:
+    fewer = hpm_takes.without(["go_up", "go_left/trial_3", "go_home/original_1/trial_1"])
+    assert "go_up" not in fewer.gestures
+    assert fewer.counts()["go_left"] == 4 and fewer.counts()["go_home"] == 4
+    assert "go_left/original_1/trial_3" not in fewer.names
+    assert len(fewer.rows()) == len(fewer)
+    with pytest.raises(LibraryError, match="no such gesture or take"):
+        hpm_takes.without(["wave"])
+
+
+def test_enroll_needs_two_takes_per_gesture(hpm_takes: TakeSet) -> None:
+    one = hpm_takes.without([f"go_up/trial_{k}" for k in range(2, 6)])
+    with pytest.raises(LibraryError, match="go_up"):
+        enroll(one)
+
+
+def test_read_takes_prefers_own_and_explains_layout_errors(tmp_path: Path, hpm_takes: TakeSet) -> None:
+    for ctx in ("own", "other"):
+        d = tmp_path / "lib" / "wave" / ctx
+        d.mkdir(parents=True)
+        hpm_takes.takes[0].to_csv(d / "trial_1.csv")
+        hpm_takes.takes[1].to_csv(d / "trial_2.csv")
+    ts = read_takes(tmp_path / "lib")
+    assert ts.names == ("wave/own/trial_1", "wave/own/trial_2")
+    assert read_takes(tmp_path / "lib", "other").names[0] == "wave/other/trial_1"
+    with pytest.raises(LibraryError, match="no such library folder"):
+        read_takes(tmp_path / "nope")
+    (tmp_path / "lib" / "wave" / "own").rename(tmp_path / "lib" / "wave" / "third")
+    with pytest.raises(LibraryError, match="--context"):
+        read_takes(tmp_path / "lib")

@@ -1,0 +1,174 @@
+"""Cutting a recording into takes: where the takes are, invariance, live recording, writing."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from framefree.datasets import GESTURES, synthesize_gesture
+from framefree.errors import FramefreeError
+from framefree.library import (
+    TakeRecorder,
+    TakeSettings,
+    find_takes,
+    join_recordings,
+    motion_speed,
+    random_frame,
+    split_takes,
+    write_take,
+)
+from framefree.trajectory import Trajectory
+
+from .conftest import chain
+
+REAL = Path("/work/shared/data/real_motions")
+
+
+def _session(gesture: str, seed: int, n: int = 4) -> tuple[Trajectory, np.ndarray]:
+    """``n`` fresh performances joined into one recording, and the boundaries between them [s]."""
+    rng = np.random.default_rng([seed, 12])
+    trials = [synthesize_gesture(gesture, rng) for _ in range(n)]
+    long = chain(trials)
+    cuts = np.cumsum([0.0] + [tr.duration + float(np.median(np.diff(tr.t))) for tr in trials])
+    return long, cuts
+
+
+@pytest.mark.parametrize("gesture", [*GESTURES, "figure_eight", "push_twist"])
+def test_one_take_per_performance(gesture: str) -> None:
+    long, cuts = _session(gesture, seed=1)
+    spans = find_takes(long)
+    assert len(spans) == 4
+    for k, sp in enumerate(spans):
+        # the motion lies inside its own performance, the trimmed take keeps a rest margin
+        assert cuts[k] < sp.onset < sp.end < cuts[k + 1]
+        assert sp.start < sp.onset and sp.stop > sp.end
+        # up to `margin` of rest, less only where the rest is shared with the neighbouring take
+        for kept in (sp.onset - sp.start, sp.stop - sp.end):
+            assert 0.3 < kept <= TakeSettings().margin + 1e-9
+
+
+def test_split_takes_cuts_the_samples_and_starts_at_zero() -> None:
+    long, _ = _session("go_home", seed=2, n=3)
+    takes = split_takes(long)
+    spans = find_takes(long)
+    assert len(takes) == 3
+    for tk, sp in zip(takes, spans, strict=True):
+        assert tk.t[0] == 0.0
+        assert tk.duration == pytest.approx(sp.stop - sp.start, abs=0.06)  # sample spacing, dropouts
+        k0 = int(np.searchsorted(long.t, sp.start - 1e-9))
+        np.testing.assert_array_equal(tk.p, long.p[k0:k0 + len(tk)])
+        assert "take" in tk.source
+
+
+def test_rest_only_recording_has_no_take() -> None:
+    rng = np.random.default_rng(0)
+    n = 300
+    p = 1e-4 * rng.standard_normal((n, 3))
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1)) + 1e-4 * rng.standard_normal((n, 4))
+    assert split_takes(Trajectory(0.02 * np.arange(n), p, q)) == []
+
+
+def test_too_short_recording_is_an_error() -> None:
+    tr = Trajectory(0.01 * np.arange(6), np.zeros((6, 3)), np.tile([1.0, 0, 0, 0], (6, 1)), source="x.csv")
+    with pytest.raises(FramefreeError, match=r"x\.csv"):
+        find_takes(tr)
+
+
+@given(seed=st.integers(0, 2**31 - 1))
+def test_speed_does_not_depend_on_the_world_frame(seed: int) -> None:
+    long, _ = _session("go_left", seed=3, n=1)
+    rng = np.random.default_rng(seed)
+    moved = long.transformed(world=random_frame(rng, 2.0))
+    _, v0 = motion_speed(long)
+    _, v1 = motion_speed(moved)
+    np.testing.assert_allclose(v1, v0, rtol=1e-6, atol=1e-9)
+
+
+@given(seed=st.integers(0, 2**31 - 1))
+def test_takes_do_not_depend_on_frames(seed: int) -> None:
+    long, _ = _session("open_gripper", seed=4, n=2)
+    rng = np.random.default_rng(seed)
+    moved = long.transformed(world=random_frame(rng, 2.0), body=random_frame(rng, 0.05))
+    a, b = find_takes(long), find_takes(moved)
+    assert len(a) == len(b) == 2
+    for x, y in zip(a, b, strict=True):
+        assert abs(x.onset - y.onset) < 0.1 and abs(x.end - y.end) < 0.1
+
+
+def test_real_recording_takes_do_not_depend_on_frames() -> None:
+    path = REAL / "kettle_pour_trial2_ref_com.csv"
+    if not path.is_file():
+        pytest.skip("real recordings not available")
+    real = Trajectory.from_csv(path)
+    spans = find_takes(real)
+    assert spans, "a real pouring motion has at least one take"
+    rng = np.random.default_rng(7)
+    moved = find_takes(real.transformed(world=random_frame(rng, 1.5), body=random_frame(rng, 0.05)))
+    assert [round(s.onset, 1) for s in moved] == pytest.approx([round(s.onset, 1) for s in spans], abs=0.1)
+    # the motion starts after the first rest and the take keeps a margin before it
+    assert spans[0].onset > real.t[0]
+
+
+def test_live_recorder_finds_the_offline_takes() -> None:
+    long, _ = _session("go_up", seed=5, n=3)
+    rec = TakeRecorder()
+    live = []
+    last = -1.0
+    for k in range(len(long)):
+        rec.push(long.t[k], long.p[k], long.q[k])
+        if long.t[k] - last >= 0.5:
+            last = long.t[k]
+            live += rec.poll()
+    live += rec.finish()
+    offline = find_takes(long)
+    assert len(live) == len(offline) == 3
+    for (span, take), ref in zip(live, offline, strict=True):
+        assert span.onset == pytest.approx(ref.onset, abs=0.1)
+        assert take.duration == pytest.approx(ref.stop - ref.start, abs=0.2)
+    # polls before the rest after a take is long enough return nothing new
+    assert rec.poll() == [] and rec.finish() == []
+
+
+def test_write_take_numbers_and_never_overwrites(tmp_path: Path) -> None:
+    long, _ = _session("go_down", seed=6, n=2)
+    a, b = split_takes(long)
+    p1 = write_take(a, tmp_path, "wave")
+    p2 = write_take(b, tmp_path, "wave")
+    assert p1 == tmp_path / "wave" / "own" / "trial_1.csv"
+    assert p2.name == "trial_2.csv"
+    (tmp_path / "wave" / "own" / "trial_7.csv").write_text(p1.read_text())
+    assert write_take(a, tmp_path, "wave").name == "trial_8.csv"
+    np.testing.assert_array_equal(np.loadtxt(p2, delimiter=","), b.to_array())  # full precision
+
+
+@pytest.mark.parametrize("name", ["", "../x", "a/b", ".hidden", "streams"])
+def test_write_take_rejects_bad_names(tmp_path: Path, name: str) -> None:
+    long, _ = _session("go_down", seed=6, n=1)
+    with pytest.raises(FramefreeError, match="name"):
+        write_take(split_takes(long)[0], tmp_path, name)
+
+
+def test_settings_are_validated() -> None:
+    with pytest.raises(ValueError, match="level"):
+        TakeSettings(level=1.5)
+    with pytest.raises(ValueError, match="min_rest"):
+        TakeSettings(min_rest=0.0)
+
+
+def test_join_recordings_is_continuous_and_keeps_each_shape() -> None:
+    rng = np.random.default_rng(9)
+    a, b = synthesize_gesture("go_left", rng), synthesize_gesture("go_home", rng)
+    joined = join_recordings([a, b])
+    assert len(joined) == len(a) + len(b) - 1
+    assert np.all(np.diff(joined.t) > 0)
+    np.testing.assert_allclose(joined.p[len(a) - 1], a.p[-1], atol=1e-12)
+    # the second recording, rigidly moved: distances between its positions are unchanged
+    part = joined.p[len(a) - 1:]
+    np.testing.assert_allclose(np.linalg.norm(part[1:] - part[0], axis=1),
+                               np.linalg.norm(b.p[1:] - b.p[0], axis=1), rtol=1e-9, atol=1e-12)
+    with pytest.raises(ValueError):
+        join_recordings([])
