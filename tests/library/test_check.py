@@ -44,9 +44,10 @@ def confusable(hpm_takes: TakeSet) -> tuple[TakeSet, CheckReport]:
 def test_hpm_seven_pass(hpm_report: CheckReport) -> None:
     assert hpm_report.ok, hpm_report.format()
     assert not [f for f in hpm_report.findings if f.level == "problem"]
-    assert sum(p == g for p, g in zip(hpm_report.predicted, hpm_report.labels, strict=True)) >= 33
+    assert sum(p == g for p, g in zip(hpm_report.predicted, hpm_report.labels, strict=True)) >= 30
     for c in hpm_report.gestures.values():
-        assert c.margin >= 1.15 and c.nearest in hpm_report.gestures and c.nearest != c.gesture
+        assert c.loo_correct > c.takes / 2
+        assert c.margin >= 1.5 and c.nearest in hpm_report.gestures and c.nearest != c.gesture
 
 
 def test_confusable_pair_is_flagged(confusable: tuple[TakeSet, CheckReport]) -> None:

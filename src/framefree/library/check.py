@@ -21,12 +21,12 @@ recognizes the take iff ``min_h other_i(h) > same_i``.
 * **everyday**: the margin of ``g`` against reaching and repositioning moves
   (:func:`~framefree.library.probes.everyday_motions`).
 
-A margin between gestures below :attr:`CheckSettings.fail_margin`, or several takes of a gesture
-recognized as another, is a *problem*: the vocabulary should not go live. A margin below
-:attr:`CheckSettings.warn_margin`, a lone take recognized as another gesture (an outlier to
-re-record), a gesture close to stop signals or to everyday motion, or one that turns nearly as fast
-as a stop signal is a *warning*: it will work, with lower precision or recall. Each comes with a
-concrete advice.
+A margin between gestures below :attr:`CheckSettings.fail_margin`, or more than half of a
+gesture's takes recognized as another gesture, is a *problem*: the vocabulary should not go live.
+A margin below :attr:`CheckSettings.warn_margin`, up to half of the takes recognized as another
+gesture (outliers to re-record), a gesture close to stop signals or to everyday motion, or one that
+turns nearly as fast as a stop signal is a *warning*: it will work, with lower precision or recall.
+Each comes with a concrete advice.
 """
 
 from __future__ import annotations
@@ -350,15 +350,19 @@ def _findings(r: CheckReport, s: CheckSettings, config: RecognizerConfig) -> lis
 
 
 def _misrecognized(r: CheckReport, g: str) -> list[Finding]:
-    """A lone outlier take is a warning (re-record or remove it); more are a confusion (problem)."""
+    """Takes recognized as another gesture: up to half of a gesture's takes are outliers (a warning:
+    re-record or remove them); more mean the gesture is not a group of its own (a problem)."""
     miss = [(n, p) for n, lab, p in zip(r.names, r.labels, r.predicted, strict=True) if lab == g and p != g]
     n = r.gestures[g].takes
-    if len(miss) == 1 and n >= 3:
-        name, p = miss[0]
-        return [Finding("warning", g, f"take {name} is nearer to {p} than to the other takes of {g}: "
-                                      f"re-record it, or remove it (framefree enroll --remove {name})")]
-    if miss:
-        others = ", ".join(sorted({p for _, p in miss}))
+    if not miss:
+        return []
+    others = ", ".join(sorted({p for _, p in miss}))
+    if len(miss) > n / 2:
         return [Finding("problem", g, f"{len(miss)} of {n} takes of {g} are nearer to {others} than to "
                                       f"the other takes of {g}: make {g} more distinct")]
-    return []
+    names = [name for name, _ in miss]
+    which = f"take {names[0]} is" if len(names) == 1 else f"takes {', '.join(names)} are"
+    them = "it" if len(names) == 1 else "them"
+    removal = " ".join(f"--remove {name}" for name in names)
+    return [Finding("warning", g, f"{which} nearer to {others} than to the other takes of {g}: re-record "
+                                  f"{them}, or remove {them} (framefree enroll {removal})")]

@@ -41,20 +41,20 @@ class RecognizerConfig:
         stroke peak) (:func:`~framefree.online.segmentation.speed_levels`).
     valley_ratio : float
         A speed minimum below this fraction of the stroke's peak splits two strokes (0.5).
-    max_units, max_duration, max_pause : int, float, float or None
-        Candidate limits: units per candidate, duration [s], longest rest inside [s]. ``None``:
-        from the models — one unit more than the most units of any model recording;
-        ``span_factor`` × the longest model gesture; ``pause_factor`` × the longest rest inside a
-        model gesture (at least ``min_pause``).
+    max_units, max_duration, max_pause, pause_ratio : int, float, float, float or None
+        Candidate limits: units per candidate, duration [s], longest rest inside [s], longest rest
+        inside relative to the mean duration of the two units around it. ``None``: from the
+        models — one unit more than the most units of any model recording; ``span_factor`` × the
+        longest model gesture; ``span_factor`` × the longest rest inside a model gesture;
+        ``pause_factor`` × the largest such rest-to-stroke ratio of a model gesture.
     span_factor : float
         How much slower than the model demonstrations a person may be (2.5: a tempo factor of 0.6
         with room for a long reversal pause).
     pause_factor : float
-        How much longer than in the demonstrations a person may pause inside a gesture (1.5;
-        development people: 2.5 let reaching out, staying and coming back pass as *go left*,
-        11 false positives more, for 5 gestures more).
+        How much longer, relative to their own strokes, than in the demonstrations a person may
+        pause inside a gesture (1.5).
     min_pause : float
-        Lower bound of the automatic ``max_pause`` [s] (0.5).
+        A rest of this length [s] is always allowed inside a candidate (0.5).
     margin : int
         Grid samples added before and after a candidate when it is cut out (5).
     confirm : float
@@ -113,6 +113,7 @@ class RecognizerConfig:
     max_units: int | None = None
     max_duration: float | None = None
     max_pause: float | None = None
+    pause_ratio: float | None = None
     span_factor: float = 2.5
     pause_factor: float = 1.5
     min_pause: float = 0.5

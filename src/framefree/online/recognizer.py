@@ -75,11 +75,12 @@ def resolve_config(
         lv = speed_levels(trajectories, c.L, c.dt, c.speed_lag, c.noise_factor, c.peak_fraction)
         c = c.replace(rest_speed=c.rest_speed or lv.rest, move_speed=c.move_speed or lv.move)
     levels = SpeedLevels(c.rest_speed, c.move_speed)
-    if c.max_units is None or c.max_duration is None or c.max_pause is None:
-        units, duration, pause = candidate_limits(trajectories, levels, c.L, c.span_factor,
-                                                  c.pause_factor, c.min_pause, c.dt)
+    if None in (c.max_units, c.max_duration, c.max_pause, c.pause_ratio):
+        units, duration, pause, ratio = candidate_limits(trajectories, levels, c.L, c.span_factor,
+                                                         c.pause_factor, c.dt)
         c = c.replace(max_units=c.max_units or units, max_duration=c.max_duration or duration,
-                      max_pause=c.max_pause or pause)
+                      max_pause=c.max_pause or pause,
+                      pause_ratio=ratio if c.pause_ratio is None else c.pause_ratio)
     if c.closure_limits is None or c.size_limits is None:
         closed, sizes = gesture_geometry(trajectories, labels, classifier, levels, c.L, c.margin,
                                          c.dt)
@@ -112,7 +113,8 @@ def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: Rec
     if c.size and c.size_limits is not None:
         sizes = np.array([c.size_limits.get(g, (0.0, np.inf)) for g in labels])
     return Spotter(classifier, model_thresholds, c.max_units, c.max_duration, c.max_pause,
-                   c.margin, c.confirm, c.max_wait, closures, c.L, sizes)
+                   c.margin, c.confirm, c.max_wait, closures, c.L, sizes,
+                   math.inf if c.pause_ratio is None else c.pause_ratio, c.min_pause)
 
 
 class Recognizer:
@@ -164,7 +166,8 @@ class Recognizer:
     ) -> None:
         c = config
         missing = [n for n in ("rest_speed", "move_speed", "max_units", "max_duration", "max_pause",
-                               "gesture_thresholds", "stop_threshold") if getattr(c, n) is None]
+                               "pause_ratio", "gesture_thresholds", "stop_threshold")
+                   if getattr(c, n) is None]
         if missing:
             raise ValueError(f"unresolved settings {missing}: use Recognizer.from_trajectories")
         self.classifier = classifier

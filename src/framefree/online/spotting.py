@@ -115,12 +115,20 @@ class Candidate:
 
 
 def candidate_spans(
-    units: Sequence[Unit], max_units: int, max_duration: float, max_pause: float, after: int = -1
+    units: Sequence[Unit],
+    max_units: int,
+    max_duration: float,
+    max_pause: float,
+    after: int = -1,
+    pause_ratio: float = math.inf,
+    min_pause: float = 0.0,
 ) -> list[tuple[Unit, int]]:
     """The candidates ending with the last unit: ``(first unit, number of units)`` pairs.
 
-    A candidate has at most ``max_units`` units, lasts at most ``max_duration`` seconds, has no
-    rest longer than ``max_pause`` seconds inside, and starts after running index ``after``.
+    A candidate has at most ``max_units`` units, lasts at most ``max_duration`` seconds and starts
+    after running index ``after``. A rest between two of its units may last at most
+    ``pause_ratio`` × the mean duration of those two units (a slow person pauses longer, in
+    proportion), but never less than ``min_pause`` nor more than ``max_pause`` seconds.
     """
     out: list[tuple[Unit, int]] = []
     if not units:
@@ -130,8 +138,12 @@ def candidate_spans(
         first = units[-n]
         if first.start <= after or last.end_t - first.start_t > max_duration:
             break
-        if n > 1 and units[-n + 1].start_t - first.end_t > max_pause:
-            break
+        if n > 1:
+            nxt = units[-n + 1]
+            strokes = 0.5 * (first.end_t - first.start_t + nxt.end_t - nxt.start_t)
+            allowed = min(max_pause, max(min_pause, pause_ratio * strokes))
+            if nxt.start_t - first.end_t > allowed:
+                break
         out.append((first, n))
     return out
 
@@ -150,6 +162,10 @@ class Spotter:
         Longest candidate [s].
     max_pause : float
         Longest rest inside a candidate [s].
+    pause_ratio : float
+        Longest rest inside a candidate relative to the mean duration of the units around it.
+    min_pause : float
+        Rest [s] always allowed inside a candidate.
     margin : int
         Uniform samples added before and after a candidate when it is cut out.
     confirm : float
@@ -179,12 +195,16 @@ class Spotter:
         closure_limits: np.ndarray | None = None,
         L: float = 0.1,
         size_limits: np.ndarray | None = None,
+        pause_ratio: float = math.inf,
+        min_pause: float = 0.0,
     ) -> None:
         self.classifier = classifier
         self.model_thresholds = np.asarray(model_thresholds, dtype=np.float64)
         self.max_units = int(max_units)
         self.max_duration = float(max_duration)
         self.max_pause = float(max_pause)
+        self.pause_ratio = float(pause_ratio)
+        self.min_pause = float(min_pause)
         self.margin = int(margin)
         self.confirm = float(confirm)
         self.max_wait = float(max_wait)
@@ -220,7 +240,7 @@ class Spotter:
         last = self.units[-1]
         after = max(self.consumed, buffer.oldest + self.margin - 1)
         for first, n in candidate_spans(list(self.units), self.max_units, self.max_duration,
-                                        self.max_pause, after):
+                                        self.max_pause, after, self.pause_ratio, self.min_pause):
             times, poses = buffer.slice(first.start - self.margin, last.end + self.margin)
             d, size = self.classifier.distances(times, poses)
             self.last_distances = d

@@ -103,7 +103,8 @@ def segment_distances(
     sizes: list[float] = []
     for k in range(len(units)):
         for first, _ in candidate_spans(units[: k + 1], spotter.max_units, spotter.max_duration,
-                                        spotter.max_pause):
+                                        spotter.max_pause, -1, spotter.pause_ratio,
+                                        spotter.min_pause):
             t, P = seg.buffer.slice(first.start - spotter.margin, units[k].end + spotter.margin)
             d, size = classifier.distances(t, P)
             rows.append(d)
@@ -144,15 +145,17 @@ def size_limits(smallest: float, largest: float, factor: float) -> tuple[float, 
 
 def candidate_limits(
     trajectories: Sequence[Trajectory], levels: SpeedLevels, L: float, span_factor: float,
-    pause_factor: float, min_pause: float, dt: float = 0.02,
-) -> tuple[int, float, float]:
-    """Candidate limits from the model recordings: ``(max_units, max_duration, max_pause)``.
+    pause_factor: float, dt: float = 0.02,
+) -> tuple[int, float, float, float]:
+    """Candidate limits from the model recordings: ``(max_units, max_duration, max_pause,
+    pause_ratio)``.
 
     One unit more than the most units of any recording; ``span_factor`` × the longest gesture (first
-    unit's start to last unit's end); ``pause_factor`` × the longest rest between two units of one
-    recording, at least ``min_pause`` [s].
+    unit's start to last unit's end); ``span_factor`` × the longest rest between two units of one
+    recording [s]; ``pause_factor`` × the largest ratio of such a rest to the mean duration of the
+    two units around it.
     """
-    most, longest, pause = 1, 0.0, 0.0
+    most, longest, pause, ratio = 1, 0.0, 0.0, 0.0
     for tr in trajectories:
         _, units = _units(tr, levels, L, dt)
         if not units:
@@ -160,10 +163,12 @@ def candidate_limits(
         most = max(most, len(units))
         longest = max(longest, units[-1].end_t - units[0].start_t)
         for a, b in itertools.pairwise(units):
-            pause = max(pause, b.start_t - a.end_t)
+            gap = b.start_t - a.end_t
+            pause = max(pause, gap)
+            ratio = max(ratio, gap / (0.5 * (a.end_t - a.start_t + b.end_t - b.start_t)))
     if longest == 0.0:
         raise ValueError("no movement found in the model recordings")
-    return most + 1, span_factor * longest, max(min_pause, pause_factor * pause)
+    return most + 1, span_factor * longest, span_factor * pause, pause_factor * ratio
 
 
 def closure_limit(largest: float) -> float:
