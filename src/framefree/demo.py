@@ -2,10 +2,10 @@
 
 1. the HPM replica (generated on first use and cached) supplies the gesture models (``original_1``);
 2. a simulated person commands the robot through the paper's pick-and-place and stacking session
-   ([P2] Table II; the scenario is described in ``docs/robot.md``): the same 18 commands in the same
-   order and at the same times, walking between gestures (the tracker's world frame drifts) and
-   re-gripping the tracker (its body frame changes), with distractor motions, tremor and tracker
-   noise. The person watches the robot: when a command is not obeyed, they perform it again — as
+   (the paper's Table II; the scenario is described in ``docs/robot.md``): the same 18 commands in
+   the same order and at the same times, walking between gestures (the tracker's world frame
+   drifts) and re-gripping the tracker (its body frame changes), with distractor motions, tremor
+   and tracker noise. The person watches the robot: when a command is not obeyed, they perform it again — as
    the paper's user did at 1:32, 2:06 and 2:31, which is how the paper's 18 commands became 21
    gestures. Who performs depends on the seed, and is always someone no parameter was tuned on
    (:func:`demo_person`);
@@ -56,7 +56,7 @@ __all__ = [
     "write_outputs",
 ]
 
-#: The paper's live result ([P2] Section V): 18 of 21 gestures detected, no false positive.
+#: The paper's live result (the paper, Section V): 18 of 21 gestures detected, no false positive.
 PAPER_RESULT = {"precision": 1.0, "recall": 18 / 21, "f1": 2 * (18 / 21) / (1 + 18 / 21)}
 #: Seconds of stream before the first command (the paper's first gesture is at 0:31).
 DEMO_LEAD_IN = 6.0

@@ -57,7 +57,7 @@ def demo(out, seed, method, no_render, models):
         f"  commands obeyed    {result.obeyed:5d} of {result.commands}  (the person repeats an "
         "ignored command up to twice)"
     )
-    click.echo(f"                      {method:<9}     paper ([P2] Table II)")
+    click.echo(f"                      {method:<9}     paper (its Table II)")
     for key in ("precision", "recall", "f1"):
         click.echo(f"  {key:<18} {100 * rec[key]:9.1f} %  {100 * PAPER_RESULT[key]:9.1f} %")
     click.echo(f"  false positives    {rec['fp']:9d}    {0:9d}")
