@@ -33,6 +33,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .closed_loop import ClosedLoop, PersonPolicy, _say, run_commands
+from .labels import METHODS
 
 if TYPE_CHECKING:
     from .datasets.people import Person
@@ -65,7 +66,6 @@ DEMO_LEAD_IN = 6.0
 #: loading the dataset generators; a test checks that they agree).
 DEMO_PEOPLE = range(1000, 1020)
 #: Recognition methods: framefree's segment-spotting recognizer (default) and the paper's.
-METHODS = ("segments", "paper")
 #: Offset between the demo seed and the seed of the person's session (tremor, walks, grips).
 _SESSION_SEED_OFFSET = 2026
 

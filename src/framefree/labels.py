@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
-__all__ = ["STOP"]
+__all__ = ["METHODS", "STOP"]
 
 #: Label of the stop signal (a fast rotation of the hand): a labelled stream segment, a recognizer
 #: event and a robot command all use it.
 STOP = "stop"
+
+#: Names of the live recognizers: framefree's segment spotting (the default) and the paper's
+#: fixed-window recognizer (:class:`framefree.online.Recognizer`, :class:`~framefree.online.PaperRecognizer`).
+METHODS = ("segments", "paper")

@@ -12,6 +12,7 @@ from typing import Any
 import click
 
 from ..errors import FramefreeError
+from ..labels import METHODS
 from ..posecsv import QUAT_ORDERS, UNITS
 from .inputs import pose_file_options, read_models, writable_file, writable_folder
 
@@ -50,8 +51,6 @@ def _model_options(f):
     return f
 
 
-#: The live recognizers: framefree's (default) and the paper's.
-METHODS = ("segments", "paper")
 #: Options that only the paper's recognizer has.
 _PAPER_ONLY = ("resolution", "latency_min")
 
