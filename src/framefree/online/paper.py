@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -35,10 +34,11 @@ from ..trajectory import Trajectory
 from .calibration import Calibration, calibrate_threshold
 from .events import STOP, Event
 from .matchers import MatcherBank
-from .models import GestureModels, build_models, load_model_recordings
+from .models import GestureModels, build_models
 from .paper_config import PaperConfig
 from .preprocess import StreamingBILTSPlus
 from .stop import SampleRateStopDetector, debounced_peak_rate
+from .streaming import StreamingRecognizer
 
 __all__ = ["STAT_KEYS", "PaperRecognizer"]
 
@@ -63,7 +63,7 @@ STAT_KEYS = (
 )
 
 
-class PaperRecognizer:
+class PaperRecognizer(StreamingRecognizer):
     """Streaming gesture recognizer over a fixed set of gesture models.
 
     Parameters
@@ -187,18 +187,6 @@ class PaperRecognizer:
             peak = max(debounced_peak_rate(tr, config.stop_samples) for tr in trajectories)
             config = config.replace(stop_threshold=max(config.stop_floor, config.stop_margin * peak))
         return cls(models, config, calibration, gesture_thresholds)
-
-    @classmethod
-    def from_dataset(
-        cls,
-        root: str | Path,
-        model_context: str = "original_1",
-        config: PaperConfig | None = None,
-        **overrides: Any,
-    ) -> PaperRecognizer:
-        """Models from ``<root>/<gesture>/<model_context>/*.csv``, all trials (docs/online-paper.md)."""
-        trajs, labels = load_model_recordings(root, model_context)
-        return cls.from_trajectories(trajs, labels, config, **overrides)
 
     # ---------------------------------------------------------------------------------- running
     def warmup(self) -> None:
@@ -367,13 +355,6 @@ class PaperRecognizer:
             return math.inf
         other = ratio[self._other[self._label_index[j]]]
         return float(other.min()) if other.size else math.inf
-
-    def run(self, traj: Trajectory) -> list[Event]:
-        """Push a whole recording; return all events (the recognizer is not reset)."""
-        events: list[Event] = []
-        for k in range(len(traj)):
-            events.extend(self.push(traj.t[k], traj.p[k], traj.q[k]))
-        return events
 
     def describe(self) -> dict[str, Any]:
         """Parameters, model summary and calibration as a JSON-friendly dict."""

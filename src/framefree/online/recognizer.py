@@ -33,10 +33,10 @@ from ..trajectory import Trajectory
 from .acceptance import SampleGate
 from .config import RecognizerConfig
 from .events import STOP, Event
-from .models import load_model_recordings
 from .segmentation import MotionSegmenter, SpeedLevels, UniformResampler, speed_levels
 from .spotting import SegmentClassifier, Spotter
 from .stop import StopDetector, sustained_peak_speed
+from .streaming import StreamingRecognizer
 from .thresholds import (
     SegmentThresholds,
     calibrate_segment_thresholds,
@@ -117,7 +117,7 @@ def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: Rec
                    math.inf if c.pause_ratio is None else c.pause_ratio, c.min_pause)
 
 
-class Recognizer:
+class Recognizer(StreamingRecognizer):
     """Streaming gesture recognizer: segment spotting with offline-identical classification.
 
     Build it with :meth:`from_trajectories` or :meth:`from_dataset` (which derive and calibrate
@@ -224,18 +224,6 @@ class Recognizer:
         return cls(classifier, labels, resolved, calibration)
 
     @classmethod
-    def from_dataset(
-        cls,
-        root: str | Path,
-        model_context: str = "original_1",
-        config: RecognizerConfig | None = None,
-        **overrides: Any,
-    ) -> Recognizer:
-        """Models from ``<root>/<gesture>/<model_context>/*.csv`` (every recording)."""
-        trajs, labels = load_model_recordings(root, model_context)
-        return cls.from_trajectories(trajs, labels, config, **overrides)
-
-    @classmethod
     def load(cls, path: str | Path) -> Recognizer:
         """A recognizer from a gesture library file written by ``framefree enroll``
         (:mod:`framefree.library`): models rebuilt from the stored takes, thresholds restored, no
@@ -339,13 +327,6 @@ class Recognizer:
         spotter.discard_before(fired.end + 1)
         self._counts["events"] += 1
         return Event(self.labels[fired.model], t, fired.distance, fired.model)
-
-    def run(self, traj: Trajectory) -> list[Event]:
-        """Push a whole recording; return all events (the recognizer is not reset)."""
-        events: list[Event] = []
-        for k in range(len(traj)):
-            events.extend(self.push(traj.t[k], traj.p[k], traj.q[k]))
-        return events
 
     def gesture_dissimilarities(self) -> dict[str, float]:
         """Distance of the latest classified candidate to each gesture's nearest model."""
