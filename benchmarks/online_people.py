@@ -36,7 +36,7 @@ _RECOGNIZERS: dict = {}
 
 
 def _recognizer(method: str, overrides: dict):
-    key = (method, tuple(sorted(overrides.items())))
+    key = (method, json.dumps(overrides, sort_keys=True))
     if key not in _RECOGNIZERS:
         trajs, labels = load_model_recordings(replica_path(0), "original_1")
         cls = Recognizer if method == "segments" else PaperRecognizer

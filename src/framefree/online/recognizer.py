@@ -85,7 +85,8 @@ def resolve_config(
         closed, sizes = gesture_geometry(trajectories, labels, classifier, levels, c.L, c.margin,
                                          c.dt)
         if c.closure_limits is None:
-            c = c.replace(closure_limits={g: closure_limit(closed.get(g, 1.0)) for g in gestures})
+            c = c.replace(closure_limits={g: closure_limit(closed.get(g, 1.0), c.closure_exponent)
+                                          for g in gestures})
         if c.size_limits is None:
             c = c.replace(size_limits={g: size_limits(*sizes.get(g, (0.0, np.inf)), c.size_factor)
                                        for g in gestures})

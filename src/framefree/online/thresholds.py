@@ -171,10 +171,10 @@ def candidate_limits(
     return most + 1, span_factor * longest, span_factor * pause, pause_factor * ratio
 
 
-def closure_limit(largest: float) -> float:
-    """Closure limit of a gesture whose demonstrations close up to ``largest``: the geometric
-    midpoint between them and a one-way motion (closure 1)."""
-    return float(np.sqrt(max(largest, 1e-6)))
+def closure_limit(largest: float, exponent: float = 0.5) -> float:
+    """Closure limit of a gesture whose demonstrations close up to ``largest``: ``largest **
+    exponent`` — with 0.5 the geometric midpoint between them and a one-way motion (closure 1)."""
+    return float(max(largest, 1e-6) ** exponent)
 
 
 def calibrate_segment_thresholds(
@@ -218,9 +218,9 @@ def calibrate_segment_thresholds(
     first = {g: int(np.flatnonzero(labels_arr == g)[0]) for g in gestures}
     positives: dict[str, list[float]] = {g: [] for g in gestures}
     for r, tr in enumerate(trajectories):
-        D, c, size = segment_distances(tr, classifier, levels, spotter, L)
         same = labels_arr == labels[r]
         same[r] = False
+        D, c, size = segment_distances(tr, classifier, levels, spotter, L)
         ok = admissible(r, c, size)
         score = float(D[ok][:, same].min()) if ok.any() and same.any() else np.inf
         positives[labels[r]].append(score)
