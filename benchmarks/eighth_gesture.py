@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 
 from framefree.datasets import (
+    DEV_PEOPLE,
     GESTURES,
     HELDOUT_PEOPLE,
     make_person_streams,
@@ -92,7 +93,10 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--takes", type=int, default=5, help="demonstrations of the new gesture")
     ap.add_argument("--demo-seed", type=int, default=0, help="seed of the demonstration recording")
     ap.add_argument("--people", type=int, default=3, help="number of held-out people")
-    ap.add_argument("--first-person", type=int, default=0, help="index of the first one in HELDOUT_PEOPLE")
+    ap.add_argument("--first-person", type=int, default=0, help="index of the first one in the group")
+    ap.add_argument("--people-group", choices=["heldout", "dev"], default="heldout",
+                    help="HELDOUT_PEOPLE (report) or DEV_PEOPLE (to choose settings)")
+    ap.add_argument("--set", action="append", default=[], help="recognizer setting KEY=VALUE (JSON value)")
     ap.add_argument("--streams-per-person", type=int, default=2)
     ap.add_argument("--n-gestures", type=int, default=16, help="gestures per stream")
     ap.add_argument("--no-baseline", action="store_true", help="skip the seven-gesture library")
@@ -108,11 +112,14 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     hpm = read_takes(replica_path(), "original_1")
     new = TakeSet(tuple(takes), (args.gesture,) * len(takes),
                   tuple(f"{args.gesture}/own/trial_{k + 1}" for k in range(len(takes))))
-    lib8 = enroll(hpm + new, built_from=[str(replica_path()), f"{args.gesture} demonstration"])
+    settings = {kv.split("=", 1)[0]: json.loads(kv.split("=", 1)[1]) for kv in args.set}
+    lib8 = enroll(hpm + new, built_from=[str(replica_path()), f"{args.gesture} demonstration"],
+                  **settings)
     path8 = lib8.save(work / "hpm_plus_one.npz")
     t_enroll = time.perf_counter() - t0
 
-    people = list(HELDOUT_PEOPLE)[args.first_person: args.first_person + args.people]
+    group = HELDOUT_PEOPLE if args.people_group == "heldout" else DEV_PEOPLE
+    people = list(group)[args.first_person: args.first_person + args.people]
     labels = [*GESTURES, args.gesture]
     streams = make_person_streams(people, args.streams_per_person, n_gestures=args.n_gestures,
                                   gestures=labels, progress=True)
@@ -123,7 +130,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
         "with_new_gesture": evaluate(path8, streams, [*labels, "stop"]),
     }
     if not args.no_baseline:
-        path7 = enroll(hpm, built_from=[str(replica_path())]).save(work / "hpm.npz")
+        path7 = enroll(hpm, built_from=[str(replica_path())], **settings).save(work / "hpm.npz")
         out["seven_only"] = evaluate(path7, streams, [*labels, "stop"])
     _print(out)
     if args.json:
