@@ -5,35 +5,12 @@ from __future__ import annotations
 
 import json
 import shutil
-import socket
 from pathlib import Path
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 
-from framefree.cli import cli
-
-
-def run(*args: str):
-    return CliRunner().invoke(cli, [str(a) for a in args])
-
-
-def one_line_error(result, *fragments: str) -> str:
-    """Assert exit 2, no traceback, an ``error:`` line holding every fragment; return it."""
-    assert result.exit_code == 2, result.output
-    assert "Traceback" not in result.output
-    lines = [ln for ln in result.output.splitlines() if ln.startswith(("error:", "Error:"))]
-    assert len(lines) == 1, result.output
-    for fragment in fragments:
-        assert fragment in lines[0], lines[0]
-    return lines[0]
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
+from cli_helpers import free_port, one_line_error, run
 
 
 @pytest.fixture
@@ -158,7 +135,7 @@ def test_jobs_must_be_at_least_one():
 
 def test_unreachable_dask_scheduler_fails_fast(tmp_path):
     pytest.importorskip("dask.distributed")
-    address = f"tcp://127.0.0.1:{_free_port()}"
+    address = f"tcp://127.0.0.1:{free_port()}"
     one_line_error(
         run("benchmark", "--backend", "dask", "--address", address, "--connect-timeout", "1",
             "--out", tmp_path, "--quiet"),

@@ -4,38 +4,19 @@ before the models are built; either model layout is accepted and named."""
 from __future__ import annotations
 
 import shutil
-import socket
 from pathlib import Path
 
 import numpy as np
 import pytest
 import zmq
-from click.testing import CliRunner
 
-from framefree.cli import cli
+from cli_helpers import free_port, one_line_error, run
 from framefree.datasets import make_stream, save_stream, synthesize_gesture
 
 GESTURES = ("go_left", "open_gripper")
 
 
-def run(*args: object):
-    return CliRunner().invoke(cli, [str(a) for a in args])
 
-
-def one_line_error(result, *fragments: str) -> str:
-    assert result.exit_code == 2, result.output
-    assert "Traceback" not in result.output
-    lines = [ln for ln in result.output.splitlines() if ln.startswith(("error:", "Error:"))]
-    assert len(lines) == 1, result.output
-    for fragment in fragments:
-        assert fragment in lines[0], lines[0]
-    return lines[0]
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 @pytest.fixture(scope="module")
@@ -66,7 +47,7 @@ def test_a_bad_source_is_reported_before_the_models_are_built(data):
 
 
 def test_live_says_so_when_no_pose_arrives(data):
-    port = _free_port()
+    port = free_port()
     res = run("live", "--models", data["ds"], "--source", f"zmq://127.0.0.1:{port}",
               "--timeout", "0.5", "--no-view", "--threshold", "0.5")
     one_line_error(res, f"zmq://127.0.0.1:{port}: no pose arrived within 0.5 s",
@@ -74,7 +55,7 @@ def test_live_says_so_when_no_pose_arrives(data):
 
 
 def test_stream_on_a_busy_port(data):
-    port = _free_port()
+    port = free_port()
     sock = zmq.Context.instance().socket(zmq.PUB)
     sock.bind(f"tcp://127.0.0.1:{port}")
     try:

@@ -122,6 +122,7 @@ class PoseBuffer:
         self._poses = np.zeros((self.capacity, 4, 4))
         self._times = np.zeros(self.capacity)
         self.count = 0  # running index of the next pose
+        self.first = 0  # running index of the first pose since the last reset
 
     def reset(self) -> None:
         """Forget everything (indices keep running, so old units never address new poses)."""
@@ -130,7 +131,7 @@ class PoseBuffer:
     @property
     def oldest(self) -> int:
         """Running index of the oldest pose still held."""
-        return max(self.count - self.capacity, getattr(self, "first", 0))
+        return max(self.count - self.capacity, self.first)
 
     def append(self, t: float, T: np.ndarray) -> int:
         """Store a pose; return its running index."""
