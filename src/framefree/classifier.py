@@ -16,7 +16,9 @@ __all__ = ["RECOMMENDED", "NearestNeighborClassifier", "round_significant"]
 
 #: The recommended offline configuration (``docs/algorithms/recommended.md``): BILTS+ with
 #: screw-path progress, the 50 Hz poses Gaussian-smoothed with a 5-sample window before progress is
-#: computed, and open-end alignment (an unfinished query may match the beginning of a model).
+#: computed, open-end alignment (an unfinished query may match the beginning of a model) and the
+#: axis prior (a rotation about a nearly fixed axis gets a frame origin placed by the motion's
+#: geometry, not by noise; docs/algorithms/bilts.md#axis-prior).
 #: ``L`` [m] and ``ds_scale`` [m] are the values the benchmark's grid search selects on the
 #: training trials of the HPM replica (``framefree benchmark --methods recommended``); retrain them
 #: on your own data with the same command.
@@ -25,6 +27,7 @@ RECOMMENDED: dict[str, Any] = {
     "progress": "screw",
     "presmooth": 5,
     "open_end": True,
+    "axis_prior": 1.0,
     "L": 0.1,
     "ds_scale": 0.06,
 }
@@ -41,7 +44,7 @@ def round_significant(x: np.ndarray, digits: int) -> np.ndarray:
 
 
 #: constructor parameters that are passed on to the descriptor when set (``None``: its default)
-_DESCRIPTOR_PARAMS = ("progress", "L", "ds_scale", "lam", "presmooth", "open_end")
+_DESCRIPTOR_PARAMS = ("progress", "L", "ds_scale", "lam", "presmooth", "open_end", "axis_prior")
 
 
 class NearestNeighborClassifier:
@@ -72,6 +75,10 @@ class NearestNeighborClassifier:
         Open-end alignment (an unfinished query may match the beginning of a model), for
         descriptors that offer it (``supports_open_end``: BILTS, BILTS+); ``None``: their default
         (closed end). See ``docs/algorithms/dtw.md``.
+    axis_prior : float, optional
+        BILTS+ only: weight κ of the prior on the frame origin along a nearly fixed screw axis
+        (``None``: the descriptor's default, 0, the reference). See
+        ``docs/algorithms/bilts.md#axis-prior``.
     round_digits : int, optional
         Round descriptors to this many significant digits before comparing them, as the reference
         does by storing them with ``csvwrite`` (5). Default: full precision.
@@ -108,6 +115,7 @@ class NearestNeighborClassifier:
         lam: float | None = None,
         presmooth: int | None = None,
         open_end: bool | None = None,
+        axis_prior: float | None = None,
         round_digits: int | None = None,
         descriptor_params: dict[str, Any] | None = None,
     ) -> None:
@@ -118,6 +126,7 @@ class NearestNeighborClassifier:
         self.lam = lam
         self.presmooth = presmooth
         self.open_end = open_end
+        self.axis_prior = axis_prior
         self.round_digits = round_digits
         self.descriptor_params = descriptor_params
 

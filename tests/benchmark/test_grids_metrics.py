@@ -82,6 +82,7 @@ def test_recommended_row() -> None:
         "ds_scale": 0.06,
         "presmooth": 5,
         "open_end": True,
+        "axis_prior": 1.0,
     }
     assert RECOMMENDED.trained(0.06, 0.1) == {"ds_scale": 0.06, "L": 0.1}
 

@@ -22,6 +22,7 @@ from ..descriptors.base import L_GRID, Descriptor, descriptor_class
 __all__ = [
     "L_VALUES",
     "RECOMMENDED",
+    "RECOMMENDED_AXIS_PRIOR",
     "RECOMMENDED_PRESMOOTH",
     "TABLE1_ROWS",
     "MethodSpec",
@@ -43,6 +44,11 @@ DUMMY_L = 1.0
 #: design constant, not searched: the value the issue reported for BILTS+ on an independent
 #: held-out data set (``docs/algorithms/recommended.md``)
 RECOMMENDED_PRESMOOTH = 5
+
+#: weight κ of the recommended row's axis prior (``docs/algorithms/bilts.md#axis-prior``): the
+#: origin's place along a nearly fixed screw axis is pulled towards the body origin with the weight
+#: of the rotation rate itself. A fixed design constant, not searched.
+RECOMMENDED_AXIS_PRIOR = 1.0
 
 
 def row_key(method: str, progress: str) -> str:
@@ -185,12 +191,13 @@ TABLE1_ROWS: tuple[MethodSpec, ...] = (
 )
 
 #: the recommended offline method: BILTS+ with screw-path progress on pre-smoothed 50 Hz poses,
-#: open-end alignment; ds_scale and L trained by the same grid search as the paper's rows
+#: open-end alignment and the axis prior; ds_scale and L trained by the same grid search as the
+#: paper's rows
 RECOMMENDED = MethodSpec(
     "bilts+",
     "screw",
     presmooth=RECOMMENDED_PRESMOOTH,
-    options=(("open_end", True),),
+    options=(("open_end", True), ("axis_prior", RECOMMENDED_AXIS_PRIOR)),
     name="recommended",
     title="framefree (recommended)",
 )

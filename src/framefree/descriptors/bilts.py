@@ -118,7 +118,7 @@ def _gram(F):
 
 
 @njit(cache=True)
-def bilts_sample(xm, x0, xp, p_obj, L, regularized):
+def bilts_sample(xm, x0, xp, p_obj, L, regularized, axis_prior):
     """One BILTS(+) sample (24,) from the window twists ``ξ_{k-m}, ξ_k, ξ_{k+m}`` (6,) each.
 
     Parameters
@@ -131,6 +131,11 @@ def bilts_sample(xm, x0, xp, p_obj, L, regularized):
         Scale length [m]: weight of the rotational rows and clamp radius.
     regularized : bool
         BILTS+ (clamp the frame origin within L of ``p_obj``) or BILTS.
+    axis_prior : float
+        κ ≥ 0. 0: the reference's frame origin. κ > 0 (framefree extension, BILTS+ only): the
+        origin's position along the centre screw axis is a regularized least-squares solution pulled
+        towards the foot of the perpendicular from ``p_obj`` with weight κ‖ω_k‖, so that a rotation
+        about a nearly fixed axis no longer places it by noise (docs/algorithms/bilts.md#axis-prior).
     """
     # X = W A = [ξ_k, ξ_{k+m} - ξ_{k-m}, ξ_{k-m}]
     X = np.empty((6, 3))
@@ -164,11 +169,17 @@ def bilts_sample(xm, x0, xp, p_obj, L, regularized):
     ps = np.empty(3)
     ps[2] = Y[1, 0] / R1[0, 0]
     ps[1] = -Y[2, 0] / R1[0, 0]
-    ps[0] = (Y[2, 1] + R1[0, 1] * ps[1]) / R1[1, 1]
+    qo = np.empty(3)
+    for i in range(3):
+        qo[i] = Q[0, i] * p_obj[0] + Q[1, i] * p_obj[1] + Q[2, i] * p_obj[2]
+    # along the axis: R1[1, 1] * x = b (entry (3, 2) of the translational block made zero)
+    b = Y[2, 1] + R1[0, 1] * ps[1]
+    if regularized and axis_prior > 0.0:
+        w2 = (axis_prior * R1[0, 0]) ** 2
+        ps[0] = (R1[1, 1] * b + w2 * qo[0]) / (R1[1, 1] ** 2 + w2)
+    else:
+        ps[0] = b / R1[1, 1]
     if regularized:
-        qo = np.empty(3)
-        for i in range(3):
-            qo[i] = Q[0, i] * p_obj[0] + Q[1, i] * p_obj[1] + Q[2, i] * p_obj[2]
         delta = ps - qo
         nd = math.sqrt(delta[0] ** 2 + delta[1] ** 2 + delta[2] ** 2)
         if nd > L:
@@ -207,7 +218,7 @@ def bilts_sample(xm, x0, xp, p_obj, L, regularized):
 
 
 @njit(cache=True)
-def bilts_windows(twists, positions, m, L, regularized):
+def bilts_windows(twists, positions, m, L, regularized, axis_prior=0.0):
     """BILTS(+) samples for every centre k = m .. N-1-m (0-based): shape (N - 2m, 24).
 
     Parameters
@@ -218,13 +229,16 @@ def bilts_windows(twists, positions, m, L, regularized):
         Smoothed body-origin positions (clamp centres).
     m : int
         Window spacing in samples.
+    axis_prior : float
+        κ of :func:`bilts_sample` (0: the reference).
     """
     n = twists.shape[0]
     k_count = n - 2 * m
     out = np.empty((k_count, 24))
     for j in range(k_count):
         k = j + m
-        out[j] = bilts_sample(twists[k - m], twists[k], twists[k + m], positions[k], L, regularized)
+        out[j] = bilts_sample(twists[k - m], twists[k], twists[k + m], positions[k], L, regularized,
+                              axis_prior)
     return out
 
 
@@ -256,6 +270,7 @@ class _BILTSBase(Descriptor):
         "seed",
         "presmooth",
         "open_end",
+        "axis_prior",
     )
     regularized: bool = False
     default_window: int = 20
@@ -271,6 +286,7 @@ class _BILTSBase(Descriptor):
         seed: int | None = 0,
         presmooth: int | None = None,
         open_end: bool = False,
+        axis_prior: float = 0.0,
     ) -> None:
         self.progress = self._check_progress(progress)
         if not L > 0:
@@ -288,6 +304,11 @@ class _BILTSBase(Descriptor):
             raise ValueError(f"presmooth must be a window of at least 1 sample, got {presmooth}")
         self.presmooth = presmooth
         self.open_end = bool(open_end)
+        if not (math.isfinite(axis_prior) and axis_prior >= 0.0):
+            raise ValueError(f"axis_prior must be a finite number >= 0, got {axis_prior}")
+        if axis_prior > 0.0 and not self.regularized:
+            raise ValueError("axis_prior needs the body-origin clamp of BILTS+ (descriptor 'bilts+')")
+        self.axis_prior = float(axis_prior)
 
     @classmethod
     def parameter_grid(cls, progress: str) -> tuple[float, ...]:
@@ -320,7 +341,8 @@ class _BILTSBase(Descriptor):
         twists = se3.central_spatial_twists(smoothed, ds)
         twists = twists + twist_perturbation(self.seed, twists.shape)
         positions = np.ascontiguousarray(smoothed[:, :3, 3])
-        return bilts_windows(np.ascontiguousarray(twists), positions, m, self.L, self.regularized)
+        return bilts_windows(np.ascontiguousarray(twists), positions, m, self.L, self.regularized,
+                             self.axis_prior)
 
     _pointwise: int = POINTWISE_SQUARED
 
@@ -375,6 +397,14 @@ class BILTS(_BILTSBase):
         framefree extension, off by default (reference behaviour): smooth the 50 Hz poses with a
         Gaussian window of this many samples before computing progress, which makes the
         reparameterization robust to sensor noise. See :func:`framefree.progress.reparameterize`.
+    open_end : bool
+        framefree extension: open-end alignment, an unfinished query may match the beginning of a
+        model (docs/algorithms/dtw.md).
+    axis_prior : float
+        framefree extension, BILTS+ only, 0 (reference behaviour) by default: weight κ of the prior
+        that places the moving-frame origin, along the screw axis, near the body origin when the
+        motion does not determine it (a rotation about a nearly fixed axis, such as an elbow
+        flexion). See docs/algorithms/bilts.md#axis-prior.
     """
 
     name = "bilts"

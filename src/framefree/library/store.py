@@ -7,9 +7,10 @@ models exactly — the rows of the takes — together with the outcome of the ca
 resolved :class:`~framefree.online.RecognizerConfig`), and loading rebuilds the models and
 restores everything else.
 
-File format (``FORMAT_VERSION`` 1): a ``.npz`` (zip) archive readable with
-``numpy.load(path, allow_pickle=False)`` plus one JSON member; nothing in it executes code when
-loaded.
+File format (``FORMAT_VERSION`` 2; version 1 predates the recognizer's ``axis_prior`` setting,
+which changes the models' descriptors, so its thresholds would not fit): a ``.npz`` (zip) archive
+readable with ``numpy.load(path, allow_pickle=False)`` plus one JSON member; nothing in it executes
+code when loaded.
 
 =================  ====================================================================================
 ``library.json``   ``format_version``, ``framefree_version``, ``created`` (UTC), ``built_from``,
@@ -55,7 +56,7 @@ __all__ = [
 ]
 
 #: Version of the library file layout and of the meaning of its settings.
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
 #: Name of the JSON member (stable across format versions, so any version can be recognized).
 JSON_MEMBER = "library.json"
 #: Context folder that ``framefree record`` writes by default and :func:`read_takes` prefers.

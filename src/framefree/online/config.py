@@ -30,6 +30,9 @@ class RecognizerConfig:
         more straight-line and elbow gestures, F1 0.945 and 0.944 against 0.955).
     presmooth : int
         Gaussian pre-smoothing window [samples at 50 Hz] of the classifier (5).
+    axis_prior : float
+        Weight κ of the BILTS+ axis prior of the classifier (1.0, as the recommended offline
+        method; 0: the reference's frame origin). See docs/algorithms/bilts.md#axis-prior.
     n_samples : int
         Progress samples of the classifier's descriptor (50, as offline).
     dt : float
@@ -109,6 +112,7 @@ class RecognizerConfig:
     L: float = 0.1
     ds_scale: float = 0.06
     presmooth: int = 5
+    axis_prior: float = 1.0
     n_samples: int = 50
     dt: float = 0.02
     speed_lag: int = 5
@@ -155,6 +159,8 @@ class RecognizerConfig:
         for name in ("presmooth", "speed_lag"):
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be at least 1, got {getattr(self, name)}")
+        if not (self.axis_prior >= 0 and self.axis_prior < float("inf")):
+            raise ValueError(f"axis_prior must be a finite number >= 0, got {self.axis_prior}")
         if self.n_samples < 5:
             raise ValueError(f"n_samples must be at least 5, got {self.n_samples}")
         if not 0 < self.valley_ratio < 1:

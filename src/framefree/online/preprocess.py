@@ -107,7 +107,7 @@ def _offline_kernel(y, g, before, after, ds, m, L, noise):
     out = np.empty((n_d, 18))
     for j in range(n_d):
         k = j + m
-        s = bilts_sample(tw[k - m], tw[k], tw[k + m], sm[k, :3, 3].copy(), L, True)
+        s = bilts_sample(tw[k - m], tw[k], tw[k + m], sm[k, :3, 3].copy(), L, True, 0.0)
         out[j] = s[:18]
     return out
 
@@ -313,7 +313,7 @@ class StreamingBILTSPlus:
             return None
         tw = self._twists
         p_k = np.ascontiguousarray(sm[-(i + 1 - k) - 1][:3, 3])
-        d = bilts_sample(tw[0], tw[self.m], tw[2 * self.m], p_k, self.L, True)[:N_DESCRIPTOR]
+        d = bilts_sample(tw[0], tw[self.m], tw[2 * self.m], p_k, self.L, True, 0.0)[:N_DESCRIPTOR]
         self.n_descriptors += 1
         return d
 

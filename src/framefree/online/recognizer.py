@@ -55,7 +55,8 @@ STAT_KEYS = ("grid", "units", "candidates", "events", "stops", "restarts")
 
 def _descriptor(config: RecognizerConfig):
     return get_descriptor("bilts+", progress="screw", L=config.L, ds_scale=config.ds_scale,
-                          n_samples=config.n_samples, presmooth=config.presmooth)
+                          n_samples=config.n_samples, presmooth=config.presmooth,
+                          axis_prior=config.axis_prior)
 
 
 def resolve_config(
