@@ -22,7 +22,7 @@ from joblib import Parallel, delayed
 from online_people import _parse_set, _recognizer
 
 from framefree.datasets.faults import FAULT_KINDS, inject
-from framefree.datasets.people import DEV_PEOPLE, HELDOUT_PEOPLE
+from framefree.datasets.people import DEV_PEOPLE, FRESH_PEOPLE, HELDOUT_PEOPLE
 from framefree.datasets.people_streams import make_person_streams
 from framefree.online.evaluation import combine, match_events
 
@@ -42,14 +42,14 @@ def _run(method: str, overrides: dict, item, kind: str):
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--people", default="heldout", help="dev, heldout, or comma-separated seeds")
+    ap.add_argument("--people", default="heldout", help="dev, heldout, fresh, or comma-separated seeds")
     ap.add_argument("--per-person", type=int, default=1)
     ap.add_argument("--method", default="segments", choices=["segments", "paper"])
     ap.add_argument("--set", action="append", default=[], help="recognizer setting KEY=VALUE")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
-    seeds = {"dev": DEV_PEOPLE, "heldout": HELDOUT_PEOPLE}.get(args.people)
+    seeds = {"dev": DEV_PEOPLE, "heldout": HELDOUT_PEOPLE, "fresh": FRESH_PEOPLE}.get(args.people)
     if seeds is None:
         seeds = [int(s) for s in args.people.split(",")]
     overrides = _parse_set(args.set) if args.method == "segments" else {}

@@ -2,8 +2,9 @@
 
 Models: the replica's ``original_1`` recordings (one person, the replica's). Streams: sessions of
 people drawn from the population of :mod:`framefree.datasets.people` — ``--people dev`` (seeds
-0-19, the only ones used to choose parameters) or ``--people heldout`` (seeds 1000-1019, for
-reporting once the parameters are frozen). Both methods can run side by side on the same streams:
+0-19, the only ones used to choose parameters), ``--people heldout`` (seeds 1000-1019) or
+``--people fresh`` (seeds 2000-2019, a second held-out group; both only for reporting once the
+parameters are frozen). Both methods can run side by side on the same streams:
 ``segments`` (framefree's recognizer) and ``paper`` (the paper's).
 
 Prints per-person and pooled precision / recall / F1, false positives per minute of non-gesture
@@ -26,7 +27,7 @@ from pathlib import Path
 from joblib import Parallel, delayed
 
 from framefree.datasets import replica_path
-from framefree.datasets.people import DEV_PEOPLE, HELDOUT_PEOPLE
+from framefree.datasets.people import DEV_PEOPLE, FRESH_PEOPLE, HELDOUT_PEOPLE
 from framefree.datasets.people_streams import make_person_streams
 from framefree.online import PaperRecognizer, Recognizer
 from framefree.online.evaluation import combine, match_events, run_stream
@@ -101,14 +102,14 @@ def _report(method: str, rows: list[dict]) -> dict:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--people", default="dev", help="dev, heldout, or comma-separated seeds")
+    ap.add_argument("--people", default="dev", help="dev, heldout, fresh, or comma-separated seeds")
     ap.add_argument("--per-person", type=int, default=1, help="streams per person")
     ap.add_argument("--method", default="segments", choices=["segments", "paper", "both"])
     ap.add_argument("--set", action="append", default=[], help="recognizer setting KEY=VALUE")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
-    seeds = {"dev": DEV_PEOPLE, "heldout": HELDOUT_PEOPLE}.get(args.people)
+    seeds = {"dev": DEV_PEOPLE, "heldout": HELDOUT_PEOPLE, "fresh": FRESH_PEOPLE}.get(args.people)
     if seeds is None:
         seeds = [int(s) for s in args.people.split(",")]
     overrides = _parse_set(args.set)

@@ -21,6 +21,7 @@ from framefree.library import (
     stop_rotations,
 )
 from framefree.online import Recognizer, RecognizerConfig
+from framefree.online.recognizer import model_window_spacing
 from framefree.online.stop import sustained_peak_speed
 
 from .conftest import scaled
@@ -81,7 +82,9 @@ def test_distances_are_the_recognizers(hpm_takes: TakeSet) -> None:
     taus = dict.fromkeys(few.gestures, 1.0)
     rec = Recognizer.from_trajectories(list(few.takes), list(few.labels), cfg, gesture_thresholds=taus,
                                        stop_threshold=10.0)
-    desc = descriptor_for(cfg)
+    # the recognizer fixes its window spacing from the takes, as the check does
+    assert rec.config.window_spacing == model_window_spacing(list(few.takes), cfg)
+    desc = descriptor_for(rec.config)
     mine = [desc.compute(tr) for tr in few.takes]
     for a, b in zip(mine, rec.classifier.models, strict=True):
         np.testing.assert_array_equal(a, b)

@@ -19,6 +19,7 @@ from framefree.online import recognizer as recognizer_module
 from framefree.online.evaluation import match_events, run_stream
 from framefree.online.events import STOP
 from framefree.online.models import load_model_recordings
+from framefree.online.recognizer import model_window_spacing
 
 REAL = Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "real_motions"
 if not REAL.is_dir():
@@ -62,7 +63,8 @@ def test_a_segment_is_classified_live_as_offline(recognizer, models, heldout_str
     assert len(seen) > 10
     c = recognizer.config
     offline = get_descriptor("bilts+", progress="screw", L=c.L, ds_scale=c.ds_scale,
-                             n_samples=c.n_samples, presmooth=c.presmooth)
+                             n_samples=c.n_samples, presmooth=c.presmooth, axis_prior=c.axis_prior,
+                             spacing=c.window_spacing)
     model_desc = [offline.compute(tr) for tr in models[0]]
     for times, poses, d in seen[::5]:
         query = Trajectory.from_poses(times - times[0], poses)
@@ -135,3 +137,33 @@ def test_configuration_is_validated():
         RecognizerConfig(L=-1.0)
     with pytest.raises(ValueError, match="unknown"):
         RecognizerConfig.from_dict({"nonsense": 1})
+
+
+def test_thresholds_come_from_the_models_and_their_rivals(recognizer, models):
+    """τ_g lies between the worst leave-one-out demonstration P_g and N_g, and N_g is never
+    larger than the distance from g's recordings to the nearest recording of another gesture."""
+    cal = recognizer.calibration
+    labels = np.array(models[1])
+    between = recognizer.classifier.descriptor.distance_matrix(recognizer.classifier.models,
+                                                             recognizer.classifier.models)
+    for g, tau in cal.thresholds.items():
+        P, N = max(cal.positives[g]), cal.negatives[g]
+        rival = between[np.ix_(labels == g, labels != g)].min()
+        assert N <= rival
+        a = recognizer.config.threshold_position
+        assert tau == pytest.approx(P ** (1 - a) * N**a) if np.isfinite(N) else tau == 2 * P
+        assert min(P, N) <= tau <= max(P, N)
+
+
+def test_the_window_spacing_is_the_models_and_fixed(recognizer, models):
+    c = recognizer.config
+    assert c.relative_window and c.window_spacing == model_window_spacing(models[0], c)
+    desc = recognizer.classifier.descriptor
+    assert desc.spacing == c.window_spacing and desc.axis_prior == c.axis_prior == 1.0
+    # a gesture performed half as large keeps its number of descriptor samples (the windows cover
+    # the same fraction of it); the reference's window spacing would change with the size
+    traj = models[0][models[1].index("go_left")]
+    small = Trajectory(traj.t, traj.p[0] + 0.5 * (traj.p - traj.p[0]), traj.q)
+    assert desc.compute(small).shape == desc.compute(traj).shape
+    ref = get_descriptor("bilts+", L=c.L, ds_scale=c.ds_scale, presmooth=c.presmooth)
+    assert ref.compute(small).shape != ref.compute(traj).shape

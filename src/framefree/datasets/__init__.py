@@ -33,7 +33,15 @@ from .layout import (
     load_dataset,
     resolve_models,
 )
-from .people import DEFAULT_PERSON, DEV_PEOPLE, HELDOUT_PEOPLE, Person, draw_person, person
+from .people import (
+    DEFAULT_PERSON,
+    DEV_PEOPLE,
+    FRESH_PEOPLE,
+    HELDOUT_PEOPLE,
+    Person,
+    draw_person,
+    person,
+)
 from .people_streams import PersonStream, make_person_streams, person_stream
 from .replica import REPLICA_VERSION, cache_dir, generator_fingerprint, make_replica, replica_path
 from .streams import (
@@ -54,6 +62,7 @@ __all__ = [
     "DEFAULT_PERSON",
     "DEV_PEOPLE",
     "EXTRA_SHAPES",
+    "FRESH_PEOPLE",
     "GESTURES",
     "HELDOUT_PEOPLE",
     "MODEL_CONTEXT",

@@ -38,6 +38,7 @@ from .recording import (
 __all__ = [
     "DEFAULT_PERSON",
     "DEV_PEOPLE",
+    "FRESH_PEOPLE",
     "HABITUAL_GRIP_WOBBLE",
     "HELDOUT_PEOPLE",
     "NOMINAL_STATURE",
@@ -54,6 +55,9 @@ __all__ = [
 DEV_PEOPLE = range(0, 20)
 #: Seeds of the people used only to report results (never for tuning). Disjoint from DEV_PEOPLE.
 HELDOUT_PEOPLE = range(1000, 1020)
+#: A second held-out group, first run for the fourth version of the live recognizer (the first
+#: group had by then been run once for each of three earlier versions). Disjoint from both.
+FRESH_PEOPLE = range(2000, 2020)
 
 #: Body height [m] of the replica's person (the dimensions of ``ANTHROPOMETRY`` correspond to it).
 NOMINAL_STATURE = 1.70

@@ -271,6 +271,7 @@ class _BILTSBase(Descriptor):
         "presmooth",
         "open_end",
         "axis_prior",
+        "spacing",
     )
     regularized: bool = False
     default_window: int = 20
@@ -287,6 +288,7 @@ class _BILTSBase(Descriptor):
         presmooth: int | None = None,
         open_end: bool = False,
         axis_prior: float = 0.0,
+        spacing: int | None = None,
     ) -> None:
         self.progress = self._check_progress(progress)
         if not L > 0:
@@ -309,6 +311,9 @@ class _BILTSBase(Descriptor):
         if axis_prior > 0.0 and not self.regularized:
             raise ValueError("axis_prior needs the body-origin clamp of BILTS+ (descriptor 'bilts+')")
         self.axis_prior = float(axis_prior)
+        if spacing is not None and not (int(spacing) == spacing and spacing >= 1):
+            raise ValueError(f"spacing must be a whole number of samples >= 1, got {spacing}")
+        self.spacing = None if spacing is None else int(spacing)
 
     @classmethod
     def parameter_grid(cls, progress: str) -> tuple[float, ...]:
@@ -336,7 +341,8 @@ class _BILTSBase(Descriptor):
     ) -> np.ndarray:
         """Descriptor from poses (N, 4, 4) already at equidistant progress with step ``ds``
         (``arclength`` is not used)."""
-        m = window_spacing(self.ds_scale, ds, self._max_spacing())
+        m = (window_spacing(self.ds_scale, ds, self._max_spacing()) if self.spacing is None
+             else min(self.spacing, self._max_spacing()))
         smoothed = smooth_poses(poses, self.window)
         twists = se3.central_spatial_twists(smoothed, ds)
         twists = twists + twist_perturbation(self.seed, twists.shape)
@@ -405,6 +411,10 @@ class BILTS(_BILTSBase):
         that places the moving-frame origin, along the screw axis, near the body origin when the
         motion does not determine it (a rotation about a nearly fixed axis, such as an elbow
         flexion). See docs/algorithms/bilts.md#axis-prior.
+    spacing : int, optional
+        framefree extension: a fixed window spacing ``m`` [samples] instead of
+        ``round(ds_scale / Δs)`` (the reference, ``None``). With it, the windows cover the same
+        fraction of every trajectory, however large it is (docs/algorithms/bilts.md#fixed-spacing).
     """
 
     name = "bilts"

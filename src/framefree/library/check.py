@@ -38,8 +38,9 @@ from typing import Any
 
 import numpy as np
 
-from ..descriptors.base import Descriptor, get_descriptor
+from ..descriptors.base import Descriptor
 from ..online.config import RecognizerConfig
+from ..online.recognizer import model_window_spacing, segment_descriptor
 from ..online.stop import sustained_peak_speed
 from .probes import everyday_motions, perturbed, slowest_stop_speed, stop_rotations
 from .store import TakeSet
@@ -166,11 +167,9 @@ class CheckReport:
 
 
 def descriptor_for(config: RecognizerConfig | None = None) -> Descriptor:
-    """The offline descriptor the recognizer classifies segments with: BILTS+, screw-path progress,
-    the configuration's ``L``, ``ds_scale``, ``n_samples`` and ``presmooth``."""
-    c = config or RecognizerConfig()
-    return get_descriptor("bilts+", progress="screw", L=c.L, ds_scale=c.ds_scale, n_samples=c.n_samples,
-                          presmooth=c.presmooth)
+    """The offline descriptor the recognizer classifies segments with
+    (:func:`~framefree.online.recognizer.segment_descriptor`)."""
+    return segment_descriptor(config or RecognizerConfig())
 
 
 def _nearest_by_gesture(D: np.ndarray, labels: np.ndarray, gestures: Sequence[str]) -> np.ndarray:
@@ -239,6 +238,8 @@ def check_takes(
     """
     s = settings or CheckSettings()
     config = config or RecognizerConfig()
+    if config.relative_window and config.window_spacing is None:
+        config = config.replace(window_spacing=model_window_spacing(takes.takes, config))
     rng = np.random.default_rng(s.seed)
     desc = descriptor_for(config)
     labels = np.array(takes.labels)

@@ -28,7 +28,9 @@ from typing import Any
 import numpy as np
 
 from .. import se3
-from ..descriptors.base import get_descriptor
+from ..descriptors.base import Descriptor, get_descriptor
+from ..descriptors.bilts import window_spacing
+from ..progress import reparameterize
 from ..trajectory import Trajectory
 from .acceptance import SampleGate
 from .config import RecognizerConfig
@@ -53,10 +55,22 @@ __all__ = ["STAT_KEYS", "Recognizer", "resolve_config"]
 STAT_KEYS = ("grid", "units", "candidates", "events", "stops", "restarts")
 
 
-def _descriptor(config: RecognizerConfig):
+def segment_descriptor(config: RecognizerConfig) -> Descriptor:
+    """The offline descriptor the recognizer classifies segments with: BILTS+ with screw-path
+    progress and the configuration's ``L``, ``ds_scale``, ``n_samples``, ``presmooth``,
+    ``axis_prior`` and, with ``relative_window``, ``window_spacing``."""
+    spacing = config.window_spacing if config.relative_window else None
     return get_descriptor("bilts+", progress="screw", L=config.L, ds_scale=config.ds_scale,
                           n_samples=config.n_samples, presmooth=config.presmooth,
-                          axis_prior=config.axis_prior)
+                          axis_prior=config.axis_prior, spacing=spacing)
+
+
+def model_window_spacing(trajectories: Sequence[Trajectory], config: RecognizerConfig) -> int:
+    """The reference's window spacing for a typical model recording: ``ds_scale`` over the median
+    progress step of the recordings, rounded (at least 1)."""
+    steps = [reparameterize(tr, "screw", config.L, config.n_samples, presmooth=config.presmooth).ds
+             for tr in trajectories]
+    return window_spacing(config.ds_scale, float(np.median(steps)))
 
 
 def resolve_config(
@@ -98,7 +112,7 @@ def resolve_config(
         spotter = _spotter(classifier, np.ones(len(labels)), c, list(labels))
         calibration = calibrate_segment_thresholds(
             trajectories, labels, classifier, levels, spotter, c.L, c.negative_quantile,
-            c.threshold_position)
+            c.threshold_position, gated=c.gated_negatives, rivals=c.rival_negatives)
         c = c.replace(gesture_thresholds=calibration.thresholds)
     if c.stop_threshold is None:
         peak = max(sustained_peak_speed(tr.t, tr.q, c.stop_window, c.stop_min_duration)
@@ -220,7 +234,9 @@ class Recognizer(StreamingRecognizer):
         if not trajectories:
             raise ValueError("no model recordings")
         config = (config or RecognizerConfig()).replace(**overrides)
-        descriptor = _descriptor(config)
+        if config.relative_window and config.window_spacing is None:
+            config = config.replace(window_spacing=model_window_spacing(trajectories, config))
+        descriptor = segment_descriptor(config)
         classifier = SegmentClassifier(descriptor, [descriptor.compute(tr) for tr in trajectories])
         resolved, calibration = resolve_config(trajectories, labels, config, classifier)
         return cls(classifier, labels, resolved, calibration)

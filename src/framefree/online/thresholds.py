@@ -5,17 +5,25 @@ candidate segment of it is classified against the *other* recordings of its gest
 (leave-one-out); its score is the best such distance. ``P_g`` is the largest score of gesture
 ``g``'s recordings: every demonstration must be recognized when it is left out.
 
-**Negatives.** Generic motion that is no gesture, built around every recording's start and end
-pose with the recording's own sensor noise (:func:`framefree.online.calibration.non_gesture_motions`):
-holding still, and unhurried via-point moves (repositioning, reaching). Their candidate segments are
-classified against the models of ``g`` (only candidates within ``g``'s closure limit: see
-:func:`closure_limit`); an episode's score is its best candidate's distance, and ``N_g`` is the
-``negative_quantile`` (5 %) quantile of the episodes' scores.
+**Negatives.** Two kinds:
 
-**Rule.** Distances are scale-like, so the threshold sits at the geometric midpoint
-``τ_g = √(P_g · N_g)``: as far, in ratio, from the worst demonstration as from the nearest generic
-motion. When ``P_g ≥ N_g`` the gesture is reported as not separated (the midpoint is then a
-compromise between missing demonstrations and accepting generic motion).
+* *generic motion* that is no gesture, built around every recording's start and end pose with the
+  recording's own sensor noise (:func:`framefree.online.calibration.non_gesture_motions`):
+  holding still, and unhurried via-point moves (repositioning, reaching). Each episode's score for
+  ``g`` is the best distance to the models of ``g`` among its candidates that pass ``g``'s closure
+  and size limits; an episode none of whose candidates passes them cannot be taken for ``g`` and
+  scores infinity (*gated*). Their ``negative_quantile`` (5 %) quantile is the generic part;
+* *rivals*: the other gestures. The distance (the classifier's, between whole recordings) of the
+  nearest pair of a recording of ``g`` and a recording of another gesture bounds ``N_g`` from above: a segment that far from ``g`` may as well
+  be the other gesture.
+
+``N_g`` is the smaller of the two.
+
+**Rule.** Distances are scale-like, so the threshold is placed on a log scale between them:
+``τ_g = P_g^(1-a) · N_g^a`` with ``a = position`` (the recognizer's default 0.7 leans towards the
+negatives: another person's performance lies farther from the models than one person's
+demonstrations lie from each other). When ``P_g ≥ N_g`` the gesture is reported as not separated.
+If no negative is finite, ``τ_g = 2 P_g``.
 """
 
 from __future__ import annotations
@@ -66,8 +74,9 @@ class SegmentThresholds:
     def summary(self) -> dict:
         """JSON-friendly summary."""
         return {
-            "rule": "tau_g = sqrt(P_g * N_g) (P_g: worst leave-one-out demonstration, "
-                    "N_g: 5 % quantile of generic non-gesture episodes)",
+            "rule": "tau_g = P_g^(1-a) * N_g^a (P_g: worst leave-one-out demonstration, N_g: the "
+                    "smaller of the 5 % quantile of generic non-gesture episodes and the nearest "
+                    "other gesture's recording)",
             "thresholds": dict(self.thresholds),
             "positives_max": {g: float(max(v)) for g, v in self.positives.items()},
             "negatives_quantile": dict(self.negatives),
@@ -177,6 +186,14 @@ def closure_limit(largest: float, exponent: float = 0.5) -> float:
     return float(max(largest, 1e-6) ** exponent)
 
 
+def _quantile(values: list[float], q: float) -> float:
+    """The ``q`` quantile; with infinite values one of the values (no interpolation into inf)."""
+    if not values:
+        return np.inf
+    method = "inverted_cdf" if np.isinf(values).any() else "linear"
+    return float(np.quantile(values, q, method=method))
+
+
 def calibrate_segment_thresholds(
     trajectories: Sequence[Trajectory],
     labels: Sequence[str],
@@ -187,6 +204,8 @@ def calibrate_segment_thresholds(
     negative_quantile: float = 0.05,
     position: float = 0.5,
     seed: int = 0,
+    gated: bool = True,
+    rivals: bool = True,
 ) -> SegmentThresholds:
     """τ_g for every gesture (see the module docstring).
 
@@ -206,6 +225,12 @@ def calibrate_segment_thresholds(
         (0.5: the geometric midpoint).
     seed : int
         Seed of the generated non-gesture motion (the calibration is deterministic).
+    gated : bool
+        Count an episode none of whose candidates passes ``g``'s closure and size limits as
+        infinitely far from ``g`` (True), or leave it out of ``g``'s quantile (False).
+    rivals : bool
+        Also count the other gestures' recordings as negatives: ``N_g`` is at most the distance
+        between the nearest pair of a recording of ``g`` and a recording of another gesture.
     """
     labels_arr = np.asarray(labels)
     gestures = list(dict.fromkeys(labels))
@@ -231,11 +256,17 @@ def calibrate_segment_thresholds(
             ok = admissible(first[g], c, size)
             if ok.any():
                 episodes[g].append(float(D[ok][:, labels_arr == g].min()))
+            elif gated:
+                episodes[g].append(np.inf)
     thresholds, separated, negatives = {}, {}, {}
+    between = classifier.descriptor.distance_matrix(classifier.models, classifier.models)
     for g in gestures:
         finite = [p for p in positives[g] if np.isfinite(p)]
         P = max(finite) if finite else np.inf
-        N = float(np.quantile(episodes[g], negative_quantile)) if episodes[g] else np.inf
+        N = _quantile(episodes[g], negative_quantile)
+        own = labels_arr == g
+        if rivals and (~own).any():
+            N = min(N, float(between[np.ix_(own, ~own)].min()))
         negatives[g] = N
         separated[g] = bool(P < N)
         if np.isfinite(P) and np.isfinite(N):
