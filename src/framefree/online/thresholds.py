@@ -14,8 +14,8 @@ candidate segment of it is classified against the *other* recordings of its gest
   and size limits; an episode none of whose candidates passes them cannot be taken for ``g`` and
   scores infinity (*gated*). Their ``negative_quantile`` (5 %) quantile is the generic part;
 * *rivals*: the other gestures. The distance (the classifier's, between whole recordings) of the
-  nearest pair of a recording of ``g`` and a recording of another gesture bounds ``N_g`` from above: a segment that far from ``g`` may as well
-  be the other gesture.
+  nearest pair of a recording of ``g`` and a recording of another gesture bounds ``N_g`` from
+  above: a segment that far from ``g`` may as well be the other gesture.
 
 ``N_g`` is the smaller of the two.
 
