@@ -31,6 +31,7 @@ import numpy as np
 
 from framefree.datasets import (
     DEV_PEOPLE,
+    FRESH_PEOPLE,
     GESTURES,
     HELDOUT_PEOPLE,
     make_person_streams,
@@ -94,8 +95,8 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--demo-seed", type=int, default=0, help="seed of the demonstration recording")
     ap.add_argument("--people", type=int, default=3, help="number of held-out people")
     ap.add_argument("--first-person", type=int, default=0, help="index of the first one in the group")
-    ap.add_argument("--people-group", choices=["heldout", "dev"], default="heldout",
-                    help="HELDOUT_PEOPLE (report) or DEV_PEOPLE (to choose settings)")
+    ap.add_argument("--people-group", choices=["heldout", "fresh", "dev"], default="heldout",
+                    help="HELDOUT_PEOPLE or FRESH_PEOPLE (report), DEV_PEOPLE (to choose settings)")
     ap.add_argument("--set", action="append", default=[], help="recognizer setting KEY=VALUE (JSON value)")
     ap.add_argument("--streams-per-person", type=int, default=2)
     ap.add_argument("--n-gestures", type=int, default=16, help="gestures per stream")
@@ -118,13 +119,14 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     path8 = lib8.save(work / "hpm_plus_one.npz")
     t_enroll = time.perf_counter() - t0
 
-    group = HELDOUT_PEOPLE if args.people_group == "heldout" else DEV_PEOPLE
+    group = {"heldout": HELDOUT_PEOPLE, "fresh": FRESH_PEOPLE, "dev": DEV_PEOPLE}[args.people_group]
     people = list(group)[args.first_person: args.first_person + args.people]
     labels = [*GESTURES, args.gesture]
     streams = make_person_streams(people, args.streams_per_person, n_gestures=args.n_gestures,
                                   gestures=labels, progress=True)
     out: dict[str, Any] = {
         "gesture": args.gesture, "takes": len(takes), "people": people,
+        "people_group": args.people_group,
         "streams": [(s.person_seed, s.stream_seed) for s in streams],
         "enroll_s": t_enroll, "thresholds": lib8.gesture_thresholds,
         "with_new_gesture": evaluate(path8, streams, [*labels, "stop"]),
@@ -141,7 +143,8 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
 
 def _print(out: dict[str, Any]) -> None:
     both = "seven_only" in out
-    print(f"{out['gesture']}: {out['takes']} takes; held-out people {out['people']}, "
+    group = out.get("people_group", "heldout")
+    print(f"{out['gesture']}: {out['takes']} takes; {group} people {out['people']}, "
           f"{len(out['streams'])} streams")
     print(f"{'gesture':<16}{'F1 (8 gestures)':>16}" + (f"{'F1 (HPM seven)':>16}" if both else ""))
     for g, m in out["with_new_gesture"]["per_gesture"].items():
