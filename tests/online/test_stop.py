@@ -138,3 +138,78 @@ def test_sample_rate_detector_keeps_the_paper_behaviour():
     det = SampleRateStopDetector(threshold=3.0, samples=2)
     assert det.run(zip(t, q, strict=True)) == pytest.approx([0.04])
     assert math.isclose(det.rate, 2.0 * math.sin(0.5 * 8.0 * 0.02 / 2) / 0.02, rel_tol=1e-9)
+
+
+# ------------------------------------------------------------------------ shape check (confirm)
+def strokes(angles, durations, period: float = 0.02):
+    """Times and quaternions of minimum-jerk rotation strokes about one fixed axis, one after
+    the other (``angles`` [rad], signed; ``durations`` [s])."""
+    axis = np.array([2.0, 1.0, 2.0]) / 3.0
+    t_all, a_all, t0, a0 = [0.0], [0.0], 0.0, 0.0
+    for angle, dur in zip(angles, durations, strict=True):
+        t = np.arange(1, round(dur / period) + 1) * period
+        x = t / dur
+        t_all.extend(t0 + t)
+        a_all.extend(a0 + angle * x**3 * (10 - 15 * x + 6 * x**2))
+        t0, a0 = t0 + t[-1], a0 + angle
+    t, a = np.array(t_all), np.array(a_all)
+    t = np.concatenate([t, t[-1] + period * np.arange(1, 30)])  # then hold still
+    a = np.concatenate([a, np.full(29, a[-1])])
+    return t, np.column_stack([np.cos(a / 2), np.sin(a / 2)[:, None] * axis])
+
+
+def _detector(confirm):
+    return StopDetector(threshold=7.0, confirm=confirm, sustain_ratio=0.82, instant=1.6)
+
+
+def test_a_quick_shake_is_a_stop_with_and_without_the_shape_check():
+    a = math.radians(65)
+    t, q = strokes([a, -2 * a, a], [0.25, 0.4, 0.25])  # peak ~9.3 rad/s
+    plain = _detector(0.0).run(zip(t, q, strict=True))
+    checked = _detector(0.3).run(zip(t, q, strict=True))
+    assert len(plain) == 1 and len(checked) == 1
+    assert 0.25 <= checked[0] - plain[0] <= 0.35  # it waits for the shape check
+
+
+def test_a_fast_gesture_stroke_is_not_a_stop():
+    # a forearm turn of 150 degrees and back in 0.65 s strokes: peak ~7.6 rad/s, above the
+    # threshold, but sustained in one direction for longer than a stop signal's strokes (strokes
+    # under about 0.55 s are as quick as a stop's and are not told apart)
+    a = math.radians(150)
+    t, q = strokes([a, -a], [0.65, 0.65])
+    assert len(_detector(0.0).run(zip(t, q, strict=True))) == 1
+    assert _detector(0.3).run(zip(t, q, strict=True)) == []
+
+
+def test_a_rotation_beyond_instant_fires_at_once():
+    t, q = spin(12.0, 0.6)  # 12 rad/s > 1.6 x 7 rad/s
+    plain = _detector(0.0).run(zip(t, q, strict=True))
+    checked = _detector(0.3).run(zip(t, q, strict=True))
+    assert checked == plain and len(plain) == 1
+
+
+def _jittered(t, amplitude, rng):
+    return np.maximum.accumulate(t + rng.uniform(-amplitude, amplitude, t.size))
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.floats(0.6, 1.0), st.floats(0.18, 0.3), st.integers(0, 1000))
+def test_shakes_fire_under_time_stamp_jitter(amp, dur, seed):
+    # jitter (±8 ms) inflates the short-window peak and so makes every rotation look less
+    # sustained: a stop signal is never lost to it (a gesture stroke may then pass as a stop, as
+    # without the check)
+    t, q = strokes([amp, -2 * amp, amp], [dur, 1.6 * dur, dur])
+    t = _jittered(t, 0.008, np.random.default_rng(seed))
+    det = StopDetector(threshold=min(7.0, 0.8 * float(np.nanmax(windowed_angular_speeds(t, q)))),
+                       confirm=0.3)
+    assert len(det.run(zip(t, q, strict=True))) == 1
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.floats(2.0, 2.9), st.floats(0.7, 1.0), st.integers(0, 1000))
+def test_sustained_strokes_are_no_stop_under_small_jitter(amp, dur, seed):
+    t, q = strokes([amp, -amp], [dur, dur])
+    t = _jittered(t, 0.002, np.random.default_rng(seed))
+    peak = float(np.nanmax(windowed_angular_speeds(t, q)))
+    assert StopDetector(threshold=0.9 * peak, confirm=0.0).run(zip(t, q, strict=True))
+    assert StopDetector(threshold=0.9 * peak, confirm=0.3).run(zip(t, q, strict=True)) == []

@@ -112,6 +112,11 @@ class RecognizerConfig:
     stop_window, stop_min_duration, stop_rearm, stop_refractory : float
         Windowed stop detector (:class:`~framefree.online.stop.StopDetector`): 0.08 s, 0.04 s, 0.7,
         1.5 s.
+    stop_confirm, stop_sustain_ratio, stop_instant : float
+        The stop detector's shape check: a candidate whose angular speed over ``stop_confirm``
+        seconds reaches ``stop_sustain_ratio`` × its peak is a fast gesture stroke, not a stop;
+        one faster than ``stop_instant`` × the threshold fires at once (0.3 s, 0.82, 1.6; 0 s turns
+        the check off).
     rest_speed, move_speed : float or None
         Segmenter levels [m/s of screw path]; ``None``: from the models.
     closure_limits : dict of str to float or None
@@ -163,6 +168,9 @@ class RecognizerConfig:
     stop_min_duration: float = 0.04
     stop_rearm: float = 0.7
     stop_refractory: float = 1.5
+    stop_confirm: float = 0.3
+    stop_sustain_ratio: float = 0.82
+    stop_instant: float = 1.6
     rest_speed: float | None = None
     move_speed: float | None = None
     closure_limits: dict[str, float] | None = None

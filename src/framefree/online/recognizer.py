@@ -199,7 +199,8 @@ class Recognizer(StreamingRecognizer):
         self.stop_threshold = float(c.stop_threshold)
         self.gate = SampleGate(max_bridge=c.max_bridge, nominal_period=c.dt)
         self.stop = StopDetector(self.stop_threshold, c.stop_window, c.stop_min_duration,
-                                 c.stop_rearm, c.stop_refractory)
+                                 c.stop_rearm, c.stop_refractory, c.stop_confirm,
+                                 c.stop_sustain_ratio, c.stop_instant)
         self.resampler = UniformResampler(c.dt)
         capacity = math.ceil((c.max_duration + c.max_wait + 2.0) / c.dt) + 2 * c.margin
         self.segmenter = MotionSegmenter(SpeedLevels(c.rest_speed, c.move_speed), c.L, c.dt,

@@ -121,7 +121,15 @@ def sustained_peak_speed(
 
 
 class StopDetector:
-    """Threshold on the windowed angular speed, with a minimum duration and re-arming.
+    """Threshold on the windowed angular speed, with a minimum duration, a shape check and re-arming.
+
+    A rotation faster than ``threshold`` for ``min_duration`` seconds is a stop *candidate*. With
+    ``confirm`` > 0 it is checked for the shape of a stop signal, a quick back-and-forth, before it
+    fires: if within ``confirm`` seconds the angular speed over the longer ``confirm`` window
+    reaches ``sustain_ratio`` × the peak short-window speed, the hand has kept turning one way for
+    that long — a fast gesture stroke, not a stop — and the candidate is dropped; otherwise it fires
+    ``confirm`` seconds after it began. A rotation faster than ``instant`` × ``threshold`` fires at
+    once. ``confirm = 0`` gives the plain threshold detector.
 
     Parameters
     ----------
@@ -135,6 +143,12 @@ class StopDetector:
         Fraction of the threshold below which the detector re-arms after firing (0.7).
     refractory : float
         Time [s] after firing during which the detector stays silent (1.5).
+    confirm : float
+        Shape check [s]: how long a candidate waits, and the window of the sustained speed (0).
+    sustain_ratio : float
+        Sustained speed over ``confirm`` relative to the peak speed that marks a gesture stroke.
+    instant : float
+        A candidate this many times above ``threshold`` fires without the shape check.
 
     Attributes
     ----------
@@ -142,6 +156,8 @@ class StopDetector:
         Latest windowed angular speed [rad/s] (NaN until the window is filled).
     armed : bool
         False from a stop until the speed falls below ``rearm`` × threshold.
+    pending : bool
+        A candidate is waiting for its shape check.
     """
 
     def __init__(
@@ -151,16 +167,25 @@ class StopDetector:
         min_duration: float = 0.04,
         rearm: float = 0.7,
         refractory: float = 1.5,
+        confirm: float = 0.0,
+        sustain_ratio: float = 0.82,
+        instant: float = 1.6,
     ) -> None:
         if not threshold > 0:
             raise ValueError(f"stop threshold must be positive, got {threshold}")
         if not min_duration >= 0:
             raise ValueError(f"min_duration must be non-negative, got {min_duration}")
+        if not confirm >= 0:
+            raise ValueError(f"confirm must be non-negative, got {confirm}")
         self.threshold = float(threshold)
         self.min_duration = float(min_duration)
         self.rearm = float(rearm)
         self.refractory = float(refractory)
+        self.confirm = float(confirm)
+        self.sustain_ratio = float(sustain_ratio)
+        self.instant = float(instant)
         self._speed = WindowedAngularSpeed(window)
+        self._sustained = WindowedAngularSpeed(confirm) if confirm > 0 else None
         self.window = self._speed.window
         self.armed = True
         self._fired_at = -math.inf
@@ -169,8 +194,14 @@ class StopDetector:
     def reset(self) -> None:
         """Forget the samples (after a restart of the stream); keep the armed state."""
         self._speed.reset()
+        if self._sustained is not None:
+            self._sustained.reset()
         self._t: float | None = None
         self._run_start: float | None = None
+        self._pending_since: float | None = None
+        self._peak = 0.0
+        self._recent: deque[float] = deque(maxlen=3)
+        self._vetoed = False
         self.angular_speed = math.nan
 
     def rearm_now(self) -> None:
@@ -180,11 +211,39 @@ class StopDetector:
         self._fired_at = -math.inf
 
     @property
+    def pending(self) -> bool:
+        """A candidate is waiting for its shape check."""
+        return self._pending_since is not None
+
+    @property
     def active(self) -> bool:
         """True while the hand rotates fast, until re-armed, and within ``refractory`` of a stop."""
         if self._run_start is not None or not self.armed:
             return True
         return self._t is not None and self._t - self._fired_at < self.refractory
+
+    def _fire(self, t: float) -> bool:
+        self.armed = False
+        self._fired_at = t
+        self._pending_since = None
+        return True
+
+    def _check_shape(self, t: float, speed: float, sustained: float) -> bool:
+        """A pending candidate: drop it if the rotation is sustained, fire it when its time is up.
+
+        The peak is taken over the median of the last three short-window speeds, so that one
+        jittered time stamp cannot inflate it."""
+        self._recent.append(speed)
+        robust = sorted(self._recent)[len(self._recent) // 2]
+        if robust > self._peak:
+            self._peak = robust
+        if sustained >= self.sustain_ratio * self._peak:
+            self._pending_since = None
+            self._vetoed = True
+            return False
+        if t - self._pending_since >= self.confirm:
+            return self._fire(t)
+        return False
 
     def update(self, t: float, q: np.ndarray) -> bool:
         """Feed a sample (time [s], unit quaternion (4,)); True when a stop fires."""
@@ -193,19 +252,28 @@ class StopDetector:
             return False
         self._t = t
         speed = self._speed.update(t, q)
+        sustained = self._sustained.update(t, q) if self._sustained is not None else math.nan
         self.angular_speed = speed
+        if self._pending_since is not None:
+            return self._check_shape(t, speed if speed == speed else 0.0,
+                                     sustained if sustained == sustained else 0.0)
         if not speed > self.threshold:  # also NaN: window not filled yet
             self._run_start = None
             if speed < self.rearm * self.threshold:
                 self.armed = True
+                self._vetoed = False
             return False
         if self._run_start is None:
             self._run_start = t
         quiet = t - self._fired_at < self.refractory
-        if self.armed and not quiet and t - self._run_start >= self.min_duration:
-            self.armed = False
-            self._fired_at = t
-            return True
+        if (self.armed and not self._vetoed and not quiet
+                and t - self._run_start >= self.min_duration):
+            if self.confirm == 0.0 or speed >= self.instant * self.threshold:
+                return self._fire(t)
+            self._pending_since = self._run_start
+            self._peak = 0.0
+            self._recent.clear()
+            return self._check_shape(t, speed, sustained if sustained == sustained else 0.0)
         return False
 
     def run(self, samples: Iterable[tuple[float, np.ndarray]]) -> list[float]:
