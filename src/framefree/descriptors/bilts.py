@@ -169,17 +169,16 @@ def bilts_sample(xm, x0, xp, p_obj, L, regularized, axis_prior):
     ps = np.empty(3)
     ps[2] = Y[1, 0] / R1[0, 0]
     ps[1] = -Y[2, 0] / R1[0, 0]
-    qo = np.empty(3)
-    for i in range(3):
-        qo[i] = Q[0, i] * p_obj[0] + Q[1, i] * p_obj[1] + Q[2, i] * p_obj[2]
     # along the axis: R1[1, 1] * x = b (entry (3, 2) of the translational block made zero)
     b = Y[2, 1] + R1[0, 1] * ps[1]
-    if regularized and axis_prior > 0.0:
-        w2 = (axis_prior * R1[0, 0]) ** 2
-        ps[0] = (R1[1, 1] * b + w2 * qo[0]) / (R1[1, 1] ** 2 + w2)
-    else:
-        ps[0] = b / R1[1, 1]
+    ps[0] = b / R1[1, 1]
     if regularized:
+        qo = np.empty(3)
+        for i in range(3):
+            qo[i] = Q[0, i] * p_obj[0] + Q[1, i] * p_obj[1] + Q[2, i] * p_obj[2]
+        if axis_prior > 0.0:  # regularized least squares, pulled towards the body's foot point
+            w2 = (axis_prior * R1[0, 0]) ** 2
+            ps[0] = (R1[1, 1] * b + w2 * qo[0]) / (R1[1, 1] ** 2 + w2)
         delta = ps - qo
         nd = math.sqrt(delta[0] ** 2 + delta[1] ** 2 + delta[2] ** 2)
         if nd > L:

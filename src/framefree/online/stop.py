@@ -156,8 +156,6 @@ class StopDetector:
         Latest windowed angular speed [rad/s] (NaN until the window is filled).
     armed : bool
         False from a stop until the speed falls below ``rearm`` × threshold.
-    pending : bool
-        A candidate is waiting for its shape check.
     """
 
     def __init__(
@@ -209,11 +207,6 @@ class StopDetector:
         self.reset()
         self.armed = True
         self._fired_at = -math.inf
-
-    @property
-    def pending(self) -> bool:
-        """A candidate is waiting for its shape check."""
-        return self._pending_since is not None
 
     @property
     def active(self) -> bool:

@@ -259,13 +259,14 @@ def calibrate_segment_thresholds(
             elif gated:
                 episodes[g].append(np.inf)
     thresholds, separated, negatives = {}, {}, {}
-    between = classifier.descriptor.distance_matrix(classifier.models, classifier.models)
+    between = (classifier.descriptor.distance_matrix(classifier.models, classifier.models)
+               if rivals else None)
     for g in gestures:
         finite = [p for p in positives[g] if np.isfinite(p)]
         P = max(finite) if finite else np.inf
         N = _quantile(episodes[g], negative_quantile)
         own = labels_arr == g
-        if rivals and (~own).any():
+        if between is not None and (~own).any():
             N = min(N, float(between[np.ix_(own, ~own)].min()))
         negatives[g] = N
         separated[g] = bool(P < N)
