@@ -1,7 +1,9 @@
 """The ``framefree`` command: one entry point, subcommands that read like sentences.
 
 Each area of the toolkit contributes its subcommands from a module in :mod:`framefree.commands`;
-this file only assembles them and turns framefree's input errors into one-line messages.
+this file only assembles them and turns framefree's input errors into one-line messages. A module is
+imported when one of its commands runs (or help lists them), so that ``framefree live`` does not
+wait for the benchmark's or the robot's imports.
 """
 
 from __future__ import annotations
@@ -15,8 +17,16 @@ import click
 from . import __version__
 from .errors import FramefreeError, FramefreeWarning
 
-#: command modules, each exposing ``register(group)``
-COMMAND_MODULES = ("core", "dataset", "benchmark", "online", "robot", "demo", "library")
+#: command name -> module of :mod:`framefree.commands` whose ``register(group)`` adds it
+COMMANDS = {
+    "describe": "core", "classify": "core",
+    "dataset": "dataset", "plot": "dataset",
+    "benchmark": "benchmark",
+    "stream": "online", "live": "online", "evaluate-stream": "online",
+    "robot": "robot",
+    "demo": "demo",
+    "record": "library", "enroll": "library", "check": "library",
+}
 
 
 def _one_line(exc: BaseException) -> str:
@@ -52,7 +62,19 @@ class _WarningPrinter:
 
 
 class _Group(click.Group):
-    """Runs a subcommand; input errors become one line and exit status 2 (unless ``--debug``)."""
+    """Runs a subcommand; input errors become one line and exit status 2 (unless ``--debug``).
+
+    Subcommands are loaded on first use from their module (:data:`COMMANDS`).
+    """
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return sorted(set(COMMANDS) | set(self.commands))
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        if cmd_name not in self.commands and cmd_name in COMMANDS:
+            module = importlib.import_module(f"{__package__}.commands.{COMMANDS[cmd_name]}")
+            module.register(self)
+        return self.commands.get(cmd_name)
 
     def invoke(self, ctx: click.Context):
         debug = bool(ctx.params.get("debug"))
@@ -84,15 +106,6 @@ def cli(debug: bool) -> None:
     Run `framefree COMMAND --help` for the options of a command.
     """
 
-
-for _name in COMMAND_MODULES:
-    try:
-        _mod = importlib.import_module(f"{__package__}.commands.{_name}")
-    except ModuleNotFoundError as _exc:  # an area that is not written yet
-        if _exc.name != f"{__package__}.commands.{_name}":
-            raise
-        continue
-    _mod.register(cli)
 
 
 def main() -> None:

@@ -20,6 +20,7 @@ from framefree.online.evaluation import match_events, run_stream
 from framefree.online.events import STOP
 from framefree.online.models import load_model_recordings
 from framefree.online.recognizer import model_window_spacing
+from framefree.online.thresholds import pooled_closures
 
 REAL = Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "real_motions"
 if not REAL.is_dir():
@@ -167,3 +168,14 @@ def test_the_window_spacing_is_the_models_and_fixed(recognizer, models):
     assert desc.compute(small).shape == desc.compute(traj).shape
     ref = get_descriptor("bilts+", L=c.L, ds_scale=c.ds_scale, presmooth=c.presmooth)
     assert ref.compute(small).shape != ref.compute(traj).shape
+
+
+def test_pooled_closure_limits_share_the_returning_gestures_largest_closure(recognizer, models):
+    """With ``closure_pooled`` every returning gesture gets the limit of the least precisely
+    returning one; a one-way gesture keeps its own; nothing is recalibrated but the limits."""
+    assert pooled_closures({"a": 0.02, "b": 0.06, "swipe": 0.9}) == {"a": 0.06, "b": 0.06, "swipe": 0.9}
+    assert pooled_closures({"swipe": 0.9}) == {"swipe": 0.9}
+    own = recognizer.config.closure_limits
+    c = recognizer.config.replace(closure_limits=None, closure_pooled=True)
+    pooled = Recognizer.from_trajectories(*models, config=c).config.closure_limits
+    assert set(pooled.values()) == {max(own.values())}

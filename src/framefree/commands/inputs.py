@@ -10,13 +10,15 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
-from ..datasets.layout import ModelSet, resolve_models
 from ..errors import FramefreeError
 from ..posecsv import QUAT_ORDERS, UNITS
+
+if TYPE_CHECKING:
+    from ..datasets.layout import ModelSet
 
 __all__ = [
     "dataset_file_options",
@@ -88,6 +90,7 @@ def model_options(func: Callable[..., Any]) -> Callable[..., Any]:
 def read_models(folder: str | Path, model_context: str, quat_order: str, units: str) -> ModelSet:
     """Models from either layout (see :func:`~framefree.datasets.resolve_models`); says on stderr
     which layout it found."""
+    from ..datasets.layout import resolve_models  # the dataset generators load on first use
 
     found = resolve_models(folder, model_context=model_context, quat_order=quat_order, units=units)
     click.echo(found.description, err=True)

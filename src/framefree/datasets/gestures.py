@@ -73,10 +73,11 @@ __all__ = [
     "synthesize_gesture",
 ]
 
-#: Hand orientations in the user frame.
+#: Hand orientations in the user frame (written out, so that importing needs no compiled kernel).
 PALM_DOWN = np.eye(3)
-PALM_UP = rot([1, 0, 0], math.pi)
-PALM_LEFT = rot([1, 0, 0], math.pi / 2)  # thumb up, palm facing left
+PALM_UP = np.diag([1.0, -1.0, -1.0])  # half a turn about x
+# quarter turn about x: thumb up, palm facing left
+PALM_LEFT = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
 
 #: Body dimensions [m] and joint ranges [rad] (mean, std). Elbow-to-palm distance: forearm
 #: 0.146 H plus half a hand 0.054 H for a body height H ≈ 1.70 m (Drillis & Contini 1966).

@@ -8,20 +8,56 @@ Public API::
     for t, p, q in source:
         for event in rec.push(t, p, q):
             print(event)
+
+The names below are imported on first use (:pep:`562`): ``framefree live`` loads the segment
+recognizer without the paper's recognizer, its matchers or the pose sources it does not use.
 """
 
-from .acceptance import Accepted, SampleGate
-from .calibration import Calibration, calibrate_threshold
-from .config import RecognizerConfig
-from .events import STOP, Event
-from .matchers import MatcherBank
-from .models import GestureModels, build_models
-from .paper import PaperRecognizer
-from .paper_config import PaperConfig
-from .preprocess import StreamingBILTSPlus, descriptor_from_samples, replay
-from .recognizer import Recognizer
-from .sources import CsvReplay, ZmqPublisher, ZmqSource, open_source
-from .stop import SampleRateStopDetector, StopDetector, sustained_peak_speed
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .acceptance import Accepted, SampleGate
+    from .calibration import Calibration, calibrate_threshold
+    from .config import RecognizerConfig
+    from .events import STOP, Event
+    from .matchers import MatcherBank
+    from .models import GestureModels, build_models
+    from .paper import PaperRecognizer
+    from .paper_config import PaperConfig
+    from .preprocess import StreamingBILTSPlus, descriptor_from_samples, replay
+    from .recognizer import Recognizer
+    from .sources import CsvReplay, ZmqPublisher, ZmqSource, open_source
+    from .stop import SampleRateStopDetector, StopDetector, sustained_peak_speed
+
+#: public name -> submodule that defines it
+_LAZY = {
+    "Accepted": ".acceptance",
+    "SampleGate": ".acceptance",
+    "Calibration": ".calibration",
+    "calibrate_threshold": ".calibration",
+    "RecognizerConfig": ".config",
+    "STOP": ".events",
+    "Event": ".events",
+    "MatcherBank": ".matchers",
+    "GestureModels": ".models",
+    "build_models": ".models",
+    "PaperRecognizer": ".paper",
+    "PaperConfig": ".paper_config",
+    "StreamingBILTSPlus": ".preprocess",
+    "descriptor_from_samples": ".preprocess",
+    "replay": ".preprocess",
+    "Recognizer": ".recognizer",
+    "CsvReplay": ".sources",
+    "ZmqPublisher": ".sources",
+    "ZmqSource": ".sources",
+    "open_source": ".sources",
+    "SampleRateStopDetector": ".stop",
+    "StopDetector": ".stop",
+    "sustained_peak_speed": ".stop",
+}
 
 __all__ = [
     "STOP",
@@ -48,3 +84,15 @@ __all__ = [
     "replay",
     "sustained_peak_speed",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        value = getattr(importlib.import_module(_LAZY[name], __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

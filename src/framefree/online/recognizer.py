@@ -45,6 +45,7 @@ from .thresholds import (
     candidate_limits,
     closure_limit,
     gesture_geometry,
+    pooled_closures,
     size_limits,
 )
 
@@ -100,7 +101,8 @@ def resolve_config(
         closed, sizes = gesture_geometry(trajectories, labels, classifier, levels, c.L, c.margin,
                                          c.dt)
         if c.closure_limits is None:
-            c = c.replace(closure_limits={g: closure_limit(closed.get(g, 1.0), c.closure_exponent)
+            largest = pooled_closures(closed) if c.closure_pooled else closed
+            c = c.replace(closure_limits={g: closure_limit(largest.get(g, 1.0), c.closure_exponent)
                                           for g in gestures})
         if c.size_limits is None:
             c = c.replace(size_limits={g: size_limits(*sizes.get(g, (0.0, np.inf)), c.size_factor)

@@ -45,6 +45,7 @@ __all__ = [
     "candidate_limits",
     "closure_limit",
     "gesture_geometry",
+    "pooled_closures",
     "segment_distances",
     "size_limits",
 ]
@@ -184,6 +185,18 @@ def closure_limit(largest: float, exponent: float = 0.5) -> float:
     """Closure limit of a gesture whose demonstrations close up to ``largest``: ``largest **
     exponent`` — with 0.5 the geometric midpoint between them and a one-way motion (closure 1)."""
     return float(max(largest, 1e-6) ** exponent)
+
+
+def pooled_closures(largest: dict[str, float]) -> dict[str, float]:
+    """Largest closure per gesture, pooled over the gestures that return.
+
+    A gesture *returns* when its demonstrations close up to less than ½ (nearer a motion back to
+    the start than a one-way motion). Every returning gesture gets the largest closure of any
+    returning gesture; a one-way gesture keeps its own.
+    """
+    returning = [v for v in largest.values() if v < 0.5]
+    pooled = max(returning, default=0.0)
+    return {g: (pooled if v < 0.5 else v) for g, v in largest.items()}
 
 
 def _quantile(values: list[float], q: float) -> float:
