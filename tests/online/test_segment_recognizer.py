@@ -20,6 +20,7 @@ from framefree.online.evaluation import match_events, run_stream
 from framefree.online.events import STOP
 from framefree.online.models import load_model_recordings
 from framefree.online.recognizer import model_window_spacing
+from framefree.online.segmentation import closure
 from framefree.online.thresholds import pooled_closures
 
 REAL = Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "real_motions"
@@ -179,3 +180,23 @@ def test_pooled_closure_limits_share_the_returning_gestures_largest_closure(reco
     c = recognizer.config.replace(closure_limits=None, closure_pooled=True)
     pooled = Recognizer.from_trajectories(*models, config=c).config.closure_limits
     assert set(pooled.values()) == {max(own.values())}
+
+
+def test_a_candidates_closure_is_measured_on_the_whole_candidate(recognizer, heldout_stream,
+                                                                  monkeypatch):
+    """Live, the margin after a unit is not in the buffer yet when the unit ends: the closure must
+    still span the candidate from its first to its last pose, as the models' closures do."""
+    checked: list[tuple[float, float]] = []
+    live = spotting.Spotter.candidates
+
+    def record(self, buffer):
+        out = live(self, buffer)
+        for c in out:
+            _, poses = buffer.slice(c.start, c.end)
+            checked.append((c.closure, closure(poses, self.L)))
+        return out
+
+    monkeypatch.setattr(spotting.Spotter, "candidates", record)
+    run_stream(recognizer, heldout_stream.traj)
+    assert len(checked) > 20
+    np.testing.assert_allclose(*np.array(checked).T, rtol=0, atol=1e-12)

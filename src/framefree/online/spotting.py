@@ -241,13 +241,16 @@ class Spotter:
         after = max(self.consumed, buffer.oldest + self.margin - 1)
         for first, n in candidate_spans(list(self.units), self.max_units, self.max_duration,
                                         self.max_pause, after, self.pause_ratio, self.min_pause):
-            times, poses = buffer.slice(first.start - self.margin, last.end + self.margin)
+            lo_index = max(first.start - self.margin, buffer.oldest)
+            times, poses = buffer.slice(lo_index, last.end + self.margin)
             d, size = self.classifier.distances(times, poses)
+            # the margin after the unit may not be in the buffer yet: cut the unit out exactly
+            inner = first.start - lo_index
+            c = closure(poses[inner:inner + last.end - first.start + 1], self.L)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
             ratio = float(d[j] / self.model_thresholds[j])
-            c = closure(poses[self.margin:poses.shape[0] - self.margin], self.L)
             lo, hi = self.size_limits[j]
             ok = ratio < 1.0 and c <= self.closure_limits[j] and lo <= size <= hi
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
