@@ -7,9 +7,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from framefree import se3
 from framefree.datasets import synthesize_gesture
 from framefree.library import (
     CheckReport,
+    CheckSettings,
     TakeSet,
     check_takes,
     descriptor_for,
@@ -49,6 +51,8 @@ def test_hpm_seven_pass(hpm_report: CheckReport) -> None:
     for c in hpm_report.gestures.values():
         assert c.loo_correct > c.takes / 2
         assert c.margin >= 1.5 and c.nearest in hpm_report.gestures and c.nearest != c.gesture
+        # every copy of every take is recognized after frames, grip, speed and size change
+        assert c.perturbed_correct == c.takes and c.perturbed_taken_for is None
 
 
 def test_confusable_pair_is_flagged(confusable: tuple[TakeSet, CheckReport]) -> None:
@@ -128,3 +132,33 @@ def test_stop_probes_follow_the_simulated_people() -> None:
 
     assert probes.STOP_AMPLITUDE == pytest.approx(STOP_SIGNAL["amplitude"])
     assert probes.STOP_STROKE == pytest.approx(STOP_SIGNAL["stroke"])
+
+
+def test_a_gesture_that_differs_only_in_amount_is_flagged(hpm_takes: TakeSet) -> None:
+    """A push with a quarter twist is *open gripper*'s forearm screw with less turn: the takes tell
+    them apart, but a person with a longer or shorter push does not (measured live, it costs
+    *open gripper* 5-10 points); the size probe lets the check see it."""
+    rng = np.random.default_rng(8)
+    twist = tuple(synthesize_gesture("push_twist", rng) for _ in range(5))
+    vocab = hpm_takes + TakeSet(twist, ("push_twist",) * 5,
+                                tuple(f"push_twist/own/trial_{k + 1}" for k in range(5)))
+    report = check_takes(vocab)
+    assert report.gestures["push_twist"].loo_correct == 5  # apart as demonstrated
+    flagged = [f for f in report.findings if "change of frames, grip, speed or size" in f.message
+               and {"push_twist", "open_gripper"} <= set(f.message.replace(",", " ").replace(")", " ")
+                                                         .split())]
+    assert flagged and all("in amount" in f.message for f in flagged), report.format()
+    without_size = check_takes(vocab, settings=CheckSettings(size_range=(1.0, 1.0)))
+    assert all(c.perturbed_correct == c.takes for c in without_size.gestures.values())
+
+
+def test_size_change_scales_the_path_and_keeps_the_turn(hpm_takes: TakeSet) -> None:
+    take = hpm_takes.takes[2]
+    same, larger = (perturbed(take, np.random.default_rng(3), body_offset=0.0, speed_range=(1.0, 1.0),
+                              size_range=(f, f + 1e-12)) for f in (1.0, 1.3))
+    travel = [float(np.linalg.norm(np.diff(tr.p, axis=0), axis=1).sum()) for tr in (same, larger)]
+    assert travel[1] == pytest.approx(1.3 * travel[0], rel=0.01)
+    turn = [float(np.linalg.norm(se3.vector_from_rotation(
+        tr.rotations()[:-1].transpose(0, 2, 1) @ tr.rotations()[1:]), axis=1).sum())
+            for tr in (same, larger)]
+    assert turn[1] == pytest.approx(turn[0], rel=0.01)

@@ -11,9 +11,11 @@ recognizes the take iff ``min_h other_i(h) > same_i``.
 * **margin** of ``g`` against ``h``: the median over ``g``'s takes of ``other_i(h)``, divided by the
   spread of ``g`` — how much farther the other gesture lies than a repetition of the same one. The
   **nearest other gesture** is the one with the smallest margin;
-* the same under random changes of world frame, grip and speed
-  (:func:`~framefree.library.probes.perturbed`): a perturbed copy of each take is compared with
-  the other (original) takes;
+* the same under random changes of world frame, grip, speed and size
+  (:func:`~framefree.library.probes.perturbed`): perturbed copies of each take are compared with
+  the other (original) takes; a take counts as recognized when all its copies are. The size
+  change is what another person brings: a larger or smaller hand path with the same wrist turn,
+  which moves gestures that differ only in *how much* they turn per distance towards each other;
 * **stop**: the margin of ``g`` against fast wrist rotations
   (:func:`~framefree.library.probes.stop_rotations`), and whether ``g`` itself rotates nearly as
   fast as a stop signal (then the stop threshold, ``stop_margin`` above the fastest gesture, would
@@ -57,9 +59,12 @@ class CheckSettings:
     warn_margin, fail_margin : float
         Margins below these are a warning / a problem (ratios, see the module docstring).
     perturbations : int
-        Perturbed copies (random frames and speed) per take.
+        Perturbed copies (random frames, grip, speed and size) per take.
     speed_range : (float, float)
         Speed factors of the perturbed copies (log-uniform).
+    size_range : (float, float)
+        Size factors of the perturbed copies (log-uniform; 1/1.3–1.3: people's gestures differ in
+        size by about ±30 %, from body size and habit, while their wrists turn as far).
     probes_per_take : int
         Stop rotations per take; everyday motions come from the first takes of each gesture.
     probe_quantile : float
@@ -71,8 +76,9 @@ class CheckSettings:
 
     warn_margin: float = 1.5
     fail_margin: float = 1.15
-    perturbations: int = 1
+    perturbations: int = 4
     speed_range: tuple[float, float] = (0.5, 2.0)
+    size_range: tuple[float, float] = (1 / 1.3, 1.3)
     probes_per_take: int = 1
     probe_quantile: float = 0.1
     seed: int = 0
@@ -100,6 +106,7 @@ class GestureCheck:
     perturbed_correct: int
     perturbed_nearest: str | None
     perturbed_margin: float
+    perturbed_taken_for: str | None
     stop_margin: float
     everyday_margin: float
     everyday_nearest: str
@@ -119,7 +126,8 @@ class CheckReport:
     predicted : list of str
         Leave-one-out 1-NN label of each take.
     perturbed_predicted : list of str
-        Label given to each take's perturbed copies (the first copy).
+        Label given to each take's perturbed copies: the take's own gesture if every copy was
+        recognized, otherwise the gesture its copies were most often taken for.
     gestures : dict of str to GestureCheck
     findings : list of Finding
     """
@@ -151,12 +159,12 @@ class CheckReport:
     def format(self) -> str:
         """A table per gesture, then the findings, as text."""
         head = (f"{'gesture':<16}{'takes':>5}{'LOO':>6}  {'nearest other':<16}{'margin':>7}  "
-                f"{'changed frames/speed':<22}{'stop':>6}{'everyday':>9}")
+                f"{'changed frame/speed/size':<25}{'stop':>6}{'everyday':>9}")
         lines = [head, "-" * len(head)]
         for c in self.gestures.values():
             pert = f"{c.perturbed_correct}/{c.takes} {c.perturbed_margin:5.2f}x"
             lines.append(f"{c.gesture:<16}{c.takes:>5}{f'{c.loo_correct}/{c.takes}':>6}  "
-                         f"{c.nearest or '-':<16}{c.margin:>6.2f}x  {pert:<22}{c.stop_margin:>5.1f}x"
+                         f"{c.nearest or '-':<16}{c.margin:>6.2f}x  {pert:<25}{c.stop_margin:>5.1f}x"
                          f"{c.everyday_margin:>8.1f}x")
         lines.append("")
         if not self.findings:
@@ -255,6 +263,7 @@ def check_takes(
     pnear = _nearest_by_gesture(Dp, labels, gestures)
     ppred = np.array(gestures)[np.argmin(pnear, axis=1)]
     pmargins = _margins(pnear, plabels, gestures, spread)
+    per_take = _perturbed_labels(ppred, labels, max(s.perturbations, 1))
     Ds, De, ekinds = _probe_distances(takes, desc, base, rng, s, config, progress)
 
     checks: dict[str, GestureCheck] = {}
@@ -264,7 +273,8 @@ def check_takes(
         ecol = De[:, sel].min(axis=1) if De.size else np.zeros(0)
         checks[g] = GestureCheck(
             g, int(sel.sum()), spread[g], int((predicted[sel] == g).sum()), margins[g][0], margins[g][1],
-            int((ppred[psel] == g).sum()) // max(s.perturbations, 1), pmargins[g][0], pmargins[g][1],
+            int((per_take[sel] == g).sum()), pmargins[g][0], pmargins[g][1],
+            _most_common(ppred[psel & (ppred != g)]),
             _probe_margin(Ds, labels, g, spread[g], s.probe_quantile),
             _probe_margin(De, labels, g, spread[g], s.probe_quantile),
             str(ekinds[int(np.argmin(ecol))]) if ecol.size else "-",
@@ -272,18 +282,38 @@ def check_takes(
                                      config.stop_min_duration) for k in np.flatnonzero(sel)),
         )
     report = CheckReport(list(takes.names), list(takes.labels), D, list(predicted),
-                         [str(x) for x in ppred[:: max(s.perturbations, 1)]], checks)
+                         [str(x) for x in per_take], checks)
     report.findings = _findings(report, s, config)
     return report
+
+
+def _most_common(names: np.ndarray) -> str | None:
+    """The most frequent entry (the first in sorted order on a tie); ``None`` if there is none."""
+    if names.size == 0:
+        return None
+    values, counts = np.unique(names, return_counts=True)
+    return str(values[int(np.argmax(counts))])
+
+
+def _perturbed_labels(ppred: np.ndarray, labels: np.ndarray, copies: int) -> np.ndarray:
+    """Per take: its own gesture if all its ``copies`` consecutive perturbed copies were
+    recognized, otherwise the gesture they were most often taken for."""
+    out = labels.astype(object).copy()
+    for k, g in enumerate(labels):
+        wrong = ppred[k * copies:(k + 1) * copies]
+        wrong = wrong[wrong != g]
+        if wrong.size:
+            out[k] = _most_common(wrong)
+    return out.astype(str)
 
 
 def _perturbed_distances(takes: TakeSet, desc: Descriptor, base: list[np.ndarray], rng: np.random.Generator,
                          s: CheckSettings, progress: bool) -> tuple[np.ndarray, np.ndarray]:
     """Distances (P, M) of perturbed copies of every take to the takes (its own take excluded),
     and the gesture of each copy."""
-    pert = [perturbed(tr, rng, speed_range=s.speed_range)
+    pert = [perturbed(tr, rng, speed_range=s.speed_range, size_range=s.size_range)
             for tr in takes.takes for _ in range(s.perturbations)]
-    Dp = desc.distance_matrix(_describe(desc, pert, progress, "changed frames and speed"), base)
+    Dp = desc.distance_matrix(_describe(desc, pert, progress, "changed frames, speed and size"), base)
     owner = np.repeat(np.arange(len(takes)), s.perturbations)
     Dp[np.arange(owner.size), owner] = np.inf
     return Dp, np.array(takes.labels)[owner]
@@ -329,10 +359,9 @@ def _findings(r: CheckReport, s: CheckSettings, config: RecognizerConfig) -> lis
         elif c.perturbed_nearest is not None and level(c.perturbed_margin):
             out.append(Finding(level(c.perturbed_margin), g,
                                f"{g} comes within {c.perturbed_margin:.2f}x of {c.perturbed_nearest} when "
-                               "frames, grip or speed change: make it more distinct"))
+                               "frames, grip, speed or size change: make it more distinct"))
         if c.perturbed_correct < c.takes:
-            out.append(Finding("warning", g, f"{c.takes - c.perturbed_correct} of {c.takes} takes of {g} are "
-                                             "not recognized after a change of frames, grip or speed"))
+            out.append(_not_robust(g, c))
         if c.stop_margin < s.warn_margin:
             out.append(Finding("warning", g, f"{g} is within {c.stop_margin:.2f}x of a stop rotation "
                                              "(fast wrist back-and-forth): give it another shape"))
@@ -348,6 +377,16 @@ def _findings(r: CheckReport, s: CheckSettings, config: RecognizerConfig) -> lis
                                f"({c.everyday_nearest}): it may fire while the hand just moves; "
                                "add a rotation or a distinctive turn"))
     return out
+
+
+def _not_robust(g: str, c: GestureCheck) -> Finding:
+    """Takes whose perturbed copies are taken for another gesture."""
+    other = c.perturbed_taken_for
+    advice = (f" (taken for {other}): if {g} and {other} differ mainly in amount — how far the hand "
+              f"goes or how far the wrist turns — other people will blur them; make {g} differ in "
+              "shape, or add takes of a second person" if other else "")
+    return Finding("warning", g, f"{c.takes - c.perturbed_correct} of {c.takes} takes of {g} are not "
+                                 f"recognized after a change of frames, grip, speed or size{advice}")
 
 
 def _misrecognized(r: CheckReport, g: str) -> list[Finding]:

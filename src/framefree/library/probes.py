@@ -1,7 +1,9 @@
 """Motions that probe a vocabulary before it goes live.
 
-* :func:`perturbed` — a take seen from a random world frame, held with a random grip (body frame)
-  and performed faster or slower: the same gesture, so it must still be recognized;
+* :func:`perturbed` — a take seen from a random world frame, held with a random grip (body frame),
+  performed faster or slower, and larger or smaller (as another person would: the hand travels
+  farther or less far while the wrist turns as much): the same gesture, so it must still be
+  recognized;
 * :func:`stop_rotations` — fast back-and-forth wrist rotations (the stop signal) starting at a
   take's start pose: no gesture should look like one;
 * :func:`everyday_motions` — reaching and repositioning moves from a take's start pose (one move,
@@ -66,8 +68,9 @@ def perturbed(
     world_offset: float = 1.0,
     body_offset: float = 0.05,
     speed_range: tuple[float, float] = (0.5, 2.0),
+    size_range: tuple[float, float] = (1.0, 1.0),
 ) -> Trajectory:
-    """The take in a random world frame, with a random grip, at a random speed.
+    """The take in a random world frame, with a random grip, at a random speed and size.
 
     Parameters
     ----------
@@ -80,15 +83,22 @@ def perturbed(
     speed_range : (float, float)
         Speed factor drawn log-uniformly; the time axis is divided by it and the take
         resampled at 50 Hz by ScLERP.
+    size_range : (float, float)
+        Size factor drawn log-uniformly: the positions are scaled about the take's first position
+        (the orientations are kept), before the frames change. Default: no change.
 
     Returns
     -------
     Trajectory
     """
     speed = math.exp(rng.uniform(math.log(speed_range[0]), math.log(speed_range[1])))
+    size = math.exp(rng.uniform(math.log(size_range[0]), math.log(size_range[1])))
+    if size != 1.0:
+        take = Trajectory(take.t, take.p[0] + size * (take.p - take.p[0]), take.q, source=take.source)
     out = take.transformed(world=random_frame(rng, world_offset), body=random_frame(rng, body_offset))
     out = out.time_scaled(1.0 / speed).resampled(PERIOD)
-    return Trajectory(out.t, out.p, out.q, source=f"{take.source} (frames changed, speed x{speed:.2f})")
+    return Trajectory(out.t, out.p, out.q,
+                      source=f"{take.source} (frames changed, speed x{speed:.2f}, size x{size:.2f})")
 
 
 def _noisy(T: np.ndarray, take: Trajectory, rng: np.random.Generator, source: str) -> Trajectory:
