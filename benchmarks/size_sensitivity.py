@@ -27,13 +27,6 @@ import numpy as np
 
 from framefree.datasets import replica_path, synthesize_gesture
 from framefree.library import TakeSet, enroll, join_recordings, read_takes, split_takes
-from framefree.trajectory import Trajectory
-
-
-def scaled(take: Trajectory, factor: float) -> Trajectory:
-    """``take`` with its positions scaled by ``factor`` about the first one (orientations kept)."""
-    return Trajectory(take.t, take.p[0] + factor * (take.p - take.p[0]), take.q,
-                      source=f"{take.source} (size x{factor:.2f})")
 
 
 def vocabulary(gesture: str | None, seed: int = 0) -> TakeSet:
@@ -53,7 +46,7 @@ def size_sensitivity(takes: TakeSet, size: float) -> dict[str, dict[str, float |
     desc = rec.classifier.descriptor
     labels = np.array(takes.labels)
     factors = (1.0 / size, size)
-    copies = [desc.compute(scaled(tr, f)) for tr in takes.takes for f in factors]
+    copies = [desc.compute(tr.path_scaled(f)) for tr in takes.takes for f in factors]
     owner = np.repeat(np.arange(len(takes)), len(factors))
     D = desc.distance_matrix(copies, rec.classifier.models)  # (copies, models)
     D[np.arange(owner.size), owner] = np.inf  # a copy is not compared with its own original

@@ -215,6 +215,14 @@ class Trajectory:
         t = self.t[0] + factor * (self.t - self.t[0])
         return Trajectory(t, self.p, self.q, source=self.source)
 
+    def path_scaled(self, factor: float) -> Trajectory:
+        """Positions scaled by ``factor`` about the first one, orientations kept: the same gesture
+        made larger or smaller, as by a person with a longer or shorter reach (the wrist turns as
+        far)."""
+        if not factor > 0:
+            raise ValueError(f"path scale factor must be positive, got {factor}")
+        return Trajectory(self.t, self.p[0] + factor * (self.p - self.p[0]), self.q, source=self.source)
+
     def resampled(self, dt: float = 0.02) -> Trajectory:
         """Resample on a uniform time grid by ScLERP (constant-twist interpolation,
         docs/algorithms/progress.md).

@@ -119,6 +119,17 @@ def test_time_scaling_resampling_and_head():
 
 
 @given(st.floats(0.25, 4.0))
+def test_path_scaling_scales_displacements_and_keeps_orientations(factor):
+    traj = _helix()
+    big = traj.path_scaled(factor)
+    np.testing.assert_allclose(big.p - big.p[0], factor * (traj.p - traj.p[0]), atol=1e-12)
+    np.testing.assert_array_equal(big.q, traj.q)
+    np.testing.assert_array_equal(big.t, traj.t)
+    with pytest.raises(ValueError):
+        traj.path_scaled(0.0)
+
+
+@given(st.floats(0.25, 4.0))
 def test_resampling_keeps_the_path(k):
     traj = _helix(n=80)
     rs = traj.time_scaled(k).resampled(0.02)

@@ -35,4 +35,4 @@ def chain(trajs: list[Trajectory], source: str = "session") -> Trajectory:
 
 def scaled(traj: Trajectory, factor: float, source: str) -> Trajectory:
     """Positions scaled by ``factor`` about the first one (a bigger version of the same motion)."""
-    return Trajectory(traj.t, traj.p[0] + factor * (traj.p - traj.p[0]), traj.q, source=source)
+    return Trajectory(traj.t, traj.path_scaled(factor).p, traj.q, source=source)

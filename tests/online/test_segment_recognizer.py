@@ -165,7 +165,7 @@ def test_the_window_spacing_is_the_models_and_fixed(recognizer, models):
     # a gesture performed half as large keeps its number of descriptor samples (the windows cover
     # the same fraction of it); the reference's window spacing would change with the size
     traj = models[0][models[1].index("go_left")]
-    small = Trajectory(traj.t, traj.p[0] + 0.5 * (traj.p - traj.p[0]), traj.q)
+    small = traj.path_scaled(0.5)
     assert desc.compute(small).shape == desc.compute(traj).shape
     ref = get_descriptor("bilts+", L=c.L, ds_scale=c.ds_scale, presmooth=c.presmooth)
     assert ref.compute(small).shape != ref.compute(traj).shape

@@ -93,9 +93,8 @@ def perturbed(
     """
     speed = math.exp(rng.uniform(math.log(speed_range[0]), math.log(speed_range[1])))
     size = math.exp(rng.uniform(math.log(size_range[0]), math.log(size_range[1])))
-    if size != 1.0:
-        take = Trajectory(take.t, take.p[0] + size * (take.p - take.p[0]), take.q, source=take.source)
-    out = take.transformed(world=random_frame(rng, world_offset), body=random_frame(rng, body_offset))
+    out = take.path_scaled(size).transformed(world=random_frame(rng, world_offset),
+                                             body=random_frame(rng, body_offset))
     out = out.time_scaled(1.0 / speed).resampled(PERIOD)
     return Trajectory(out.t, out.p, out.q,
                       source=f"{take.source} (frames changed, speed x{speed:.2f}, size x{size:.2f})")
