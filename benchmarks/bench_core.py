@@ -25,9 +25,9 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 import numpy as np
 
 import framefree as ff
-from framefree import se3
-from framefree.progress import reparameterize
-from framefree.smoothing import smooth_poses
+from framefree.core import se3
+from framefree.core.progress import reparameterize
+from framefree.core.smoothing import smooth_poses
 
 HERE = Path(__file__).resolve().parent
 REAL = next(

@@ -29,10 +29,10 @@ import numpy as np
 
 
 def _models_and_stream():
-    from framefree.online.models import load_model_recordings
+    from framefree.datasets.layout import load_model_recordings
 
     try:
-        from framefree.datasets.replica import replica_path
+        from framefree.replica.build import replica_path
 
         root = replica_path(0)
         trajs, labels = load_model_recordings(root, "original_1")
@@ -42,7 +42,8 @@ def _models_and_stream():
         queries = [tr.trajectory for tr in ds.queries("all")][:40]
         origin = f"HPM replica {root.name}"
     except Exception as exc:  # pragma: no cover - fallback when the replica cannot be built
-        from framefree.datasets import GESTURES, synthesize_gesture
+        from framefree.datasets import GESTURES
+        from framefree.replica import synthesize_gesture
 
         rng = np.random.default_rng(0)
         trajs, labels = [], []
@@ -89,8 +90,8 @@ def _measure(rec, t, p, q, repeat: int) -> dict:
 
 
 def _person_stream():
-    from framefree.datasets.people import HELDOUT_PEOPLE, person
-    from framefree.datasets.people_streams import person_stream
+    from framefree.replica.people import HELDOUT_PEOPLE, person
+    from framefree.replica.people_streams import person_stream
 
     item = person_stream(1, person(HELDOUT_PEOPLE[0]), n_gestures=20)
     tr = item.traj
@@ -126,8 +127,8 @@ def _segments(trajs, labels, counts, repeat, threads):
 def _paper(trajs, labels, counts, repeat, threads, prune_factor, t, p, q):
     import numba
 
-    from framefree.online import PaperConfig, PaperRecognizer
-    from framefree.online.models import GestureModels
+    from framefree.online.paper import PaperConfig, PaperRecognizer
+    from framefree.online.paper.models import GestureModels
 
     cfg = PaperConfig()
     if prune_factor != "default":

@@ -48,8 +48,8 @@ print(json.dumps({{"import_s": t1 - t0, "load_s": t2 - t1, "warmup_s": t3 - t2}}
 
 
 def _library(folder: Path) -> Path:
-    from framefree.datasets import replica_path
     from framefree.library import enroll, read_takes
+    from framefree.replica import replica_path
 
     takes = read_takes(replica_path(), "original_1")
     return enroll(takes, built_from=[str(replica_path())]).save(folder / "hpm.npz")

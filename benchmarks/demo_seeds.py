@@ -24,7 +24,7 @@ from pathlib import Path
 
 from joblib import Parallel, delayed
 
-from framefree.demo import METHODS, build_recognizer, run_demo
+from framefree.robot.demo import METHODS, build_recognizer, run_demo
 
 _RECOGNIZERS: dict = {}
 

@@ -6,7 +6,7 @@ The path a user takes with ``framefree record / enroll``, in Python:
    one recording, resting between performances; :func:`framefree.library.split_takes` cuts it;
 2. the HPM seven (replica, *original_1*) plus these takes are enrolled once
    (:func:`framefree.library.enroll`), saved and loaded back (no recalibration);
-3. held-out simulated people (:data:`framefree.datasets.HELDOUT_PEOPLE`, never used to tune
+3. held-out simulated people (:data:`framefree.replica.HELDOUT_PEOPLE`, never used to tune
    anything) perform sessions that include the new gesture; every stream is run through the
    loaded recognizer (:func:`framefree.online.evaluation.run_stream`);
 4. per-gesture precision, recall and F1 are printed and written as JSON, with the same for the
@@ -29,15 +29,8 @@ from typing import Any
 
 import numpy as np
 
-from framefree.datasets import (
-    DEV_PEOPLE,
-    FRESH_PEOPLE,
-    GESTURES,
-    HELDOUT_PEOPLE,
-    make_person_streams,
-    replica_path,
-    synthesize_gesture,
-)
+from framefree.core.trajectory import Trajectory
+from framefree.datasets import GESTURES
 from framefree.library import (
     TakeSet,
     enroll,
@@ -47,7 +40,14 @@ from framefree.library import (
     split_takes,
 )
 from framefree.online.evaluation import match_events, run_stream
-from framefree.trajectory import Trajectory
+from framefree.replica import (
+    DEV_PEOPLE,
+    FRESH_PEOPLE,
+    HELDOUT_PEOPLE,
+    make_person_streams,
+    replica_path,
+    synthesize_gesture,
+)
 
 
 def demonstration(gesture: str, takes: int, seed: int) -> Trajectory:

@@ -1,8 +1,8 @@
 """Development metrics of the paper's recognizer (PaperRecognizer) on dev streams of the replica.
 
 The held-out test set is the replica's ``streams/stream_{1,2,3}`` (``make_stream(1..3)``). Every
-parameter of :class:`framefree.online.PaperConfig` is chosen here, on streams generated with
-seeds 100-119 by :func:`framefree.datasets.make_stream`, with the models and the automatic
+parameter of :class:`framefree.online.paper.PaperConfig` is chosen here, on streams generated with
+seeds 100-119 by :func:`framefree.replica.make_stream`, with the models and the automatic
 calibration from the replica's ``original_1`` recordings.
 
 Usage::
@@ -22,9 +22,9 @@ from multiprocessing import get_context
 
 import numpy as np
 
-from framefree.datasets import make_stream, replica_path
-from framefree.online import PaperRecognizer
 from framefree.online.evaluation import combine, match_events, run_stream
+from framefree.online.paper import PaperRecognizer
+from framefree.replica import make_stream, replica_path
 
 _REC = None
 

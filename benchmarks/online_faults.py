@@ -2,7 +2,7 @@
 
 The same streams of simulated people (``--people heldout`` by default: these numbers are reported,
 nothing is chosen on them) are run clean and with one fault kind injected
-(:mod:`framefree.datasets.faults`: dropouts up to 0.5 s, ±8 ms time-stamp jitter, duplicated
+(:mod:`framefree.replica.faults`: dropouts up to 0.5 s, ±8 ms time-stamp jitter, duplicated
 samples, quaternion sign flips, single-sample 0.5 m outliers and orientation glitches, NaN samples),
 each with its default parameters and a fixed seed per stream.
 
@@ -21,10 +21,10 @@ import numpy as np
 from joblib import Parallel, delayed
 from online_people import _parse_set, _recognizer
 
-from framefree.datasets.faults import FAULT_KINDS, inject
-from framefree.datasets.people import DEV_PEOPLE, FRESH_PEOPLE, HELDOUT_PEOPLE
-from framefree.datasets.people_streams import make_person_streams
 from framefree.online.evaluation import combine, match_events
+from framefree.replica.faults import FAULT_KINDS, inject
+from framefree.replica.people import DEV_PEOPLE, FRESH_PEOPLE, HELDOUT_PEOPLE
+from framefree.replica.people_streams import make_person_streams
 
 
 def _run(method: str, overrides: dict, item, kind: str):

@@ -1,7 +1,7 @@
 """Live recognition on streams of simulated people: tune on some, report on others.
 
 Models: the replica's ``original_1`` recordings (one person, the replica's). Streams: sessions of
-people drawn from the population of :mod:`framefree.datasets.people` — ``--people dev`` (seeds
+people drawn from the population of :mod:`framefree.replica.people` — ``--people dev`` (seeds
 0-19, the only ones used to choose parameters), ``--people heldout`` (seeds 1000-1019) or
 ``--people fresh`` (seeds 2000-2019, a second held-out group; both only for reporting once the
 parameters are frozen). Both methods can run side by side on the same streams:
@@ -26,12 +26,13 @@ from pathlib import Path
 
 from joblib import Parallel, delayed
 
-from framefree.datasets import replica_path
-from framefree.datasets.people import DEV_PEOPLE, FRESH_PEOPLE, HELDOUT_PEOPLE
-from framefree.datasets.people_streams import make_person_streams
-from framefree.online import PaperRecognizer, Recognizer
+from framefree.datasets.layout import load_model_recordings
+from framefree.online import Recognizer
 from framefree.online.evaluation import combine, match_events, run_stream
-from framefree.online.models import load_model_recordings
+from framefree.online.paper import PaperRecognizer
+from framefree.replica import replica_path
+from framefree.replica.people import DEV_PEOPLE, FRESH_PEOPLE, HELDOUT_PEOPLE
+from framefree.replica.people_streams import make_person_streams
 
 _RECOGNIZERS: dict = {}
 

@@ -25,8 +25,8 @@ import json
 
 import numpy as np
 
-from framefree.datasets import replica_path, synthesize_gesture
 from framefree.library import TakeSet, enroll, join_recordings, read_takes, split_takes
+from framefree.replica import replica_path, synthesize_gesture
 
 
 def vocabulary(gesture: str | None, seed: int = 0) -> TakeSet:

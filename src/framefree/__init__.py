@@ -9,6 +9,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from ._lazy import lazy_attributes
+from ._version import __version__
 from .errors import (
     DatasetError,
     DegenerateMotionError,
@@ -19,11 +20,10 @@ from .errors import (
 
 if TYPE_CHECKING:
     from .classifier import NearestNeighborClassifier
+    from .core.posecsv import PlausibilityWarning
+    from .core.trajectory import Trajectory
     from .descriptors import Descriptor, available_descriptors, get_descriptor, register
-    from .posecsv import PlausibilityWarning
-    from .trajectory import Trajectory
 
-__version__ = "0.1.0"
 
 #: public name -> module that defines it
 _LAZY = {
@@ -32,8 +32,8 @@ _LAZY = {
     "available_descriptors": ".descriptors",
     "get_descriptor": ".descriptors",
     "register": ".descriptors",
-    "PlausibilityWarning": ".posecsv",
-    "Trajectory": ".trajectory",
+    "PlausibilityWarning": ".core.posecsv",
+    "Trajectory": ".core.trajectory",
 }
 
 __all__ = [

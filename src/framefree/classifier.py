@@ -9,8 +9,8 @@ from typing import Any
 
 import numpy as np
 
+from .core.trajectory import Trajectory
 from .descriptors.base import Descriptor, get_descriptor
-from .trajectory import Trajectory
 
 __all__ = ["RECOMMENDED", "NearestNeighborClassifier", "round_significant"]
 

@@ -14,7 +14,7 @@ import warnings
 
 import click
 
-from . import __version__
+from ._version import __version__
 from .errors import FramefreeError, FramefreeWarning
 
 #: command name -> module of :mod:`framefree.commands` whose ``register(group)`` adds it

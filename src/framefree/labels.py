@@ -9,5 +9,6 @@ __all__ = ["METHODS", "STOP"]
 STOP = "stop"
 
 #: Names of the live recognizers: framefree's segment spotting (the default) and the paper's
-#: fixed-window recognizer (:class:`framefree.online.Recognizer`, :class:`~framefree.online.PaperRecognizer`).
+#: fixed-window recognizer (:class:`framefree.online.Recognizer`,
+#: :class:`~framefree.online.paper.PaperRecognizer`).
 METHODS = ("segments", "paper")

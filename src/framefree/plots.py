@@ -13,7 +13,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from .trajectory import Trajectory
+from .core.trajectory import Trajectory
 
 if TYPE_CHECKING:
     from mpl_toolkits.mplot3d import Axes3D

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from framefree import Trajectory
-from framefree.se3 import rotation_from_vector
+from framefree.core.se3 import rotation_from_vector
 
 #: gesture -> recording in shared/data/real_motions/reference_set
 SOURCES = {

@@ -217,7 +217,7 @@ def test_dsrf_prealign_undoes_a_world_rotation(tiny) -> None:
 
 
 def test_presmooth_extension_is_applied_before_progress(tiny) -> None:
-    from framefree.progress import uniform_time_poses
+    from framefree.core.progress import uniform_time_poses
 
     data = tiny.models[0].data
     raw, smooth = resample_task([data])[0], resample_task([data], presmooth=10)[0]

@@ -8,7 +8,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import framefree as ff
-from framefree import se3
+from framefree.core import se3
 from framefree.descriptors.bilts import bilts_sample, window_spacing
 
 from . import spec_reference as ref

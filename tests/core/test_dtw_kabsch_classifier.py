@@ -9,9 +9,9 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 import framefree as ff
-from framefree import se3
-from framefree.dtw import accumulated_cost, dtw_distance, warping_path, warping_path_kernel
-from framefree.kabsch import kabsch_residual, kabsch_rotation, max_rotation_trace
+from framefree.core import se3
+from framefree.core.dtw import accumulated_cost, dtw_distance, warping_path, warping_path_kernel
+from framefree.core.kabsch import kabsch_residual, kabsch_rotation, max_rotation_trace
 
 from . import spec_reference as ref
 

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 import framefree as ff
 from framefree.classifier import RECOMMENDED
-from framefree.dtw import (
+from framefree.core.dtw import (
     POINTWISE_EUCLIDEAN,
     POINTWISE_KABSCH,
     accumulated_cost,

@@ -12,8 +12,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from framefree import Trajectory
+from framefree.core.posecsv import PlausibilityWarning, plausibility_problems, read_pose_csv
 from framefree.errors import FramefreeError, TrajectoryError
-from framefree.posecsv import PlausibilityWarning, plausibility_problems, read_pose_csv
 
 
 def _rows(n: int = 20) -> np.ndarray:

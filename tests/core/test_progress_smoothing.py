@@ -7,15 +7,16 @@ import math
 import numpy as np
 import pytest
 
-from framefree import DegenerateMotionError, Trajectory, se3
-from framefree.progress import (
+from framefree import DegenerateMotionError, Trajectory
+from framefree.core import se3
+from framefree.core.progress import (
     StreamingReparameterizer,
     cumulative_progress,
     progress_increments,
     reparameterize,
     screw_path_increment,
 )
-from framefree.smoothing import gaussian_offsets, gaussian_smooth
+from framefree.core.smoothing import gaussian_offsets, gaussian_smooth
 
 
 def _screw_step():

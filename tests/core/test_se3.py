@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 from scipy.linalg import expm, logm
 
-from framefree import se3
+from framefree.core import se3
 
 finite = st.floats(-3.0, 3.0, allow_nan=False)
 vec3 = arrays(np.float64, 3, elements=finite)

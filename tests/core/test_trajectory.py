@@ -9,7 +9,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from framefree import Trajectory, TrajectoryError, se3
+from framefree import Trajectory, TrajectoryError
+from framefree.core import se3
 
 
 def _helix(n=60, dt=0.02, t0=0.0):

@@ -7,8 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from framefree import se3
-from framefree.datasets import Dataset, load_dataset, make_replica
+from framefree.core import se3
+from framefree.datasets import Dataset, load_dataset
+from framefree.replica import make_replica
 
 SEED = 7
 

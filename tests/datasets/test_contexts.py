@@ -9,19 +9,17 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from framefree import se3
-from framefree.datasets import (
+from framefree.core import se3
+from framefree.datasets import CONTEXTS, GESTURES, REPLICA_CONTEXTS
+from framefree.replica import (
     BODY_FRAMES,
-    CONTEXTS,
-    GESTURES,
     NOISE_POS_STD,
     NOISE_ROT_STD,
-    REPLICA_CONTEXTS,
     WORLD_FRAMES,
     apply_context,
     synthesize_gesture,
 )
-from framefree.datasets.contexts import COMBINATION_FRAMES
+from framefree.replica.contexts import COMBINATION_FRAMES
 
 from .conftest import residuals, trial
 

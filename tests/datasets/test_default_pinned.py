@@ -14,9 +14,9 @@ import warnings
 import numpy as np
 import pytest
 
-from framefree.datasets import (
+from framefree.datasets import GESTURES
+from framefree.replica import (
     DEFAULT_PERSON,
-    GESTURES,
     LivePerson,
     StreamItem,
     make_stream,

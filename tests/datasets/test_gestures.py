@@ -12,10 +12,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from framefree import se3
-from framefree.datasets import GESTURES, synthesize_gesture
-from framefree.datasets.motion import minimum_jerk
-from framefree.datasets.recording import sample_times, stored_quaternions
+from framefree.core import se3
+from framefree.datasets import GESTURES
+from framefree.replica import synthesize_gesture
+from framefree.replica.motion import minimum_jerk
+from framefree.replica.recording import sample_times, stored_quaternions
 
 TRIALS = [f"trial_{k}" for k in range(1, 6)]
 

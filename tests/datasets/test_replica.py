@@ -6,13 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from framefree.datasets import (
-    REPLICA_VERSION,
-    generator_fingerprint,
-    load_dataset,
-    make_replica,
-    replica_path,
-)
+from framefree.datasets import load_dataset
+from framefree.replica import REPLICA_VERSION, generator_fingerprint, make_replica, replica_path
 
 
 def test_replica_path_generates_once_and_reuses(tmp_path: Path, monkeypatch) -> None:

@@ -9,18 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from framefree import se3
-from framefree.datasets import (
-    GESTURES,
-    STOP,
-    Segment,
-    StreamItem,
-    labels_path,
-    load_stream,
-    make_stream,
-    save_stream,
-)
+from framefree.core import se3
+from framefree.datasets import GESTURES, STOP, Segment, labels_path, load_stream
 from framefree.errors import DatasetError
+from framefree.replica import StreamItem, make_stream, save_stream
 
 
 @pytest.fixture(scope="module")

@@ -8,9 +8,10 @@ import math
 import numpy as np
 import pytest
 
-from framefree import se3
+from framefree.core import se3
 from framefree.datasets import CONTEXTS, GESTURES, REPLICA_CONTEXTS, STRESS_CONTEXTS
-from framefree.datasets.contexts import (
+from framefree.replica.build import _other_person_trial, _rng
+from framefree.replica.contexts import (
     HEAVY_NOISE_SCALE,
     NOISE_POS_STD,
     NOISE_ROT_STD,
@@ -19,8 +20,7 @@ from framefree.datasets.contexts import (
     RANDOM_WORLD_OFFSET,
     random_frames,
 )
-from framefree.datasets.people import person
-from framefree.datasets.replica import _other_person_trial, _rng
+from framefree.replica.people import person
 
 from .conftest import SEED, residuals, trial
 
@@ -88,14 +88,14 @@ def test_random_frames_cover_rotations_and_offsets() -> None:
 
 
 def test_other_person_is_a_new_recording_by_a_held_out_person(replica, replica_root) -> None:
-    from framefree.datasets.people import HELDOUT_PEOPLE
+    from framefree.replica.people import HELDOUT_PEOPLE
 
     assert OTHER_PERSON in HELDOUT_PEOPLE and not person(OTHER_PERSON).is_nominal
     gi = 2
     o = trial(replica, GESTURES[gi], "original_1", "trial_1")
     x = trial(replica, GESTURES[gi], "other_person", "trial_1")
     assert len(x) != len(o)  # not an augmentation of the original
-    from framefree.datasets.gestures import default_world
+    from framefree.replica.gestures import default_world
 
     world = default_world(_rng(SEED, 0))
     expect = _other_person_trial(GESTURES[gi], SEED, gi, 1, world)

@@ -12,8 +12,8 @@ import framefree.robot.sim  # noqa: F401  (chooses MuJoCo's offscreen GL backend
 pytest.importorskip("mujoco")
 
 from framefree.cli import cli
-from framefree.datasets.people import DEV_PEOPLE, HELDOUT_PEOPLE, person
-from framefree.demo import DEMO_PEOPLE, PersonPolicy, demo_commands, demo_person, run_demo
+from framefree.replica.people import DEV_PEOPLE, HELDOUT_PEOPLE, person
+from framefree.robot.demo import DEMO_PEOPLE, PersonPolicy, demo_commands, demo_person, run_demo
 from framefree.robot.scenario import PAPER_TIMELINE
 
 GESTURES = {"go_home", "go_left", "go_right", "go_up", "go_down", "open_gripper", "close_gripper"}

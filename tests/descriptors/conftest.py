@@ -6,7 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from framefree import Trajectory, se3
+from framefree import Trajectory
+from framefree.core import se3
 
 REFERENCE_SET = Path("/work/shared/data/real_motions/reference_set")
 for _cand in (
@@ -114,7 +115,7 @@ def constant_isa_trajectory(w1=1.2, w2=0.5, v1=0.1, v2=0.05, duration=3.0, dt=1e
     object turns about the ISA frame's x axis at ω₁ while sliding along it at v₁. Integrated with
     midpoint exponential steps of ``dt`` and sampled every ``every`` steps.
     """
-    from framefree import se3
+    from framefree.core import se3
 
     def adjoint(T):
         R, p = T[:3, :3], T[:3, 3]

@@ -17,10 +17,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from framefree import Trajectory
+from framefree.core.progress import cumulative_progress, reparameterize_poses, uniform_time_poses
 from framefree.descriptors import available_descriptors, get_descriptor
 from framefree.descriptors.base import L_GRID, SCOPES, descriptor_class
 from framefree.errors import DegenerateMotionError
-from framefree.progress import cumulative_progress, reparameterize_poses, uniform_time_poses
 
 from .conftest import (
     generic_trajectory,

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 from framefree import get_descriptor
+from framefree.core.dtw import dtw_distance
+from framefree.core.kalman import smooth_pose_kinematics
+from framefree.core.progress import reparameterize
 from framefree.descriptors.dhb import DHB, dhb_representation
-from framefree.dtw import dtw_distance
 from framefree.errors import DegenerateMotionError
-from framefree.kalman import smooth_pose_kinematics
-from framefree.progress import reparameterize
 
 from .conftest import (
     body_changed,

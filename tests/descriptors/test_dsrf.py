@@ -11,11 +11,12 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from framefree import get_descriptor, se3
+from framefree import get_descriptor
+from framefree.core import se3
+from framefree.core.dtw import dtw_distance
+from framefree.core.kabsch import kabsch_rotation
 from framefree.descriptors.dsrf import DSRF, dsrf_alignment, dsrf_distance, dsrf_from_rates
-from framefree.dtw import dtw_distance
 from framefree.errors import DegenerateMotionError
-from framefree.kabsch import kabsch_rotation
 
 from .conftest import (
     body_changed,

@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from framefree import get_descriptor
+from framefree.core.kalman import smooth_pose_kinematics
+from framefree.core.progress import reparameterize
 from framefree.descriptors.efs import EFS, efs_representation
 from framefree.errors import DegenerateMotionError
-from framefree.kalman import smooth_pose_kinematics
-from framefree.progress import reparameterize
 
 from .conftest import (
     body_changed,

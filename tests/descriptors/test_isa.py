@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from framefree import get_descriptor
+from framefree.core.kalman import smooth_pose_kinematics
+from framefree.core.progress import reparameterize
 from framefree.descriptors.isa import ISA, isa_representation
-from framefree.kalman import smooth_pose_kinematics
-from framefree.progress import reparameterize
 
 from .conftest import (
     constant_isa_trajectory,

@@ -10,9 +10,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from framefree import se3
-from framefree.errors import DegenerateMotionError
-from framefree.kalman import (
+from framefree.core import se3
+from framefree.core.kalman import (
     KALMAN_Q,
     P0_DIAGONAL,
     SIGMA_POSITION,
@@ -23,6 +22,7 @@ from framefree.kalman import (
     smooth_pose_kinematics,
     spatial_from_pose_twists,
 )
+from framefree.errors import DegenerateMotionError
 
 from .conftest import pose
 

@@ -9,13 +9,14 @@ import math
 import numpy as np
 import pytest
 
-from framefree import get_descriptor, se3
+from framefree import get_descriptor
+from framefree.core import se3
+from framefree.core.dtw import dtw_distance
+from framefree.core.progress import reparameterize, reparameterize_poses, uniform_time_poses
+from framefree.core.smoothing import smooth_poses
 from framefree.descriptors.families import normalized_step, rates_kernel, total_arclength
 from framefree.descriptors.rrv import RRV, rrv_from_rates
-from framefree.dtw import dtw_distance
 from framefree.errors import DegenerateMotionError
-from framefree.progress import reparameterize, reparameterize_poses, uniform_time_poses
-from framefree.smoothing import smooth_poses
 
 from .conftest import (
     body_changed,

@@ -6,9 +6,9 @@ from pathlib import Path
 
 import pytest
 
-from framefree.datasets import replica_path
+from framefree.core.trajectory import Trajectory
 from framefree.library import GestureLibrary, TakeSet, enroll, join_recordings, read_takes
-from framefree.trajectory import Trajectory
+from framefree.replica import replica_path
 
 
 @pytest.fixture(scope="session")

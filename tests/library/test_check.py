@@ -7,8 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from framefree import se3
-from framefree.datasets import synthesize_gesture
+from framefree.core import se3
 from framefree.library import (
     CheckReport,
     CheckSettings,
@@ -25,6 +24,7 @@ from framefree.library import (
 from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.recognizer import model_window_spacing
 from framefree.online.stop import sustained_peak_speed
+from framefree.replica import synthesize_gesture
 
 from .conftest import scaled
 
@@ -127,8 +127,8 @@ def test_figures(confusable: tuple[TakeSet, CheckReport], tmp_path: Path) -> Non
 
 
 def test_stop_probes_follow_the_simulated_people() -> None:
-    from framefree.datasets.streams import STOP_SIGNAL
     from framefree.library import probes
+    from framefree.replica.streams import STOP_SIGNAL
 
     assert probes.STOP_AMPLITUDE == pytest.approx(STOP_SIGNAL["amplitude"])
     assert probes.STOP_STROKE == pytest.approx(STOP_SIGNAL["stroke"])

@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 
 import framefree.online.recognizer as recognizer_module
-from framefree.datasets import make_stream
 from framefree.library import (
     FORMAT_VERSION,
     GestureLibrary,
@@ -23,6 +22,7 @@ from framefree.library import (
 )
 from framefree.online import Recognizer
 from framefree.online.evaluation import run_stream
+from framefree.replica import make_stream
 
 #: Everything the recognizer derives from its models (each must not run when a library loads);
 #: names of earlier and later versions of the recognizer module, those present are patched.

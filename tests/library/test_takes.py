@@ -9,7 +9,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from framefree.datasets import GESTURES, synthesize_gesture
+from framefree.core.trajectory import Trajectory
+from framefree.datasets import GESTURES
 from framefree.errors import FramefreeError
 from framefree.library import (
     TakeRecorder,
@@ -21,7 +22,7 @@ from framefree.library import (
     split_takes,
     write_take,
 )
-from framefree.trajectory import Trajectory
+from framefree.replica import synthesize_gesture
 
 from .conftest import chain
 

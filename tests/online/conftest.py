@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from framefree import Trajectory
-from framefree.online import PaperConfig
+from framefree.online.paper import PaperConfig
 
 DATA = Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "real_motions"
 if not DATA.is_dir():
@@ -48,7 +48,7 @@ def concatenate(trajs: list[Trajectory], rest: float = 1.0) -> Trajectory:
     ts, ps, qs = [], [], []
     t_end = 0.0
     T_end = None
-    from framefree import se3
+    from framefree.core import se3
 
     for tr in trajs:
         T = tr.poses()

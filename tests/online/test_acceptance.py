@@ -9,10 +9,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from framefree import se3
-from framefree.datasets import make_stream
-from framefree.datasets.faults import FAULT_KINDS, dropouts, inject, outliers
+from framefree.core import se3
 from framefree.online.acceptance import GATE_STAT_KEYS, SampleGate
+from framefree.replica import make_stream
+from framefree.replica.faults import FAULT_KINDS, dropouts, inject, outliers
 
 SEQUENCE = ["go_up", "stop", "go_left", "close_gripper"]
 

@@ -17,7 +17,7 @@ import pytest
 from click.testing import CliRunner
 
 from framefree.cli import cli
-from framefree.datasets import make_stream, save_stream, synthesize_gesture
+from framefree.replica import make_stream, save_stream, synthesize_gesture
 
 GESTURES = ("go_left", "open_gripper")
 

@@ -11,7 +11,7 @@ import pytest
 import zmq
 
 from cli_helpers import free_port, one_line_error, run
-from framefree.datasets import make_stream, save_stream, synthesize_gesture
+from framefree.replica import make_stream, save_stream, synthesize_gesture
 
 GESTURES = ("go_left", "open_gripper")
 

@@ -9,19 +9,19 @@ import numpy as np
 import pytest
 
 from framefree import Trajectory
-from framefree.datasets import replica_path
-from framefree.datasets.faults import FAULT_KINDS, inject
-from framefree.datasets.people import HELDOUT_PEOPLE, person
-from framefree.datasets.people_streams import person_stream
+from framefree.datasets.layout import load_model_recordings
 from framefree.descriptors import get_descriptor
 from framefree.online import Recognizer, RecognizerConfig, spotting
 from framefree.online import recognizer as recognizer_module
 from framefree.online.evaluation import match_events, run_stream
 from framefree.online.events import STOP
-from framefree.online.models import load_model_recordings
 from framefree.online.recognizer import model_window_spacing
 from framefree.online.segmentation import closure
 from framefree.online.thresholds import pooled_closures
+from framefree.replica import replica_path
+from framefree.replica.faults import FAULT_KINDS, inject
+from framefree.replica.people import HELDOUT_PEOPLE, person
+from framefree.replica.people_streams import person_stream
 
 REAL = Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "real_motions"
 if not REAL.is_dir():

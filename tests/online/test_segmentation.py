@@ -9,8 +9,17 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from framefree import Trajectory, se3
-from framefree.datasets.motion import (
+from framefree import Trajectory
+from framefree.core import se3
+from framefree.online.segmentation import (
+    MotionSegmenter,
+    PoseBuffer,
+    SpeedLevels,
+    UniformResampler,
+    closure,
+    motion_speed,
+)
+from framefree.replica.motion import (
     Motion,
     hold,
     make_pose,
@@ -19,14 +28,6 @@ from framefree.datasets.motion import (
     sclerp_path,
     screw_path,
     stroke,
-)
-from framefree.online.segmentation import (
-    MotionSegmenter,
-    PoseBuffer,
-    SpeedLevels,
-    UniformResampler,
-    closure,
-    motion_speed,
 )
 
 LEVELS = SpeedLevels(rest=0.03, move=0.06)

@@ -5,9 +5,7 @@ import numpy as np
 import pytest
 
 from framefree.errors import FramefreeError
-from framefree.online import Event
-from framefree.online.evaluation import match_events
-from framefree.online.sources import (
+from framefree.io.sources import (
     CsvReplay,
     ZmqPublisher,
     ZmqSource,
@@ -15,6 +13,8 @@ from framefree.online.sources import (
     decode_pose,
     encode_pose,
 )
+from framefree.online import Event
+from framefree.online.evaluation import match_events
 
 
 def _free_port() -> int:

@@ -9,15 +9,16 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from framefree.datasets import GESTURES, STOP, make_stream, synthesize_gesture
-from framefree.datasets.faults import duplicates, jitter
+from framefree.datasets import GESTURES, STOP
+from framefree.online.paper.stop import SampleRateStopDetector
 from framefree.online.stop import (
-    SampleRateStopDetector,
     StopDetector,
     WindowedAngularSpeed,
     sustained_peak_speed,
     windowed_angular_speeds,
 )
+from framefree.replica import make_stream, synthesize_gesture
+from framefree.replica.faults import duplicates, jitter
 
 #: Stop threshold = MARGIN × the fastest sustained rotation of the model recordings.
 MARGIN = 1.15

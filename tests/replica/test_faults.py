@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from framefree.datasets import make_stream
-from framefree.datasets.faults import (
+from framefree.replica import make_stream
+from framefree.replica.faults import (
     FAULT_KINDS,
     dropouts,
     duplicates,

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from framefree.datasets import LivePerson
 from framefree.errors import DatasetError
+from framefree.replica import LivePerson
 
 
 def _session(person: LivePerson, chunks: bool):

@@ -10,12 +10,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from framefree import se3
-from framefree.datasets import (
+from framefree.core import se3
+from framefree.datasets import GESTURES
+from framefree.replica import (
     DEFAULT_PERSON,
     DEV_PEOPLE,
     EXTRA_SHAPES,
-    GESTURES,
     HELDOUT_PEOPLE,
     Person,
     draw_person,
@@ -23,8 +23,9 @@ from framefree.datasets import (
     plan_gesture,
     synthesize_gesture,
 )
-from framefree.datasets.gestures import ANTHROPOMETRY, GESTURE_SHAPES, VARIATION
-from framefree.datasets.people import person_grip
+from framefree.replica.gestures import GESTURE_SHAPES
+from framefree.replica.people import person_grip
+from framefree.replica.population import ANTHROPOMETRY, VARIATION
 
 PEOPLE = [person(s) for s in range(200)]
 

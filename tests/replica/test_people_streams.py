@@ -11,13 +11,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from framefree import se3
-from framefree.datasets import (
+from framefree.core import se3
+from framefree.datasets import STOP
+from framefree.replica import (
     DEFAULT_PERSON,
     DEV_PEOPLE,
     HELDOUT_PEOPLE,
     PERSON_ACTIVITIES,
-    STOP,
     LivePerson,
     StreamItem,
     make_person_streams,
@@ -25,8 +25,8 @@ from framefree.datasets import (
     person,
     person_stream,
 )
-from framefree.datasets.activities import REACH, Session, _reach_stay, _scratch
-from framefree.datasets.motion import make_pose
+from framefree.replica.activities import REACH, Session, _reach_stay, _scratch
+from framefree.replica.motion import make_pose
 
 
 @pytest.fixture(scope="module")

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from framefree.online.sources import UnitsAndOrder
-from framefree.posecsv import PlausibilityWarning
+from framefree.core.posecsv import PlausibilityWarning
+from framefree.io.sources import UnitsAndOrder
 
 
 def _poses(n: int, scale: float):

@@ -14,8 +14,8 @@ from typing import Any
 
 import numpy as np
 
+from ..core.trajectory import Trajectory
 from ..errors import DatasetError
-from ..trajectory import Trajectory
 from .metrics import order_contexts
 
 __all__ = [
@@ -210,7 +210,7 @@ def load_benchmark_data(
     Parameters
     ----------
     root : str or Path, optional
-        Dataset folder; default: the HPM replica (``framefree.datasets.replica_path()``).
+        Dataset folder; default: the HPM replica (``framefree.replica.replica_path()``).
     model_context : str
         Context whose trials are the models.
     contexts : sequence of str, optional
@@ -223,7 +223,7 @@ def load_benchmark_data(
     """
     if root is None:
         try:
-            from ..datasets import replica_path
+            from ..replica import replica_path
         except ImportError as exc:
             raise DatasetError(
                 "no --data given and the HPM replica is not available in this installation "

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from ..trajectory import Trajectory
+from ..core.trajectory import Trajectory
 from .protocol import (
     BenchmarkData,
     RowResult,

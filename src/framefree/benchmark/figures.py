@@ -19,9 +19,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from ..core.dtw import warping_path
+from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor
-from ..dtw import warping_path
-from ..trajectory import Trajectory
 from .protocol import BenchmarkResult, RowResult
 
 __all__ = [

@@ -29,10 +29,10 @@ from typing import Any
 import numpy as np
 
 from ..classifier import round_significant
+from ..core.progress import cumulative_progress, reparameterize_poses, uniform_time_poses
+from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor, get_descriptor
 from ..errors import FramefreeError
-from ..progress import cumulative_progress, reparameterize_poses, uniform_time_poses
-from ..trajectory import Trajectory
 from .data import (
     DEFAULT_MODEL_CONTEXT,
     BenchmarkData,
@@ -102,7 +102,7 @@ def resample_task(arrays: Sequence[np.ndarray], presmooth: int | None = None) ->
     presmooth : int, optional
         framefree extension, off by default: Gaussian-smooth the 50 Hz poses with this window
         [samples] before any progress is computed
-        (:func:`~framefree.progress.uniform_time_poses`).
+        (:func:`~framefree.core.progress.uniform_time_poses`).
 
     Returns
     -------

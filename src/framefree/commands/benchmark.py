@@ -259,9 +259,9 @@ def _early(result, data, out_dir: Path, presmooth: int | None) -> list[Path]:  #
 def _figures(result, data, out_dir: Path) -> list[Path]:  # type: ignore[no-untyped-def]
     """Heat map, per-row confusion matrices and a DTW alignment of the first row."""
     from ..benchmark.figures import plot_aligned_signals, plot_confusion, plot_heatmap
+    from ..core.trajectory import Trajectory
     from ..descriptors import get_descriptor
     from ..errors import FramefreeError
-    from ..trajectory import Trajectory
 
     out = [plot_heatmap(result, out_dir / "heatmap.png")]
     for row in result.rows:

@@ -11,10 +11,10 @@ import click
 import numpy as np
 
 from ..classifier import NearestNeighborClassifier
+from ..core.trajectory import Trajectory
 from ..descriptors import available_descriptors, get_descriptor
 from ..descriptors.base import Descriptor
 from ..errors import FramefreeError
-from ..trajectory import Trajectory
 from .inputs import model_options, pose_file_options, read_models, writable_file, writable_folder
 
 __all__ = ["descriptor_from_options", "descriptor_options", "register"]

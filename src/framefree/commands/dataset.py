@@ -7,9 +7,9 @@ from pathlib import Path
 import click
 import numpy as np
 
-from .. import se3
+from ..core import se3
+from ..core.trajectory import Trajectory
 from ..errors import FramefreeError
-from ..trajectory import Trajectory
 from .inputs import dataset_file_options, pose_file_options, writable_file
 
 __all__ = ["register", "trajectory_stats"]
@@ -46,7 +46,7 @@ def make_command(out: Path | None, seed: int, n_streams: int) -> None:
     Layout: OUT/<gesture>/<context>/trial_<k>.csv and OUT/streams/stream_<i>.csv
     with OUT/streams/stream_<i>_labels.csv (label,start_t,end_t).
     """
-    from ..datasets import make_replica, replica_path
+    from ..replica import make_replica, replica_path
 
     if out is None:
         path = replica_path(seed)

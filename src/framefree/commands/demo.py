@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from ..demo import DEMO_PEOPLE, METHODS, PAPER_RESULT
+from ..robot.demo import DEMO_PEOPLE, METHODS, PAPER_RESULT
 
 
 @click.command()
@@ -47,7 +47,7 @@ def demo(out, seed, method, no_render, models):
         import_mujoco()
     except SimulatorMissing as exc:
         raise click.ClickException(str(exc)) from None
-    from ..demo import run_demo
+    from ..robot.demo import run_demo
 
     result = run_demo(out, seed=seed, render=not no_render, echo=click.echo, method=method,
                       models=models)

@@ -14,8 +14,8 @@ from typing import TYPE_CHECKING, Any
 
 import click
 
+from ..core.posecsv import QUAT_ORDERS, UNITS
 from ..errors import FramefreeError
-from ..posecsv import QUAT_ORDERS, UNITS
 
 if TYPE_CHECKING:
     from ..datasets.layout import ModelSet

@@ -19,11 +19,11 @@ def _pose_source(spec: str, timeout: float):
     """Iterator of (t, p, q): a CSV file is read at once, anything else via ``open_source``."""
     path = Path(spec)
     if path.suffix.lower() == ".csv" or path.is_file():
-        from ..trajectory import Trajectory
+        from ..core.trajectory import Trajectory
 
         traj = Trajectory.from_csv(path)
         return zip(traj.t, traj.p, traj.q, strict=True)
-    from ..online.sources import open_source
+    from ..io.sources import open_source
 
     return open_source(spec, timeout=timeout)
 

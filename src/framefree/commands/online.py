@@ -11,9 +11,9 @@ from typing import Any
 
 import click
 
+from ..core.posecsv import QUAT_ORDERS, UNITS
 from ..errors import FramefreeError
 from ..labels import METHODS
-from ..posecsv import QUAT_ORDERS, UNITS
 from .inputs import pose_file_options, read_models, writable_file, writable_folder
 
 __all__ = ["register"]
@@ -73,7 +73,8 @@ def _stop_and_resolution(rec: Any) -> str:
 
 def _recognizer(models: str, model_context: str, model_quat_order: str, units: str,
                 method: str = "segments", **kw: Any):
-    from ..online import PaperRecognizer, Recognizer
+    from ..online import Recognizer
+    from ..online.paper import PaperRecognizer
 
     overrides = {k: v for k, v in kw.items() if v is not None}
     if method == "segments":
@@ -146,8 +147,8 @@ def stream_cmd(file: str, port: int, rate: float | None, speed: float, fmt: str,
     Message: 8 little-endian float64 t,x,y,z,qw,qx,qy,qz (or JSON); an empty message ends it.
     In another terminal: framefree live --models DIR --source zmq://127.0.0.1:PORT
     """
-    from ..online.sources import CsvReplay, ZmqPublisher
-    from ..trajectory import Trajectory
+    from ..core.trajectory import Trajectory
+    from ..io.sources import CsvReplay, ZmqPublisher
 
     traj = Trajectory.from_csv(file, quat_order=quat_order, units=units, skip_header=skip_header)
     src = CsvReplay(traj, speed=speed, rate=rate)
@@ -189,7 +190,7 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     With ``--robot sim`` the events drive the simulated robot: the simulation clock follows the
     stream's time stamps (time 0 = first pose) and every event acts at its time.
     """
-    from ..online.sources import open_source
+    from ..io.sources import open_source
 
     if robot_plot:
         writable_file(robot_plot, "--robot-plot")
@@ -314,7 +315,7 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
                         figures: str | None, compare: bool, method: str, **kw: Any):
     """Event-level precision, recall, F1, false positives per minute and latency on labelled streams
     (--stream FILE, repeatable, and/or STREAM arguments)."""
-    from ..datasets.streams import load_stream
+    from ..datasets.stream_files import load_stream
 
     streams = (*streams, *more_streams)
     if not streams:

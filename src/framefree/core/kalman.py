@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from .errors import DegenerateMotionError
+from ..errors import DegenerateMotionError
 from .smoothing import pose_signals
 
 __all__ = [

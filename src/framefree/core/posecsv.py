@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import FramefreeWarning, TrajectoryError
+from ..errors import FramefreeWarning, TrajectoryError
 
 __all__ = [
     "QUAT_ORDERS",

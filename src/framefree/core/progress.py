@@ -26,8 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from ..errors import DegenerateMotionError
 from . import se3
-from .errors import DegenerateMotionError
 from .smoothing import smooth_poses
 from .trajectory import Trajectory
 
@@ -228,7 +228,7 @@ def reparameterize(
         50 Hz poses, so sensor noise adds progress in proportion to the number of samples (1° of
         orientation noise per sample adds about L·0.04 m of screw path per sample) and can outweigh
         the gesture itself. With ``presmooth=w`` the uniform poses are first smoothed with the
-        Gaussian of :func:`~framefree.smoothing.smooth_poses` (window ``w`` samples; ``w = 10`` at
+        Gaussian of :func:`~framefree.core.smoothing.smooth_poses` (window ``w`` samples; ``w = 10`` at
         50 Hz passes voluntary hand motion below about 3 Hz and removes tremor and jitter). Exactly
         invariant to world-frame changes, like every other step.
     """

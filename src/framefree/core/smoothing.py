@@ -8,7 +8,7 @@ and ``-w/2..w/2-1`` for even w, truncated and renormalized at the ends.
 renormalizes the quaternions (RRV, DSRF, BILTS, BILTS+).
 
 The Kalman/RTS smoother of docs/algorithms/smoothing.md used by DHB, eFS and ISA lives in
-:mod:`framefree.kalman`.
+:mod:`framefree.core.kalman`.
 """
 
 from __future__ import annotations

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import TrajectoryError
 from . import se3
-from .errors import TrajectoryError
 from .posecsv import QUAT_ORDERS, read_pose_csv, warn_if_implausible
 
 __all__ = ["MIN_SAMPLES", "Trajectory", "read_pose_csv"]
@@ -115,13 +115,13 @@ class Trajectory:
         units : {"m", "cm", "mm"}
             Unit of the file's positions (converted to metres).
         check : bool
-            Warn (:class:`~framefree.posecsv.PlausibilityWarning`) when the positions or speeds
+            Warn (:class:`~framefree.core.posecsv.PlausibilityWarning`) when the positions or speeds
             are implausible for a hand (wrong ``units``) or the quaternions look scalar-last.
 
         Raises
         ------
         TrajectoryError
-            With the file, the row and the problem (see :func:`~framefree.posecsv.read_pose_csv`).
+            With the file, the row and the problem (see :func:`~framefree.core.posecsv.read_pose_csv`).
         """
         data = read_pose_csv(path, quat_order, skip_header=skip_header, units=units)
         traj = cls.from_array(data, source=str(path))

@@ -11,8 +11,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..core.trajectory import Trajectory
 from ..errors import DatasetError, FramefreeWarning, TrajectoryError
-from ..trajectory import Trajectory
 
 __all__ = [
     "CONTEXTS",
@@ -27,6 +27,7 @@ __all__ = [
     "Trial",
     "is_training_trial",
     "load_dataset",
+    "load_model_recordings",
     "resolve_models",
 ]
 
@@ -51,7 +52,7 @@ CONTEXTS = (
 )
 #: Stress contexts beyond the paper, after its twelve in the replica and in Table I: 3 mm / 3°
 #: noise, time × 3, a random world and body frame per trial, and a second person
-#: (:mod:`~framefree.datasets.contexts`, ``docs/dataset.md``).
+#: (:mod:`~framefree.replica.contexts`, ``docs/dataset.md``).
 STRESS_CONTEXTS = ("heavy_noise", "slower_3x", "random_frames", "other_person")
 #: Every context of the replica, in table order.
 REPLICA_CONTEXTS = (*CONTEXTS, *STRESS_CONTEXTS)
@@ -380,3 +381,25 @@ def resolve_models(
         what = "folder of <label>/*.csv recordings"
     description = f"models: {root} is a {what}: {len(trajs)} recordings of {n_labels} labels"
     return ModelSet(trajs, labels, layout, description)
+
+
+def load_model_recordings(
+    root: str | Path, model_context: str = MODEL_CONTEXT
+) -> tuple[list[Trajectory], list[str]]:
+    """The model recordings of a dataset folder (one context) and their gesture labels.
+
+    Parameters
+    ----------
+    root : path
+        A dataset root ``<root>/<gesture>/<context>/*.csv``.
+    model_context : str
+        The context whose recordings are the models.
+
+    Returns
+    -------
+    trajectories : list of Trajectory
+    labels : list of str
+        The gesture of each recording.
+    """
+    trials = list(load_dataset(root, model_context=model_context).models())
+    return [tr.trajectory for tr in trials], [tr.gesture for tr in trials]

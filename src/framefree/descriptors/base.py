@@ -42,8 +42,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..progress import PROGRESS_TYPES
-from ..trajectory import Trajectory
+from ..core.progress import PROGRESS_TYPES
+from ..core.trajectory import Trajectory
 
 __all__ = [
     "L_GRID",

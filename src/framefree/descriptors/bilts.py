@@ -25,17 +25,17 @@ from collections.abc import Sequence
 import numpy as np
 from numba import njit
 
-from .. import se3
-from ..dtw import (
+from ..core import se3
+from ..core.dtw import (
     POINTWISE_KABSCH,
     POINTWISE_SQUARED,
     pack_sequences,
     path_distance_kernel,
     path_distance_matrix_kernel,
 )
-from ..progress import DEFAULT_SAMPLES, reparameterize
-from ..smoothing import smooth_poses
-from ..trajectory import Trajectory
+from ..core.progress import DEFAULT_SAMPLES, reparameterize
+from ..core.smoothing import smooth_poses
+from ..core.trajectory import Trajectory
 from .base import Descriptor, register
 
 __all__ = [
@@ -401,7 +401,7 @@ class BILTS(_BILTSBase):
     presmooth : int, optional
         framefree extension, off by default (reference behaviour): smooth the 50 Hz poses with a
         Gaussian window of this many samples before computing progress, which makes the
-        reparameterization robust to sensor noise. See :func:`framefree.progress.reparameterize`.
+        reparameterization robust to sensor noise. See :func:`framefree.core.progress.reparameterize`.
     open_end : bool
         framefree extension: open-end alignment, an unfinished query may match the beginning of a
         model (docs/algorithms/dtw.md).

@@ -24,7 +24,7 @@ from collections.abc import Sequence
 import numpy as np
 from numba import njit, prange
 
-from ..dtw import accumulated_cost_kernel, pack_sequences
+from ..core.dtw import accumulated_cost_kernel, pack_sequences
 from .base import register
 from .families import RATE_OFFSET, GlobalDescriptor
 

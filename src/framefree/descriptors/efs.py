@@ -21,7 +21,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..kalman import PoseKinematics
+from ..core.kalman import PoseKinematics
 from .base import register
 from .families import KalmanDescriptor
 

@@ -19,19 +19,19 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-from .. import se3
-from ..dtw import POINTWISE_EUCLIDEAN, pack_sequences, path_distance_matrix_kernel
-from ..errors import DegenerateMotionError
-from ..kalman import PoseKinematics, smooth_pose_kinematics
-from ..progress import (
+from ..core import se3
+from ..core.dtw import POINTWISE_EUCLIDEAN, pack_sequences, path_distance_matrix_kernel
+from ..core.kalman import PoseKinematics, smooth_pose_kinematics
+from ..core.progress import (
     DEFAULT_SAMPLES,
     cumulative_progress,
     reparameterize,
     reparameterize_poses,
     uniform_time_poses,
 )
-from ..smoothing import smooth_poses
-from ..trajectory import Trajectory
+from ..core.smoothing import smooth_poses
+from ..core.trajectory import Trajectory
+from ..errors import DegenerateMotionError
 from .base import Descriptor
 
 __all__ = [

@@ -34,7 +34,7 @@ from collections.abc import Sequence
 import numpy as np
 from numba import njit
 
-from .. import se3
+from ..core import se3
 from .base import register
 from .families import RATE_OFFSET, GlobalDescriptor, euclidean_distance_matrix
 

@@ -31,9 +31,9 @@ from typing import Any
 
 import numpy as np
 
+from ..core.posecsv import UNITS, warn_if_implausible
+from ..core.trajectory import Trajectory
 from ..errors import FramefreeError
-from ..posecsv import UNITS, warn_if_implausible
-from ..trajectory import Trajectory
 
 __all__ = [
     "MESSAGE_FORMAT",
@@ -322,7 +322,7 @@ class OpenVRSource:
                 if pose.bPoseIsValid:
                     m = np.array([[pose.mDeviceToAbsoluteTracking[r][c] for c in range(4)]
                                   for r in range(3)])
-                    from ..se3 import quaternion_from_matrix
+                    from ..core.se3 import quaternion_from_matrix
 
                     yield t, m[:, 3].copy(), quaternion_from_matrix(m[:, :3], continuous=False)
                 time.sleep(max(0.0, period - math.fmod(time.perf_counter() - t0, period)))
@@ -332,7 +332,7 @@ class OpenVRSource:
 
 class UnitsAndOrder:
     """Convert a pose source's positions to metres and quaternions to scalar first, and warn once
-    when its first samples look implausible for a hand (see :mod:`framefree.posecsv`).
+    when its first samples look implausible for a hand (see :mod:`framefree.core.posecsv`).
 
     Parameters
     ----------

@@ -20,10 +20,10 @@ import math
 
 import numpy as np
 
-from .. import se3
-from ..online.calibration import non_gesture_motions, sensor_noise
+from ..core import se3
+from ..core.trajectory import Trajectory
+from ..online.negatives import non_gesture_motions, sensor_noise
 from ..online.stop import sustained_peak_speed
-from ..trajectory import Trajectory
 
 __all__ = [
     "everyday_motions",
@@ -36,7 +36,7 @@ __all__ = [
 #: Sample period of the probe motions [s].
 PERIOD = 0.02
 #: Stop signal: amplitude [rad] and stroke duration [s] ranges of the three strokes (+A, −2A, +A),
-#: as the simulated people make it (equal to :data:`framefree.datasets.streams.STOP_SIGNAL`, tested;
+#: as the simulated people make it (equal to :data:`framefree.replica.streams.STOP_SIGNAL`, tested;
 #: not imported, so that loading a library does not load the dataset generator).
 STOP_AMPLITUDE = (math.radians(50.0), math.radians(80.0))
 STOP_STROKE = (0.2, 0.3)
@@ -147,7 +147,7 @@ def stop_rotations(take: Trajectory, rng: np.random.Generator, n: int = 2) -> li
 
     Each is a rest, three minimum-jerk strokes ``+A, −2A, +A`` about a random axis passing
     :data:`STOP_AXIS_OFFSET` from the tracker (the forearm axis, seen through an unknown grip),
-    and a rest; amplitudes and durations as :data:`~framefree.datasets.streams.STOP_SIGNAL`.
+    and a rest; amplitudes and durations as :data:`~framefree.replica.streams.STOP_SIGNAL`.
     """
     T0 = take.poses()[0]
     out = []
@@ -194,7 +194,7 @@ def everyday_motions(
 
     Kinds: ``reach`` (one unhurried minimum-jerk screw move to a nearby pose: up to ≈ 20 cm and
     60°), ``reach and return`` (out, a short hold, back) and ``moves`` (the via-point moves of
-    :func:`~framefree.online.calibration.non_gesture_motions`), each with rests around it.
+    :func:`~framefree.online.negatives.non_gesture_motions`), each with rests around it.
     """
     T0 = take.poses()[0]
     out = []

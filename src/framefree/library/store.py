@@ -7,29 +7,14 @@ models exactly — the rows of the takes — together with the outcome of the ca
 resolved :class:`~framefree.online.RecognizerConfig`), and loading rebuilds the models and
 restores everything else.
 
-File format (``FORMAT_VERSION`` 2; version 1 predates the recognizer's ``axis_prior`` setting,
-which changes the models' descriptors, so its thresholds would not fit): a ``.npz`` (zip) archive
-readable with ``numpy.load(path, allow_pickle=False)`` plus one JSON member; nothing in it executes
-code when loaded.
-
-=================  ====================================================================================
-``library.json``   ``format_version``, ``framefree_version``, ``created`` (UTC), ``built_from``,
-                   ``names``, ``labels``, ``settings`` (the configuration asked for), ``config`` (the
-                   configuration in use, with the calibrated resolution and thresholds),
-                   ``gesture_thresholds``, ``stop_threshold``, ``calibration`` (summary),
-                   ``fingerprint`` (SHA-256 of takes, labels, settings and format)
-``samples.npy``    float64 (S, 8): every take's rows ``t, x, y, z, qw, qx, qy, qz`` one after another
-``offsets.npy``    int64 (M + 1,): take ``k`` is ``samples[offsets[k]:offsets[k + 1]]``
-=================  ====================================================================================
+The file format is :mod:`framefree.io.library_file`.
 """
 
 from __future__ import annotations
 
 import datetime
 import hashlib
-import io
 import json
-import zipfile
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -37,11 +22,18 @@ from typing import Any
 
 import numpy as np
 
-from .. import __version__
+from .._version import __version__
+from ..core.trajectory import Trajectory
 from ..errors import DatasetError, FramefreeError
+from ..io.library_file import (
+    FORMAT_VERSION,
+    LibraryError,
+    read_library_file,
+    rebuild_hint,
+    write_library_file,
+)
 from ..online.config import RecognizerConfig
 from ..online.recognizer import Recognizer
-from ..trajectory import Trajectory
 
 __all__ = [
     "FORMAT_VERSION",
@@ -55,10 +47,6 @@ __all__ = [
     "read_takes",
 ]
 
-#: Version of the library file layout and of the meaning of its settings.
-FORMAT_VERSION = 2
-#: Name of the JSON member (stable across format versions, so any version can be recognized).
-JSON_MEMBER = "library.json"
 #: Context folder that ``framefree record`` writes by default and :func:`read_takes` prefers.
 OWN_CONTEXT = "own"
 _PREFERRED_CONTEXTS = (OWN_CONTEXT, "original_1")
@@ -66,10 +54,6 @@ _PREFERRED_CONTEXTS = (OWN_CONTEXT, "original_1")
 
 def _now() -> str:
     return datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
-
-
-class LibraryError(FramefreeError):
-    """A gesture library file or folder cannot be used (the message says why and what to do)."""
 
 
 @dataclass(frozen=True)
@@ -251,14 +235,9 @@ def build_recognizer(
     config: RecognizerConfig,
     gesture_thresholds: dict[str, float],
 ) -> Recognizer:
-    """A recognizer over models rebuilt from ``takes``, with the given thresholds (no calibration).
-
-    ``config`` must be the resolved configuration found at enrolment (every value the recognizer
-    derives from its models already set). This is the only place that knows how a recognizer is
-    restored from a library.
-    """
-    config = config.replace(gesture_thresholds=dict(gesture_thresholds))
-    return Recognizer.from_trajectories(list(takes), list(labels), config)
+    """A recognizer over models rebuilt from ``takes``, with the given thresholds (no calibration);
+    see :meth:`~framefree.online.Recognizer.restore`."""
+    return Recognizer.restore(takes, labels, config, gesture_thresholds)
 
 
 @dataclass(frozen=True)
@@ -318,8 +297,8 @@ class GestureLibrary:
 
     def recognizer(self) -> Recognizer:
         """A live recognizer: models rebuilt from the takes, thresholds restored (no calibration)."""
-        return build_recognizer(self.takes.takes, self.takes.labels, self.recognizer_config(),
-                                self.gesture_thresholds)
+        return Recognizer.restore(self.takes.takes, self.takes.labels, self.recognizer_config(),
+                                  self.gesture_thresholds)
 
     def meta(self) -> dict[str, Any]:
         """The JSON member of the library file."""
@@ -339,21 +318,8 @@ class GestureLibrary:
         }
 
     def save(self, path: str | Path) -> Path:
-        """Write the library file (see the module docstring); parent folders are created."""
-        path = Path(path)
-        arrays = list(self.takes.rows())
-        samples = np.concatenate(arrays) if arrays else np.zeros((0, 8))
-        offsets = np.concatenate([[0], np.cumsum([a.shape[0] for a in arrays])]).astype(np.int64)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(path.name + ".part")
-        with zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_DEFLATED) as zf:
-            zf.writestr(JSON_MEMBER, json.dumps(self.meta(), indent=1, default=float))
-            for name, arr in (("samples", samples), ("offsets", offsets)):
-                buf = io.BytesIO()
-                np.lib.format.write_array(buf, np.ascontiguousarray(arr), allow_pickle=False)
-                zf.writestr(f"{name}.npy", buf.getvalue())
-        tmp.replace(path)
-        return path
+        """Write the library file (:mod:`framefree.io.library_file`); parent folders are created."""
+        return write_library_file(path, self.meta(), list(self.takes.rows()))
 
     def summary(self) -> str:
         """One line per gesture: takes and threshold."""
@@ -363,11 +329,6 @@ class GestureLibrary:
         lines += [f"  {g:<16} {n:3d} takes  τ = {self.gesture_thresholds.get(g, float('nan')):.4g}"
                   for g, n in counts.items()]
         return "\n".join(lines)
-
-
-def _rebuild_hint(path: Path, meta: dict[str, Any]) -> str:
-    src = " ".join(meta.get("built_from") or []) or "LIBRARY_FOLDER"
-    return f"rebuild it with: framefree enroll {src} -o {path}"
 
 
 def load_library(path: str | Path) -> GestureLibrary:
@@ -380,36 +341,20 @@ def load_library(path: str | Path) -> GestureLibrary:
         do not fit this framefree (the message says how to rebuild it).
     """
     path = Path(path)
-    try:
-        with zipfile.ZipFile(path) as zf:
-            meta = json.loads(zf.read(JSON_MEMBER))
-            fmt = meta.get("format_version")
-            if fmt != FORMAT_VERSION:
-                raise LibraryError(
-                    f"{path}: gesture library format {fmt} (framefree {meta.get('framefree_version')}), "
-                    f"this framefree {__version__} reads format {FORMAT_VERSION}; "
-                    f"{_rebuild_hint(path, meta)}")
-            arrays = {n: np.lib.format.read_array(io.BytesIO(zf.read(f"{n}.npy")), allow_pickle=False)
-                      for n in ("samples", "offsets")}
-    except (OSError, KeyError, zipfile.BadZipFile, json.JSONDecodeError, ValueError) as exc:
-        if isinstance(exc, LibraryError):
-            raise
-        raise LibraryError(f"{path}: not a framefree gesture library ({type(exc).__name__}: {exc})") from None
-    samples, offsets = arrays["samples"], arrays["offsets"]
+    meta, rows = read_library_file(path)
     names, labels = meta["names"], meta["labels"]
-    rows = tuple(samples[offsets[k]:offsets[k + 1]] for k in range(len(names)))
     takes = tuple(Trajectory.from_array(r, source=f"{path}:{n}") for r, n in zip(rows, names, strict=True))
     lib = GestureLibrary(
-        TakeSet(takes, tuple(labels), tuple(names), rows), meta["settings"], meta["config"],
+        TakeSet(takes, tuple(labels), tuple(names), tuple(rows)), meta["settings"], meta["config"],
         {str(k): float(v) for k, v in meta["gesture_thresholds"].items()}, float(meta["stop_threshold"]),
         meta.get("calibration"), tuple(meta.get("built_from") or ()), meta.get("framefree_version", "?"),
-        int(fmt), meta.get("created", ""),
+        int(meta["format_version"]), meta.get("created", ""),
     )
     try:
         lib.recognizer_config()
     except (TypeError, ValueError) as exc:
         raise LibraryError(f"{path}: settings do not fit framefree {__version__} ({exc}); "
-                           f"{_rebuild_hint(path, meta)}") from None
+                           f"{rebuild_hint(path, meta)}") from None
     return lib
 
 
@@ -419,8 +364,8 @@ def _as_json(d: dict[str, Any]) -> dict[str, Any]:
 
 
 def load_recognizer(path: str | Path) -> Recognizer:
-    """A live recognizer from a library file, without recalibration (see :func:`load_library`)."""
-    return load_library(path).recognizer()
+    """A live recognizer from a library file, without recalibration (= :meth:`Recognizer.load`)."""
+    return Recognizer.load(path)
 
 
 def enroll(

@@ -2,7 +2,7 @@
 
 A person records a new gesture by performing it several times in one go, resting briefly between
 performances. The rests are found with a motion speed that does not depend on where the tracker's
-world frame is or how the tracker sits in the hand: the screw-path rate (:mod:`framefree.progress`)
+world frame is or how the tracker sits in the hand: the screw-path rate (:mod:`framefree.core.progress`)
 of the lightly smoothed poses, in metres per second (rotation weighted by the scale length ``L``).
 
 The rest level is derived from the recording itself: its noise floor (a low quantile of the speed:
@@ -25,11 +25,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import se3
+from ..core import se3
+from ..core.progress import progress_increments
+from ..core.smoothing import smooth_poses
+from ..core.trajectory import MIN_SAMPLES, Trajectory
 from ..errors import FramefreeError
-from ..progress import progress_increments
-from ..smoothing import smooth_poses
-from ..trajectory import MIN_SAMPLES, Trajectory
 
 __all__ = [
     "TakeRecorder",

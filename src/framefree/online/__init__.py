@@ -1,16 +1,18 @@
-"""Real-time recognition: streaming BILTS+, incremental matchers, stop detector, sources.
+"""Real-time recognition, framefree's default: spotting whole gestures in a pose stream and
+classifying each one as the offline classifier does (docs/online.md). The paper's recognizer is
+:mod:`framefree.online.paper`; pose sources are :mod:`framefree.io`.
 
 Public API::
 
-    from framefree.online import Recognizer
+    from framefree.online import Recognizer, open_source
     rec = Recognizer.from_dataset("data/hpm", model_context="original_1")
     rec.warmup()
-    for t, p, q in source:
+    for t, p, q in open_source("session.csv"):
         for event in rec.push(t, p, q):
             print(event)
 
 The names below are imported on first use (:pep:`562`): ``framefree live`` loads the segment
-recognizer without the paper's recognizer, its matchers or the pose sources it does not use.
+recognizer without the pose sources it does not use.
 """
 
 from __future__ import annotations
@@ -20,42 +22,25 @@ from typing import TYPE_CHECKING
 from .._lazy import lazy_attributes
 
 if TYPE_CHECKING:
+    from ..io.sources import CsvReplay, ZmqPublisher, ZmqSource, open_source
     from .acceptance import Accepted, SampleGate
-    from .calibration import Calibration, calibrate_threshold
     from .config import RecognizerConfig
     from .events import STOP, Event
-    from .matchers import MatcherBank
-    from .models import GestureModels, build_models
-    from .paper import PaperRecognizer
-    from .paper_config import PaperConfig
-    from .preprocess import StreamingBILTSPlus, descriptor_from_samples, replay
     from .recognizer import Recognizer
-    from .sources import CsvReplay, ZmqPublisher, ZmqSource, open_source
-    from .stop import SampleRateStopDetector, StopDetector, sustained_peak_speed
+    from .stop import StopDetector, sustained_peak_speed
 
-#: public name -> submodule that defines it
+#: public name -> module that defines it (relative to this package)
 _LAZY = {
     "Accepted": ".acceptance",
     "SampleGate": ".acceptance",
-    "Calibration": ".calibration",
-    "calibrate_threshold": ".calibration",
     "RecognizerConfig": ".config",
     "STOP": ".events",
     "Event": ".events",
-    "MatcherBank": ".matchers",
-    "GestureModels": ".models",
-    "build_models": ".models",
-    "PaperRecognizer": ".paper",
-    "PaperConfig": ".paper_config",
-    "StreamingBILTSPlus": ".preprocess",
-    "descriptor_from_samples": ".preprocess",
-    "replay": ".preprocess",
     "Recognizer": ".recognizer",
-    "CsvReplay": ".sources",
-    "ZmqPublisher": ".sources",
-    "ZmqSource": ".sources",
-    "open_source": ".sources",
-    "SampleRateStopDetector": ".stop",
+    "CsvReplay": "..io.sources",
+    "ZmqPublisher": "..io.sources",
+    "ZmqSource": "..io.sources",
+    "open_source": "..io.sources",
     "StopDetector": ".stop",
     "sustained_peak_speed": ".stop",
 }
@@ -63,26 +48,15 @@ _LAZY = {
 __all__ = [
     "STOP",
     "Accepted",
-    "Calibration",
     "CsvReplay",
     "Event",
-    "GestureModels",
-    "MatcherBank",
-    "PaperConfig",
-    "PaperRecognizer",
     "Recognizer",
     "RecognizerConfig",
     "SampleGate",
-    "SampleRateStopDetector",
     "StopDetector",
-    "StreamingBILTSPlus",
     "ZmqPublisher",
     "ZmqSource",
-    "build_models",
-    "calibrate_threshold",
-    "descriptor_from_samples",
     "open_source",
-    "replay",
     "sustained_peak_speed",
 ]
 

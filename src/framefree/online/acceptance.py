@@ -7,7 +7,7 @@ sign flips, time-stamp jitter, dropouts and single-sample glitches, and it somet
 * invalid samples (non-finite values, zero quaternion), repeated time stamps (closer than
   ``min_interval`` to the previous sample) and backwards time stamps are skipped;
 * quaternions are normalized and their sign made continuous
-  (:func:`framefree.se3.align_quaternion_sign`);
+  (:func:`framefree.core.se3.align_quaternion_sign`);
 * a sample is *consistent* with a reference sample when the hand could have moved between them:
   displacement at most ``max_speed × Δ + position_tolerance`` and rotation angle at most
   ``max_angular_speed × Δ + angle_tolerance``, with ``Δ = max(dt, period) + time_tolerance``, so
@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import se3
+from ..core import se3
 
 __all__ = ["GATE_STAT_KEYS", "Accepted", "Sample", "SampleGate"]
 

@@ -19,7 +19,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from ..trajectory import Trajectory
+from ..core.trajectory import Trajectory
 from .events import Event
 
 __all__ = [

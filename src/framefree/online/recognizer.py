@@ -27,11 +27,13 @@ from typing import Any
 
 import numpy as np
 
-from .. import se3
+from .._version import __version__
+from ..core import se3
+from ..core.progress import reparameterize
+from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor, get_descriptor
 from ..descriptors.bilts import window_spacing
-from ..progress import reparameterize
-from ..trajectory import Trajectory
+from ..io.library_file import LibraryError, read_library_file, rebuild_hint
 from .acceptance import SampleGate
 from .config import RecognizerConfig
 from .events import STOP, Event
@@ -245,13 +247,46 @@ class Recognizer(StreamingRecognizer):
         return cls(classifier, labels, resolved, calibration)
 
     @classmethod
+    def restore(
+        cls,
+        takes: Sequence[Trajectory],
+        labels: Sequence[str],
+        config: RecognizerConfig,
+        gesture_thresholds: dict[str, float],
+    ) -> Recognizer:
+        """A recognizer over models rebuilt from ``takes`` with thresholds restored (no calibration).
+
+        ``config`` must be the resolved configuration found at enrolment (every value the
+        recognizer derives from its models already set). This is the only place that knows how a
+        recognizer is restored from a gesture library.
+        """
+        config = config.replace(gesture_thresholds=dict(gesture_thresholds))
+        return cls.from_trajectories(list(takes), list(labels), config)
+
+    @classmethod
     def load(cls, path: str | Path) -> Recognizer:
         """A recognizer from a gesture library file written by ``framefree enroll``
         (:mod:`framefree.library`): models rebuilt from the stored takes, thresholds restored, no
-        calibration."""
-        from ..library.store import load_recognizer
+        calibration.
 
-        return load_recognizer(path)
+        Raises
+        ------
+        LibraryError
+            When the file is not a library, was written in another format version, or its
+            settings do not fit this framefree (the message says how to rebuild it).
+        """
+        path = Path(path)
+        meta, rows = read_library_file(path)
+        try:
+            config = RecognizerConfig.from_dict(meta["config"]).replace(
+                stop_threshold=float(meta["stop_threshold"]))
+        except (TypeError, ValueError) as exc:
+            raise LibraryError(f"{path}: settings do not fit framefree {__version__} ({exc}); "
+                               f"{rebuild_hint(path, meta)}") from None
+        takes = [Trajectory.from_array(r, source=f"{path}:{n}")
+                 for r, n in zip(rows, meta["names"], strict=True)]
+        thresholds = {str(k): float(v) for k, v in meta["gesture_thresholds"].items()}
+        return cls.restore(takes, meta["labels"], config, thresholds)
 
     # ---------------------------------------------------------------------------------- running
     @property

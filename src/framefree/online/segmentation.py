@@ -3,7 +3,7 @@
 A hand gesture is made of one or a few *strokes*: bell-shaped bursts of motion whose speed falls
 towards zero where the hand stops or reverses (a straight out-and-back has two strokes, a circle
 one). framefree finds these units in the stream with a **bi-invariant motion speed**, the screw-path
-rate of the hand: the screw path (``framefree.progress``) of the displacement between the pose now
+rate of the hand: the screw path (``framefree.core.progress``) of the displacement between the pose now
 and the pose ``lag`` samples ago, divided by the time between them. Neither a change of the tracker's
 world frame nor of its placement in the hand changes it, and measuring it over ``lag`` samples of a
 uniform 50 Hz grid averages out tracker jitter and time-stamp jitter.
@@ -33,9 +33,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import se3
-from ..progress import progress_increments, screw_path_increment
-from ..trajectory import Trajectory
+from ..core import se3
+from ..core.progress import progress_increments, screw_path_increment
+from ..core.trajectory import Trajectory
 
 __all__ = [
     "MotionSegmenter",

@@ -25,10 +25,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..core.progress import reparameterize
+from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor
 from ..errors import DegenerateMotionError
-from ..progress import reparameterize
-from ..trajectory import Trajectory
 from .segmentation import PoseBuffer, Unit, closure
 
 __all__ = ["Candidate", "SegmentClassifier", "Spotter", "candidate_spans"]

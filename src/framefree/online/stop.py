@@ -12,7 +12,8 @@ and for ``refractory`` seconds after firing (one stop per stop signal).
 :func:`sustained_peak_speed` calibrates the threshold on recordings that must not fire (the
 threshold is then a margin times the fastest model rotation).
 
-The per-sample detector of the paper's recognizer is :class:`SampleRateStopDetector`.
+The per-sample detector of the paper's recognizer is
+:class:`framefree.online.paper.stop.SampleRateStopDetector`.
 """
 
 from __future__ import annotations
@@ -23,14 +24,9 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from .sample_rate_stop import SampleRateStopDetector, debounced_peak_rate, quaternion_rates
-
 __all__ = [
-    "SampleRateStopDetector",
     "StopDetector",
     "WindowedAngularSpeed",
-    "debounced_peak_rate",
-    "quaternion_rates",
     "sustained_peak_speed",
     "windowed_angular_speeds",
 ]

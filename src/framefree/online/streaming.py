@@ -5,16 +5,16 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from ..trajectory import Trajectory
+from ..core.trajectory import Trajectory
+from ..datasets.layout import load_model_recordings
 from .events import Event
-from .models import load_model_recordings
 
 __all__ = ["StreamingRecognizer"]
 
 
 class StreamingRecognizer:
     """Mixin of the live recognizers (:class:`~framefree.online.Recognizer`,
-    :class:`~framefree.online.PaperRecognizer`): a subclass provides ``from_trajectories`` and
+    :class:`~framefree.online.paper.PaperRecognizer`): a subclass provides ``from_trajectories`` and
     ``push``."""
 
     @classmethod

@@ -8,7 +8,7 @@ candidate segment of it is classified against the *other* recordings of its gest
 **Negatives.** Two kinds:
 
 * *generic motion* that is no gesture, built around every recording's start and end pose with the
-  recording's own sensor noise (:func:`framefree.online.calibration.non_gesture_motions`):
+  recording's own sensor noise (:func:`framefree.online.negatives.non_gesture_motions`):
   holding still, and unhurried via-point moves (repositioning, reaching). Each episode's score for
   ``g`` is the best distance to the models of ``g`` among its candidates that pass ``g``'s closure
   and size limits; an episode none of whose candidates passes them cannot be taken for ``g`` and
@@ -34,8 +34,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..trajectory import Trajectory
-from .calibration import non_gesture_motions
+from ..core.trajectory import Trajectory
+from .negatives import non_gesture_motions
 from .segmentation import MotionSegmenter, SpeedLevels, Unit, closure
 from .spotting import SegmentClassifier, Spotter, candidate_spans
 

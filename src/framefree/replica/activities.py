@@ -6,7 +6,7 @@ hand, the user frame in the tracker world) and a log of :class:`Activity` entrie
 * the replica's repertoire (:data:`ACTIVITIES`, used without a person): holding still,
   repositioning, via-point distractors, walking, re-gripping;
 * a person's repertoire (:data:`PERSON_ACTIVITIES`, used with a
-  :class:`~framefree.datasets.people.Person`) adds reach-and-stay, walk-and-turn and
+  :class:`~framefree.replica.people.Person`) adds reach-and-stay, walk-and-turn and
   scratching-like loops, and times the deliberate moves with the person's tempo and skew;
 * stop signals (:func:`stop_signal`), in both.
 """
@@ -18,10 +18,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import se3
-from .gestures import ANTHROPOMETRY, SKEW_RANGE
+from ..core import se3
+from .gestures import SKEW_RANGE
 from .motion import Motion, Piece, hold, make_pose, minimum_jerk, rot, sclerp_path, stroke
 from .people import Person, person_grip
+from .population import ANTHROPOMETRY
 from .recording import random_grip
 
 __all__ = [
@@ -45,7 +46,7 @@ STOP_SIGNAL = {"amplitude": (math.radians(50), math.radians(80)), "stroke": (0.2
 #: Interlude activities of the replica's person and their probabilities.
 ACTIVITIES = {"hold": 0.3, "reposition": 0.25, "distractor": 0.2, "walk": 0.15, "regrip": 0.1}
 
-#: Interlude activities of a simulated person (:mod:`~framefree.datasets.people`).
+#: Interlude activities of a simulated person (:mod:`~framefree.replica.people`).
 PERSON_ACTIVITIES = {
     "hold": 0.17,
     "reposition": 0.15,

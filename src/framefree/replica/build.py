@@ -11,10 +11,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..trajectory import Trajectory
+from ..core.trajectory import Trajectory
+from ..datasets.layout import GESTURES, REPLICA_CONTEXTS, STREAMS_DIR
 from .contexts import OTHER_PERSON, apply_context
 from .gestures import default_world, synthesize_gesture
-from .layout import GESTURES, REPLICA_CONTEXTS, STREAMS_DIR
 from .motion import make_pose, rot
 from .people import person
 from .recording import write_recording
@@ -27,7 +27,8 @@ __all__ = ["N_TRIALS", "REPLICA_VERSION", "cache_dir", "make_replica", "replica_
 REPLICA_VERSION = 1
 #: Modules whose source defines the replica's content.
 _GENERATOR_MODULES = (
-    "activities", "contexts", "gestures", "motion", "people", "recording", "replica", "streams"
+    "activities", "build", "contexts", "gestures", "motion", "people", "population", "recording",
+    "streams",
 )
 #: Trials per gesture and context.
 N_TRIALS = 5
@@ -62,7 +63,7 @@ def make_replica(out_dir: str | Path, seed: int = 0, n_streams: int = 3) -> Path
 
     Every trial is a separate recording of the same person in one session (same tracker world, small
     changes of stance, a different grip each time); every context is made from the trial's
-    *Original 1* recording by :func:`~framefree.datasets.apply_context`. Stored quaternions carry
+    *Original 1* recording by :func:`~framefree.replica.apply_context`. Stored quaternions carry
     SDK-like sign flips. Deterministic given ``seed``.
 
     Parameters

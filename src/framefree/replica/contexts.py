@@ -13,7 +13,7 @@ slower_3x          time axis × 3, resampled at 50 Hz by ScLERP, + noise
 random_frames      ``T_W · T(t) · T_B`` with a world and a body frame drawn per trial
                    (:func:`random_frames`), + noise
 other_person       not an augmentation: a new recording of the same gesture by a second simulated
-                   person (:data:`OTHER_PERSON`), made by :func:`~framefree.datasets.make_replica`
+                   person (:data:`OTHER_PERSON`), made by :func:`~framefree.replica.make_replica`
 =================  =================================================================================
 
 The last four are framefree's stress contexts, beyond the paper; the twelve paper contexts and
@@ -32,9 +32,9 @@ import math
 
 import numpy as np
 
-from .. import se3
-from ..trajectory import Trajectory
-from .layout import REPLICA_CONTEXTS
+from ..core import se3
+from ..core.trajectory import Trajectory
+from ..datasets.layout import REPLICA_CONTEXTS
 from .motion import make_pose, rot
 
 __all__ = [
@@ -65,7 +65,7 @@ HEAVY_NOISE_SCALE = 3.0
 RANDOM_WORLD_OFFSET = 3.0
 #: *random_frames*: the body offset (tracker origin moved in the body frame) is at most this [m].
 RANDOM_BODY_OFFSET = 0.10
-#: *other_person*: seed of the second person (:func:`~framefree.datasets.people.person`), the
+#: *other_person*: seed of the second person (:func:`~framefree.replica.people.person`), the
 #: first of the held-out people (chosen before any result was seen, never tuned on).
 OTHER_PERSON = 1000
 

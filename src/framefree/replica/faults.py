@@ -3,7 +3,7 @@
 Every fault is a pure function of raw arrays ``t`` (n,) [s], ``p`` (n, 3) [m], ``q`` (n, 4)
 ``(w, x, y, z)`` and a :class:`numpy.random.Generator`; it returns new arrays ``(t, p, q)`` and
 never modifies its inputs. The results may hold NaN, repeated or unsorted time stamps, so they are
-raw arrays, not :class:`~framefree.trajectory.Trajectory` objects. Feed them to a recognizer (or to
+raw arrays, not :class:`~framefree.core.trajectory.Trajectory` objects. Feed them to a recognizer (or to
 :class:`~framefree.online.acceptance.SampleGate`) sample by sample::
 
     t, p, q = inject("dropouts", traj.t, traj.p, traj.q, rng)
@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from .. import se3
+from ..core import se3
 
 __all__ = [
     "FAULT_KINDS",

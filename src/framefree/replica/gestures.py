@@ -23,7 +23,7 @@ Pairs that differ only in shape: open/close gripper (sign of the pitch), go_left
 arc), go_down/go_up (rotation about a near vs a far axis), go_down/close_gripper (with or without
 the advance). Human variation per trial: size, speed, start pose, heading, slight asymmetry of the
 speed profiles, mid-path deviations, pause length, and an imperfect return to the start. Variation
-between people (:mod:`~framefree.datasets.people`) enters through the ``person`` argument; two more
+between people (:mod:`~framefree.replica.people`) enters through the ``person`` argument; two more
 shapes that are no HPM gesture (*figure_eight*, *push_twist*) are in :data:`EXTRA_SHAPES`.
 """
 
@@ -36,9 +36,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .. import se3
-from ..trajectory import Trajectory
-from .layout import GESTURES
+from ..core import se3
+from ..core.trajectory import Trajectory
+from ..datasets.layout import GESTURES
 from .motion import (
     Motion,
     Path,
@@ -52,20 +52,19 @@ from .motion import (
     stroke,
     translation_path,
 )
+from .population import ANTHROPOMETRY
 from .recording import measure, random_grip, sample_times
 
 if TYPE_CHECKING:
     from .people import Person
 
 __all__ = [
-    "ANTHROPOMETRY",
     "EXTRA_SHAPES",
     "GESTURE_SHAPES",
     "PALM_DOWN",
     "PALM_LEFT",
     "PALM_UP",
     "SKEW_RANGE",
-    "VARIATION",
     "GesturePlan",
     "default_world",
     "gesture_motion",
@@ -79,19 +78,6 @@ PALM_UP = np.diag([1.0, -1.0, -1.0])  # half a turn about x
 # quarter turn about x: thumb up, palm facing left
 PALM_LEFT = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
 
-#: Body dimensions [m] and joint ranges [rad] (mean, std). Elbow-to-palm distance: forearm
-#: 0.146 H plus half a hand 0.054 H for a body height H ≈ 1.70 m (Drillis & Contini 1966).
-#: Offset of the pronation axis (radius–ulna line) from the palm centre: a few centimetres (the
-#: axis leaves the forearm at the ulnar side of the wrist). Pronation + supination range ≈ 160–180°
-#: (normal forearm range of motion about 80–90° each way).
-ANTHROPOMETRY = {
-    "hand_position": ((0.40, -0.20, 1.15), 0.03),  # palm centre at rest, right hand, in front
-    "elbow_to_palm": (0.33, 0.02),
-    "pronation_axis_offset": (0.03, 0.01),
-    "forearm_rotation": (math.radians(165.0), math.radians(10.0)),
-    "elbow_flexion": (math.radians(50.0), math.radians(7.0)),
-}
-
 #: Nominal sizes and stroke durations of the gestures (deliberate, comfortable gestures: peak hand
 #: speeds 0.5–0.8 m/s and peak forearm rotation speeds below ≈ 4 rad/s, typical of unhurried
 #: pointing and turning movements). ``size`` [m] is the path extent, ``duration`` [s] one stroke.
@@ -104,29 +90,6 @@ GESTURE_SHAPES = {
     "close_gripper": {"size": 0.20, "duration": 1.4},
     "go_home": {"size": 0.14, "duration": 1.2, "arc": (math.radians(150.0), math.radians(12.0))},
 }
-
-#: Trial-to-trial variation (standard deviations unless stated). Log-normal size and speed factors;
-#: heading and tilt of the gesture geometry; tilt of the hand; asymmetry of the minimum-jerk profile
-#: (exponent of the time warp); mid-path deviation of the hand path relative to its size (hand
-#: paths are nearly straight with small curvature, Morasso 1981, Atkeson & Hollerbach 1985);
-#: imperfect return to the start; rest and pause durations (uniform ranges) [s].
-VARIATION = {
-    "size": 0.12,
-    "speed": 0.15,
-    "stroke_speed": 0.08,
-    "heading": math.radians(10.0),
-    "tilt": math.radians(8.0),
-    "hand_tilt": math.radians(8.0),
-    "skew": 0.10,
-    "bulge_rel": 0.02,
-    "bulge_abs": 0.003,
-    "bulge_rot": math.radians(3.0),
-    "return_pos": 0.01,
-    "return_rot": math.radians(3.0),
-    "rest": (0.5, 1.0),
-    "pause": (0.1, 0.4),
-}
-
 
 @dataclass(frozen=True)
 class GesturePlan:
@@ -342,7 +305,7 @@ def plan_gesture(
     speed : float
         Extra speed factor (2 = twice as fast as this person would normally move).
     person : Person, optional
-        Whose style (:mod:`~framefree.datasets.people`); default: the replica's person (the
+        Whose style (:mod:`~framefree.replica.people`); default: the replica's person (the
         draws and results are then exactly those of the replica).
 
     Returns
@@ -407,12 +370,12 @@ def synthesize_gesture(
     world : ndarray, shape (4, 4), optional
         User frame in the tracker world (default: :func:`default_world`).
     grip : ndarray, shape (4, 4), optional
-        Tracker in the hand frame (default: :func:`~framefree.datasets.recording.random_grip`, or
-        the person's grip style, :func:`~framefree.datasets.people.person_grip`).
+        Tracker in the hand frame (default: :func:`~framefree.replica.recording.random_grip`, or
+        the person's grip style, :func:`~framefree.replica.people.person_grip`).
     source : str, optional
         Label for the trajectory.
     person : Person, optional
-        Who performs it (:mod:`~framefree.datasets.people`): size, tempo, skew, pauses, rests,
+        Who performs it (:mod:`~framefree.replica.people`): size, tempo, skew, pauses, rests,
         tremor, posture, body dimensions, grip style, consistency. Default: the replica's person
         (then the result is bit for bit the replica's).
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import se3
+from ..core import se3
 
 __all__ = [
     "Motion",

@@ -11,7 +11,7 @@ tuning: :data:`DEV_PEOPLE` (seeds 0–19, for tuning and development) and :data:
 (seeds 1000–1019, for reporting only). :data:`DEFAULT_PERSON` is the single person of the HPM replica;
 passing it (or ``None``) anywhere reproduces the replica bit for bit.
 
->>> from framefree.datasets.people import person, DEV_PEOPLE
+>>> from framefree.replica.people import person, DEV_PEOPLE
 >>> alice = person(DEV_PEOPLE[0])
 >>> 0.6 <= alice.tempo <= 1.6
 True
@@ -24,9 +24,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .. import se3
-from ..trajectory import Trajectory
-from .gestures import ANTHROPOMETRY, VARIATION
+from ..core import se3
+from ..core.trajectory import Trajectory
+from .population import ANTHROPOMETRY, VARIATION
 from .recording import (
     GRIP_OFFSET_RANGE,
     MeasurementNoise,
@@ -292,7 +292,7 @@ def person_grip(who: Person, rng: np.random.Generator) -> np.ndarray:
 
     ``"random"`` grip: uniformly random orientation and an offset drawn from
     :attr:`Person.grip_offset` in a random direction (for :data:`DEFAULT_PERSON` the same draws as
-    :func:`~framefree.datasets.recording.random_grip`). ``"habitual"``: the person's own grip
+    :func:`~framefree.replica.recording.random_grip`). ``"habitual"``: the person's own grip
     rotation and offset direction, each wobbling by :data:`HABITUAL_GRIP_WOBBLE`.
     """
     G = np.eye(4)
@@ -326,7 +326,7 @@ def record(
     who: Person,
     source: str | None = None,
 ) -> Trajectory:
-    """:func:`~framefree.datasets.recording.measure` with the person's tremor level (the same
+    """:func:`~framefree.replica.recording.measure` with the person's tremor level (the same
     draws; identical to ``measure`` for a tremor scale of 1).
 
     Parameters

@@ -16,11 +16,12 @@ from typing import NamedTuple
 import numpy as np
 from tqdm.auto import tqdm
 
-from ..trajectory import Trajectory
+from ..core.trajectory import Trajectory
+from ..datasets.stream_files import Segment
 from . import people
 from .activities import Activity
 from .people import Person
-from .streams import Segment, StreamItem, _generate
+from .streams import StreamItem, _generate
 
 __all__ = ["PersonStream", "make_person_streams", "person_stream"]
 
@@ -31,7 +32,7 @@ class PersonStream(NamedTuple):
     Attributes
     ----------
     person_seed : int or None
-        Seed of the person (:func:`~framefree.datasets.people.person`); ``None`` if unseeded.
+        Seed of the person (:func:`~framefree.replica.people.person`); ``None`` if unseeded.
     stream_seed : int
         Seed of the session.
     traj : Trajectory
@@ -82,13 +83,13 @@ def make_person_streams(
     ``make_person_streams(HELDOUT_PEOPLE)`` to report.
 
     Person ``p`` performs the sessions of seeds ``1000·p + k`` (k = 0 … n−1), so the sessions of
-    :data:`~framefree.datasets.DEV_PEOPLE` and :data:`~framefree.datasets.HELDOUT_PEOPLE` never share
+    :data:`~framefree.replica.DEV_PEOPLE` and :data:`~framefree.replica.HELDOUT_PEOPLE` never share
     a seed.
 
     Parameters
     ----------
     person_seeds : iterable of int
-        Seeds of :func:`~framefree.datasets.people.person`.
+        Seeds of :func:`~framefree.replica.people.person`.
     n_streams_per_person : int
     n_gestures, n_stops, gestures
         As in :func:`make_stream`.

@@ -21,8 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import se3
-from ..trajectory import Trajectory
+from ..core import se3
+from ..core.trajectory import Trajectory
 
 __all__ = [
     "CANONICAL_W_PROBABILITY",

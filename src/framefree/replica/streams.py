@@ -5,10 +5,10 @@ separated by everything a person does in between: holding still, repositioning t
 to another spot (the user frame moves in the tracker world), re-gripping the tracker (the tracker
 moves in the hand) and distractor motions that are no gesture; plus stop signals (a fast
 back-and-forth wrist rotation, peak angular speed above 5 rad/s). The activities are in
-:mod:`~framefree.datasets.activities`; a session performed by a simulated
-:class:`~framefree.datasets.people.Person` uses that person's style and a richer repertoire
+:mod:`~framefree.replica.activities`; a session performed by a simulated
+:class:`~framefree.replica.people.Person` uses that person's style and a richer repertoire
 (reach-and-stay, walk-and-turn, scratching-like loops; see
-:mod:`~framefree.datasets.people_streams` for sessions of many people).
+:mod:`~framefree.replica.people_streams` for sessions of many people).
 
 Labels (``<name>_labels.csv``, header ``label,start_t,end_t``) span the gesture's movement, from
 the onset of its first stroke to the end of its last stroke (the rest before and after is not
@@ -17,8 +17,6 @@ included). The label of a stop signal is ``stop``.
 
 from __future__ import annotations
 
-import csv
-import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -26,10 +24,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import se3
+from ..core import se3
+from ..core.trajectory import Trajectory
+from ..datasets.stream_files import Segment, labels_path, write_labels
 from ..errors import DatasetError
 from ..labels import STOP
-from ..trajectory import Trajectory
 from .activities import (
     ACTIVITIES,
     PERSON_ACTIVITIES,
@@ -60,10 +59,7 @@ __all__ = [
     "WALK",
     "Activity",
     "LivePerson",
-    "Segment",
     "StreamItem",
-    "labels_path",
-    "load_stream",
     "make_stream",
     "save_stream",
 ]
@@ -71,23 +67,6 @@ __all__ = [
 
 _MIN_SETTLE = 0.2  # shortest rest before a gesture [s]
 _FILL_MARGIN = 3.0  # time kept free before a scripted onset for the approach and the settling [s]
-
-
-@dataclass(frozen=True)
-class Segment:
-    """A labelled stretch of a stream.
-
-    Attributes
-    ----------
-    label : str
-        Gesture name or ``"stop"``.
-    start_t, end_t : float
-        Movement onset and end [s], in the stream's clock.
-    """
-
-    label: str
-    start_t: float
-    end_t: float
 
 
 @dataclass(frozen=True)
@@ -178,7 +157,7 @@ def make_stream(
     seed : int
         Everything is deterministic given the seed (and the person).
     sequence : sequence of str or StreamItem, optional
-        Script to perform: gesture names (HPM or :data:`~framefree.datasets.EXTRA_SHAPES`) and
+        Script to perform: gesture names (HPM or :data:`~framefree.replica.EXTRA_SHAPES`) and
         ``"stop"``, or :class:`StreamItem` entries with requested onsets / gaps / speeds. Default:
         ``n_gestures`` gestures in random order (each gesture equally often) with ``n_stops`` stop
         signals at random positions.
@@ -189,7 +168,7 @@ def make_stream(
     world : ndarray, shape (4, 4), optional
         Initial user frame in the tracker world (default: random, y-up).
     person : Person, optional
-        Who performs (:mod:`~framefree.datasets.people`): their gesture style, tempo, rests,
+        Who performs (:mod:`~framefree.replica.people`): their gesture style, tempo, rests,
         tremor and grip, and the full interlude repertoire (:data:`PERSON_ACTIVITIES`: also
         reach-and-stay, walk-and-turn, scratching-like loops). Default: the replica's person and
         repertoire (bit for bit the replica's streams).
@@ -408,12 +387,6 @@ class LivePerson:
         return tt, p, q
 
 
-def labels_path(path: str | Path) -> Path:
-    """``<dir>/<name>_labels.csv`` beside the stream file ``<dir>/<name>.csv``."""
-    path = Path(path)
-    return path.with_name(f"{path.stem}_labels.csv")
-
-
 def save_stream(
     path: str | Path,
     traj: Trajectory,
@@ -423,42 +396,5 @@ def save_stream(
     """Write the stream CSV and its ``<name>_labels.csv``; with ``rng``, quaternions are stored
     with SDK-like sign flips. Returns the stream path."""
     path = write_recording(path, traj, rng)
-    with labels_path(path).open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["label", "start_t", "end_t"])
-        for seg in segments:
-            w.writerow([seg.label, repr(float(seg.start_t)), repr(float(seg.end_t))])
+    write_labels(labels_path(path), segments)
     return path
-
-
-def load_stream(path: str | Path, quat_order: str = "wxyz") -> tuple[Trajectory, list[Segment]]:
-    """Read a stream CSV and its ``<name>_labels.csv``.
-
-    Raises
-    ------
-    DatasetError
-        If the labels file is missing or malformed (naming the file and row).
-    """
-    path = Path(path)
-    traj = Trajectory.from_csv(path, quat_order=quat_order)
-    lp = labels_path(path)
-    if not lp.is_file():
-        raise DatasetError(f"{lp}: labels file missing for stream {path}")
-    segments = []
-    with lp.open(newline="") as fh:
-        rows = list(csv.reader(fh))
-    if not rows or [c.strip() for c in rows[0]] != ["label", "start_t", "end_t"]:
-        raise DatasetError(f"{lp}, row 1: expected the header 'label,start_t,end_t'")
-    for i, row in enumerate(rows[1:], start=2):
-        if not row:
-            continue
-        if len(row) != 3:
-            raise DatasetError(f"{lp}, row {i}: expected 3 columns, found {len(row)}")
-        try:
-            a, b = float(row[1]), float(row[2])
-        except ValueError:
-            raise DatasetError(f"{lp}, row {i}: start_t and end_t must be numbers") from None
-        if not (math.isfinite(a) and math.isfinite(b)) or b < a:
-            raise DatasetError(f"{lp}, row {i}: need finite start_t <= end_t, got {a}, {b}")
-        segments.append(Segment(row[0].strip(), a, b))
-    return traj, segments

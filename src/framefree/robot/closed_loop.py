@@ -1,6 +1,6 @@
 """A simulated person commanding the simulated robot by hand gestures, through a live recognizer.
 
-The person acts (:class:`~framefree.datasets.LivePerson`), everything they did is streamed sample by
+The person acts (:class:`~framefree.replica.LivePerson`), everything they did is streamed sample by
 sample to the recognizer, every event goes to the robot (:class:`~framefree.robot.session.RobotSim`,
 the stacking scene of ``docs/robot.md``), and the robot simulation advances to the person's time.
 The person watches the robot and repeats a command it did not obey (:class:`PersonPolicy`).
@@ -71,9 +71,9 @@ class ClosedLoop:
     """
 
     def __init__(self, recognizer: Any, person: Any, echo: Callable[[str], None] | None = None):
-        from .online.evaluation import TracingRecognizer
-        from .robot.scenario import STACKING_PLANNER, STACKING_SCENE, STACKING_START
-        from .robot.session import RobotSim
+        from ..online.evaluation import TracingRecognizer
+        from .scenario import STACKING_PLANNER, STACKING_SCENE, STACKING_START
+        from .session import RobotSim
 
         self.person = person
         self.echo = echo

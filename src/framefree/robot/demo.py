@@ -16,8 +16,8 @@
    simulated Franka Panda (MuJoCo) that should end with the green block stacked on the red one.
 
 Each stage is a function of its own: :func:`build_recognizer`, :func:`build_loop` (the person and
-the robot), :func:`~framefree.closed_loop.run_commands` (the closed loop, module
-:mod:`framefree.closed_loop`), :func:`evaluate_loop` and :func:`write_outputs`; :func:`run_demo`
+the robot), :func:`~framefree.robot.closed_loop.run_commands` (the closed loop, module
+:mod:`framefree.robot.closed_loop`), :func:`evaluate_loop` and :func:`write_outputs`; :func:`run_demo`
 chains them. The robot side needs the ``robot`` extra (MuJoCo); ``make demo`` installs it.
 """
 
@@ -32,11 +32,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..labels import METHODS
 from .closed_loop import ClosedLoop, PersonPolicy, _say, run_commands
-from .labels import METHODS
 
 if TYPE_CHECKING:
-    from .datasets.people import Person
+    from ..replica.people import Person
 
 __all__ = [
     "DEMO_LEAD_IN",
@@ -62,7 +62,7 @@ PAPER_RESULT = {"precision": 1.0, "recall": 18 / 21, "f1": 2 * (18 / 21) / (1 + 
 #: Seconds of stream before the first command (the paper's first gesture is at 0:31).
 DEMO_LEAD_IN = 6.0
 #: The people the demo draws its performer from: the held-out people, never used for tuning
-#: (``framefree.datasets.people.HELDOUT_PEOPLE``, written out so that the CLI starts without
+#: (``framefree.replica.people.HELDOUT_PEOPLE``, written out so that the CLI starts without
 #: loading the dataset generators; a test checks that they agree).
 DEMO_PEOPLE = range(1000, 1020)
 #: Recognition methods: framefree's segment-spotting recognizer (default) and the paper's.
@@ -124,7 +124,7 @@ def demo_commands(lead_in: float = DEMO_LEAD_IN) -> list[tuple[float, str]]:
     The paper's 21 performed gestures, where a gesture that was not obeyed and then performed again
     counts once, at the time of its first attempt; shifted so that 0:31 becomes ``lead_in``.
     """
-    from .robot.scenario import PAPER_TIMELINE
+    from .scenario import PAPER_TIMELINE
 
     t0 = PAPER_TIMELINE[0][0]
     commands: list[tuple[float, str]] = []
@@ -148,7 +148,7 @@ def demo_person(seed: int) -> Person:
     seed : int
         Demo seed (non-negative).
     """
-    from .datasets.people import person
+    from ..replica.people import person
 
     if int(seed) < 0:
         raise ValueError(f"demo seed must be non-negative, got {seed}")
@@ -178,7 +178,7 @@ def build_recognizer(method: str = "segments", replica_seed: int = 0) -> Any:
     Parameters
     ----------
     method : {"segments", "paper"}
-        :class:`~framefree.online.Recognizer` or :class:`~framefree.online.PaperRecognizer`.
+        :class:`~framefree.online.Recognizer` or :class:`~framefree.online.paper.PaperRecognizer`.
     replica_seed : int
         Seed of the HPM replica (generated on first use, then cached).
 
@@ -186,8 +186,9 @@ def build_recognizer(method: str = "segments", replica_seed: int = 0) -> Any:
     -------
     Recognizer or PaperRecognizer
     """
-    from .datasets import replica_path
-    from .online import PaperRecognizer, Recognizer
+    from ..online import Recognizer
+    from ..online.paper import PaperRecognizer
+    from ..replica import replica_path
 
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
@@ -209,7 +210,7 @@ def build_loop(recognizer: Any, seed: int = 0, echo: Callable[[str], None] | Non
     echo : callable, optional
         Where the robot's reactions are reported.
     """
-    from .datasets import LivePerson
+    from ..replica import LivePerson
 
     who = demo_person(seed)
     return ClosedLoop(recognizer, LivePerson(seed + _SESSION_SEED_OFFSET, person=who), echo)
@@ -232,8 +233,8 @@ def evaluate_loop(loop: ClosedLoop, log: Any, method: str) -> DemoResult:
     DemoResult
         Without ``files`` and ``seconds`` (filled by :func:`run_demo`).
     """
-    from .online.evaluation import match_events
-    from .robot.scenario import evaluate_stacking
+    from ..online.evaluation import match_events
+    from .scenario import evaluate_stacking
 
     events = loop.tracer.events
     matched = match_events(events, loop.person.segments, loop.person.time)
@@ -299,8 +300,8 @@ def write_outputs(out: Path, loop: ClosedLoop, log: Any, render: bool,
     render_seconds : float
         Wall time spent rendering (0 when skipped).
     """
-    from .online.evaluation import plot_timeline
-    from .robot.render import plot_session, render_frames, rendering_available, save_gif, save_strip
+    from ..online.evaluation import plot_timeline
+    from .render import plot_session, render_frames, rendering_available, save_gif, save_strip
 
     timeline = plot_timeline(out / "recognition_timeline.png", loop.person.segments,
                              loop.tracer.events, loop.tracer.trace(),
@@ -408,7 +409,7 @@ def run_demo(
         ``summary.json``.
     """
     # robot.sim chooses MuJoCo's GL backend, which is fixed at mujoco's first import
-    from .robot import sim as _sim  # noqa: F401  (import for its side effect)
+    from . import sim as _sim  # noqa: F401  (import for its side effect)
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -418,7 +419,7 @@ def run_demo(
 
     tic = time.perf_counter()
     if recognizer is None and models is not None:
-        from .online import Recognizer
+        from ..online import Recognizer
 
         _say(echo, f"1/3  gesture models: library {models} ...")
         recognizer = Recognizer.load(models)

@@ -1,8 +1,8 @@
 import numpy as np
 import pytest
 
-from framefree.kabsch import residual_columns
-from framefree.online.matchers import (
+from framefree.core.kabsch import residual_columns
+from framefree.online.paper.matchers import (
     MatcherBank,
     brute_force_dissimilarity,
     latency_bounds,

@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from framefree import Trajectory
-from framefree.online import STOP, PaperRecognizer
+from framefree.online import STOP
+from framefree.online.paper import PaperRecognizer
 
 
 @pytest.fixture(scope="module")
@@ -207,7 +208,7 @@ def test_from_dataset_layout(tmp_path, model_set):
 
 
 def test_models_are_the_streaming_replay(rec, model_set):
-    from framefree.online.preprocess import replay
+    from framefree.online.paper.preprocess import replay
 
     trajs, _ = model_set
     c = rec.config

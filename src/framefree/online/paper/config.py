@@ -14,7 +14,7 @@ from typing import Any
 
 __all__ = ["NEGATIVE_KINDS", "PaperConfig"]
 
-#: Non-gesture families the calibration knows (see :mod:`framefree.online.calibration`).
+#: Non-gesture families the calibration knows (see :mod:`framefree.online.paper.calibration`).
 NEGATIVE_KINDS = ("rest", "moves", "cross", "head", "middle", "tail", "splice")
 
 
@@ -55,7 +55,7 @@ class PaperConfig:
         Default 0 (dev streams: one more true positive, same false positives).
     threshold : float or None
         Decision threshold τ on the average pointwise dissimilarity. ``None``: calibrated
-        automatically from the model recordings (:mod:`framefree.online.calibration`).
+        automatically from the model recordings (:mod:`framefree.online.paper.calibration`).
     calibration_quantile : float
         Quantile of the leave-one-out same-class scores that must pass (0.75; with 5 recordings
         per gesture the maximum is one outlier, which on the dev streams let ``go_down`` fire on
@@ -108,7 +108,7 @@ class PaperConfig:
         streams (``benchmarks/online_dev.py``): the dissimilarity scale of well-rotating gestures
         is several times that of translations, so one τ misses them or admits false positives.
     calibration_negatives : tuple of str
-        Non-gesture families of the calibration (:func:`~framefree.online.calibration.non_gesture_motions`):
+        Non-gesture families of the calibration (:func:`~framefree.online.negatives.non_gesture_motions`):
         ``rest``, ``moves``, ``cross``, ``head``, ``middle``, ``tail``, ``splice``.
     calibration_position : float
         Where τ_g lies between the positive quantile P and the smallest negative N when P < N, on
@@ -131,7 +131,7 @@ class PaperConfig:
         Seconds [s] without a new minimum before a ``minimum`` decision fires (descriptor samples
         stop coming while the hand rests, because Algorithm 1 keeps no sample).
     prune_factor : float or None
-        Exact pruning of the matchers (:class:`~framefree.online.matchers.MatcherBank` ``cutoffs``):
+        Exact pruning of the matchers (:class:`~framefree.online.paper.matchers.MatcherBank` ``cutoffs``):
         ``d_j`` is only computed exactly while it can still be below ``prune_factor × τ_g``;
         above, it reads ``inf``. Decisions are identical for any value ≥ 1; the live view and the
         timeline figure lose the values above the cutoff. ``None``: no pruning.

@@ -20,7 +20,7 @@ and ``d_{j,ℓ}(t) = S[N-ℓ-1] / (N-ℓ)``, valid once ``t + 1 ≥ N - ℓ`` li
 sample is stored: the state is ``Σ_j N_j`` numbers. All models are packed into one array and updated
 by one numba kernel (optionally multi-threaded over models).
 
-The Kabsch residual is :func:`framefree.kabsch.residual_with_norms` (Horn/Theobald QCP, the one
+The Kabsch residual is :func:`framefree.core.kabsch.residual_with_norms` (Horn/Theobald QCP, the one
 implementation in the package) with the model norms precomputed once per model sample.
 """
 
@@ -32,7 +32,7 @@ from collections.abc import Sequence
 import numpy as np
 from numba import njit, prange
 
-from ..kabsch import residual_columns, residual_with_norms
+from ...core.kabsch import residual_columns, residual_with_norms
 
 __all__ = [
     "MatcherBank",
@@ -46,7 +46,7 @@ __all__ = [
 def residual18(a, a2, b, b2):
     """``min_{R∈SO(3)} ||R A - B||_F²`` for six 3-vectors stored flat in ``a``, ``b`` (18,).
 
-    A thin wrapper of :func:`framefree.kabsch.residual_with_norms` (the one Kabsch implementation).
+    A thin wrapper of :func:`framefree.core.kabsch.residual_with_norms` (the one Kabsch implementation).
 
     Parameters
     ----------
@@ -225,7 +225,7 @@ class MatcherBank:
 def brute_force_dissimilarity(
     model: np.ndarray, live: np.ndarray, latency_min: int = 1, latency_fraction: float = 0.2
 ) -> float:
-    """``d_j(t)`` recomputed from scratch with :func:`framefree.kabsch.residual_columns`.
+    """``d_j(t)`` recomputed from scratch with :func:`framefree.core.kabsch.residual_columns`.
 
     Parameters
     ----------

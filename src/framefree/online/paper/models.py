@@ -8,18 +8,17 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
-from .. import se3
-from ..errors import DatasetError, FramefreeError
-from ..progress import StreamingReparameterizer, cumulative_progress
-from ..trajectory import Trajectory
-from .paper_config import PaperConfig
+from ...core import se3
+from ...core.progress import StreamingReparameterizer, cumulative_progress
+from ...core.trajectory import Trajectory
+from ...errors import FramefreeError
+from .config import PaperConfig
 from .preprocess import filtered_poses, replay
 
-__all__ = ["GestureModels", "auto_resolution", "build_models", "load_model_recordings"]
+__all__ = ["GestureModels", "auto_resolution", "build_models"]
 
 
 @dataclass(frozen=True)
@@ -89,7 +88,7 @@ def auto_resolution(
 def build_models(
     trajectories: Sequence[Trajectory], labels: Sequence[str], config: PaperConfig
 ) -> GestureModels:
-    """Replay every recording through :class:`~framefree.online.preprocess.StreamingBILTSPlus`.
+    """Replay every recording through :class:`~framefree.online.paper.preprocess.StreamingBILTSPlus`.
 
     Raises
     ------
@@ -117,36 +116,3 @@ def build_models(
         tuple(str(s) for s in labels), tuple(descs), float(res),
         tuple(tr.source or f"model_{k}" for k, tr in enumerate(trajectories)),
     )
-
-
-def load_model_recordings(
-    root: str | Path, model_context: str = "original_1"
-) -> tuple[list[Trajectory], list[str]]:
-    """The recordings of one context of a dataset folder and their gesture labels.
-
-    Uses :func:`framefree.datasets.load_dataset` when available, otherwise reads the layout
-    ``<root>/<gesture>/<model_context>/*.csv`` directly.
-    """
-    root = Path(root)
-    try:
-        from ..datasets import load_dataset  # type: ignore[attr-defined]
-    except ImportError:
-        load_dataset = None
-    if load_dataset is not None:
-        ds = load_dataset(root, model_context=model_context)
-        trials = list(ds.models())
-        return [tr.trajectory for tr in trials], [tr.gesture for tr in trials]
-    if not root.is_dir():
-        raise DatasetError(f"{root}: not a folder")
-    trajs: list[Trajectory] = []
-    labels: list[str] = []
-    for gdir in sorted(p for p in root.iterdir() if p.is_dir()):
-        cdir = gdir / model_context
-        if not cdir.is_dir():
-            continue
-        for f in sorted(cdir.glob("*.csv")):
-            trajs.append(Trajectory.from_csv(f))
-            labels.append(gdir.name)
-    if not trajs:
-        raise DatasetError(f"{root}: no <gesture>/{model_context}/*.csv recordings")
-    return trajs, labels

@@ -4,7 +4,7 @@ See docs/online-paper.md, *Streaming preprocessing*.
 
 One routine serves model building and live recognition: :class:`StreamingBILTSPlus` receives raw
 pose samples one at a time, keeps the geometric samples of Algorithm 1
-(docs/algorithms/progress.md, reusing :class:`framefree.progress.StreamingReparameterizer`), and
+(docs/algorithms/progress.md, reusing :class:`framefree.core.progress.StreamingReparameterizer`), and
 emits one BILTS+ descriptor sample (18 numbers: ``Lω'₋, v'₋, Lω'₀, v'₀, Lω'₊, v'₊``) as soon as
 its window is complete:
 
@@ -30,11 +30,11 @@ from collections import deque
 import numpy as np
 from numba import njit
 
-from .. import se3
-from ..descriptors.bilts import bilts_sample, window_spacing
-from ..progress import StreamingReparameterizer
-from ..smoothing import gaussian_offsets, gaussian_weights
-from ..trajectory import Trajectory
+from ...core import se3
+from ...core.progress import StreamingReparameterizer
+from ...core.smoothing import gaussian_offsets, gaussian_weights
+from ...core.trajectory import Trajectory
+from ...descriptors.bilts import bilts_sample, window_spacing
 
 __all__ = [
     "N_DESCRIPTOR",

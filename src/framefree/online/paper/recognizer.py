@@ -29,16 +29,16 @@ from typing import Any
 
 import numpy as np
 
-from .. import se3
-from ..trajectory import Trajectory
+from ...core import se3
+from ...core.trajectory import Trajectory
+from ..events import STOP, Event
+from ..streaming import StreamingRecognizer
 from .calibration import Calibration, calibrate_threshold
-from .events import STOP, Event
+from .config import PaperConfig
 from .matchers import MatcherBank
 from .models import GestureModels, build_models
-from .paper_config import PaperConfig
 from .preprocess import StreamingBILTSPlus
 from .stop import SampleRateStopDetector, debounced_peak_rate
-from .streaming import StreamingRecognizer
 
 __all__ = ["STAT_KEYS", "PaperRecognizer"]
 
@@ -69,7 +69,7 @@ class PaperRecognizer(StreamingRecognizer):
     Parameters
     ----------
     models : GestureModels
-        Model descriptors (built by :func:`~framefree.online.models.build_models`).
+        Model descriptors (built by :func:`~framefree.online.paper.models.build_models`).
     config : PaperConfig
         All parameters; ``threshold`` and ``stop_threshold`` must be set (use the constructors
         :meth:`from_trajectories` / :meth:`from_dataset` for automatic calibration).

@@ -19,7 +19,7 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from ..trajectory import Trajectory
+from ...core.trajectory import Trajectory
 
 __all__ = ["SampleRateStopDetector", "debounced_peak_rate", "quaternion_rates"]
 
