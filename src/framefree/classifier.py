@@ -9,8 +9,10 @@ from typing import Any
 
 import numpy as np
 
+from .core.multitrajectory import MultiTrajectory
 from .core.trajectory import Trajectory
 from .descriptors.base import Descriptor, get_descriptor
+from .descriptors.canonical import INVARIANCES, CanonicalPath
 
 __all__ = ["RECOMMENDED", "NearestNeighborClassifier", "round_significant"]
 
@@ -45,6 +47,18 @@ def round_significant(x: np.ndarray, digits: int) -> np.ndarray:
 
 #: constructor parameters that are passed on to the descriptor when set (``None``: its default)
 _DESCRIPTOR_PARAMS = ("progress", "L", "ds_scale", "lam", "presmooth", "open_end", "axis_prior")
+
+
+def canonical_comparison(
+    invariance: str, samples: Sequence[Trajectory | MultiTrajectory]
+) -> CanonicalPath | None:
+    """The canonical-path comparison an invariance level needs for these samples, or None when
+    the descriptor itself serves (``"full"`` with single trajectories)."""
+    if invariance not in INVARIANCES:
+        raise ValueError(f"unknown invariance {invariance!r}; choose one of {', '.join(INVARIANCES)}")
+    if invariance == "full" and not any(isinstance(s, MultiTrajectory) for s in samples):
+        return None
+    return CanonicalPath(invariance)
 
 
 class NearestNeighborClassifier:
@@ -84,11 +98,21 @@ class NearestNeighborClassifier:
         does by storing them with ``csvwrite`` (5). Default: full precision.
     descriptor_params : dict, optional
         Further constructor parameters of the descriptor (e.g. ``{"n_samples": 100}``).
+    invariance : {"full", "gravity"}, default "full"
+        What a change of the tracking system may not change. ``"full"``: any change of world and
+        body frame — single trajectories are compared with the descriptor (the paper's
+        bi-invariance), samples of several trackers
+        (:class:`~framefree.core.multitrajectory.MultiTrajectory`) by their canonical paths.
+        ``"gravity"``: translations and turns about the vertical only, which keeps up and down
+        apart (canonical paths, :mod:`framefree.descriptors.canonical`; docs/real-people.md).
 
     Attributes
     ----------
     descriptor_ : Descriptor
         The descriptor built by :meth:`fit` from the parameters above.
+    path_ : CanonicalPath or None
+        What the samples are compared by instead of the descriptor (``invariance="gravity"``, or
+        samples of several trackers), else None.
     models_ : list of ndarray, each (K_j, F)
         Descriptor sequences of the models.
     labels_ : ndarray, shape (n_models,)
@@ -118,6 +142,7 @@ class NearestNeighborClassifier:
         axis_prior: float | None = None,
         round_digits: int | None = None,
         descriptor_params: dict[str, Any] | None = None,
+        invariance: str = "full",
     ) -> None:
         self.descriptor = descriptor
         self.progress = progress
@@ -129,6 +154,7 @@ class NearestNeighborClassifier:
         self.axis_prior = axis_prior
         self.round_digits = round_digits
         self.descriptor_params = descriptor_params
+        self.invariance = invariance
 
     # ------------------------------------------------------------------ scikit-learn protocol
     @classmethod
@@ -201,10 +227,10 @@ class NearestNeighborClassifier:
         descriptor = params.pop("descriptor")
         return cls(descriptor, **params)
 
-    def _describe(self, trajectories: Sequence[Trajectory]) -> list[np.ndarray]:
+    def _describe(self, trajectories: Sequence[Trajectory | MultiTrajectory]) -> list[np.ndarray]:
         out = []
         for traj in trajectories:
-            d = self.descriptor_.compute(traj)
+            d = self.path_.compute(traj) if self.path_ is not None else self.descriptor_.compute(traj)
             if self.round_digits is not None:
                 d = round_significant(d, self.round_digits)
             out.append(d)
@@ -225,6 +251,7 @@ class NearestNeighborClassifier:
         if len(trajectories) != len(labels):
             raise ValueError(f"{len(trajectories)} models but {len(labels)} labels")
         self.descriptor_ = self.build_descriptor()
+        self.path_ = canonical_comparison(self.invariance, trajectories)
         return self._store(self._describe(trajectories), labels)
 
     def fit_descriptors(
@@ -232,6 +259,7 @@ class NearestNeighborClassifier:
     ) -> NearestNeighborClassifier:
         """Like :meth:`fit` with precomputed descriptor sequences (of :meth:`build_descriptor`)."""
         self.descriptor_ = self.build_descriptor()
+        self.path_ = None
         return self._store(list(descriptors), labels)
 
     def _store(
@@ -253,7 +281,7 @@ class NearestNeighborClassifier:
     def distance_matrix(self, trajectories: Sequence[Trajectory]) -> np.ndarray:
         """Distances (n_queries, n_models) from each query trajectory to each model."""
         self._check_fitted()
-        return self.descriptor_.distance_matrix(self._describe(trajectories), self.models_)
+        return self._distances(self._describe(trajectories))
 
     def predict(self, trajectories: Sequence[Trajectory]) -> np.ndarray:
         """Labels of the nearest models, shape (n_queries,) (ties: the first model in fit order,
@@ -264,9 +292,13 @@ class NearestNeighborClassifier:
     def predict_descriptors(self, descriptors: Sequence[np.ndarray]) -> np.ndarray:
         """Like :meth:`predict` with precomputed descriptor sequences."""
         self._check_fitted()
-        self.distances_ = self.descriptor_.distance_matrix(list(descriptors), self.models_)
+        self.distances_ = self._distances(list(descriptors))
         self.nearest_ = np.argmin(self.distances_, axis=1)
         return self.labels_[self.nearest_]
+
+    def _distances(self, descriptors: list[np.ndarray]) -> np.ndarray:
+        compare = self.path_ if getattr(self, "path_", None) is not None else self.descriptor_
+        return compare.distance_matrix(descriptors, self.models_)
 
     def score(self, trajectories: Sequence[Trajectory], labels: Sequence[Any]) -> float:
         """Recognition ratio (fraction of queries given their true label)."""

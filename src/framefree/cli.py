@@ -26,6 +26,7 @@ COMMANDS = {
     "robot": "robot",
     "demo": "demo",
     "record": "library", "enroll": "library", "check": "library",
+    "evaluate-people": "people",
 }
 
 
