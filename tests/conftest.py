@@ -1,4 +1,4 @@
-"""Shared fixtures: paths to the real recordings in ../shared/data/real_motions."""
+"""Shared fixtures: paths to the real recordings (tests/real_data.py)."""
 
 from __future__ import annotations
 
@@ -8,30 +8,20 @@ from pathlib import Path
 import pytest
 from hypothesis import settings
 
+from real_data import REAL_MOTIONS
+
 settings.register_profile("framefree", deadline=None, max_examples=25, derandomize=True)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "framefree"))
 
 REPO = Path(__file__).resolve().parents[1]
 
 
-def _find_real_motions() -> Path | None:
-    for cand in (
-        REPO / "shared" / "data" / "real_motions",
-        REPO.parent / "shared" / "data" / "real_motions",
-    ):
-        if cand.is_dir():
-            return cand
-    return None
-
-
-REAL = _find_real_motions()
+REAL = REAL_MOTIONS
 
 
 @pytest.fixture(scope="session")
 def real_dir() -> Path:
     """Folder of the real recordings (kettle pouring, reference set)."""
-    if REAL is None:
-        pytest.skip("shared/data/real_motions is not next to the checkout")
     return REAL
 
 

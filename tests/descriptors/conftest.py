@@ -2,21 +2,13 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 
 from framefree import Trajectory
 from framefree.core import se3
+from real_data import REAL_MOTIONS
 
-REFERENCE_SET = Path("/work/shared/data/real_motions/reference_set")
-for _cand in (
-    Path(__file__).resolve().parents[2] / "shared" / "data" / "real_motions" / "reference_set",
-    Path(__file__).resolve().parents[3] / "shared" / "data" / "real_motions" / "reference_set",
-):
-    if _cand.is_dir():
-        REFERENCE_SET = _cand
-        break
+REFERENCE_SET = REAL_MOTIONS / "reference_set"
 
 #: (descriptor, progress) rows of Table I handled here
 ROWS = [

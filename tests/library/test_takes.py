@@ -23,10 +23,11 @@ from framefree.library import (
     write_take,
 )
 from framefree.replica import synthesize_gesture
+from real_data import REAL_MOTIONS
 
 from .conftest import chain
 
-REAL = Path("/work/shared/data/real_motions")
+REAL = REAL_MOTIONS
 
 
 def _session(gesture: str, seed: int, n: int = 4) -> tuple[Trajectory, np.ndarray]:

@@ -1,18 +1,15 @@
-"""Shared fixtures: small gesture sets cut from the real recordings in /work/shared/data."""
+"""Shared fixtures: small gesture sets cut from the real recordings (tests/real_data.py)."""
 
 from __future__ import annotations
-
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from framefree import Trajectory
 from framefree.online.paper import PaperConfig
+from real_data import REAL_MOTIONS
 
-DATA = Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "real_motions"
-if not DATA.is_dir():
-    DATA = Path("/work/shared/data/real_motions")
+DATA = REAL_MOTIONS
 
 
 def _load(name: str) -> Trajectory:

@@ -3,8 +3,6 @@ held-out people, real non-gesture motion, faults, reproducible configuration."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -22,10 +20,9 @@ from framefree.replica import replica_path
 from framefree.replica.faults import FAULT_KINDS, inject
 from framefree.replica.people import HELDOUT_PEOPLE, person
 from framefree.replica.people_streams import person_stream
+from real_data import REAL_MOTIONS
 
-REAL = Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "real_motions"
-if not REAL.is_dir():
-    REAL = Path("/work/shared/data/real_motions")
+REAL = REAL_MOTIONS
 
 
 @pytest.fixture(scope="module")

@@ -19,7 +19,9 @@ unity        left          +y      x y z w             x right, y up, z forward 
 A pose ``(p, R)`` given in a source frame becomes ``(P p, P R Pᵀ)`` in framefree's frame, with
 ``P`` the 3×3 change of basis from the source axes to framefree's axes. For a left-handed source
 ``det P = −1`` (a mirror); ``P R Pᵀ`` is then still a proper rotation, and a motion keeps its
-physical handedness: a right-handed screw in the room stays a right-handed screw.
+physical handedness: a right-handed screw in the room stays a right-handed screw. ``P R Pᵀ`` turns
+by the same angle about ``det(P) · P a`` when ``R`` turns about ``a``, so a quaternion
+``(w, v)`` becomes ``(w, det(P) · P v)`` exactly.
 """
 
 from __future__ import annotations
@@ -28,7 +30,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..core import se3
 from ..errors import TrajectoryError
 
 __all__ = ["CONVENTIONS", "UP", "Convention", "get_convention", "poses_to_framefree"]
@@ -119,6 +120,8 @@ def poses_to_framefree(
     norms = np.linalg.norm(q, axis=1, keepdims=True)
     if np.any(norms == 0.0) or not np.all(np.isfinite(norms)):
         raise TrajectoryError("zero or non-finite quaternion in the source poses")
-    R = se3.matrix_from_quaternion(q / norms)
+    q = q / norms
     P = conv.basis
-    return p @ P.T, se3.quaternion_from_matrix(P @ R @ P.T)
+    # P R Pᵀ turns about det(P) · P a by the same angle: the vector part maps the same way
+    vector = np.linalg.det(P) * (q[:, 1:] @ P.T)
+    return p @ P.T, np.column_stack([q[:, :1], vector])

@@ -1,0 +1,27 @@
+"""Where the real recordings are: the full sets in ../shared/data when they are next to the
+checkout, else the subset shipped in tests/data (tests/data/README.md), so a fresh clone tests
+real tracker data too."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+TESTS = Path(__file__).resolve().parent
+REPO = TESTS.parent
+SHIPPED = TESTS / "data"
+
+
+def _first(*candidates: Path) -> Path:
+    return next((c for c in candidates if c.is_dir()), candidates[-1])
+
+
+def _shared(name: str) -> list[Path]:
+    return [REPO / "shared" / "data" / name, REPO.parent / "shared" / "data" / name]
+
+
+#: pouring, scooping and free motions; a reference set with frame-changed copies
+REAL_MOTIONS = _first(*_shared("real_motions"), SHIPPED / "real_motions")
+#: HTC Vive recordings of people, two controllers each (Machete format)
+MACHETE = _first(*_shared("machete_vive"), SHIPPED / "machete_vive")
+#: the shipped subset itself (always present)
+SHIPPED_MACHETE = SHIPPED / "machete_vive"
