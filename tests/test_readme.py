@@ -187,6 +187,9 @@ def test_every_readme_block_runs(tmp_path):
                     made = True
     assert made, "README.md no longer makes the replica"
     _placeholders(tmp_path)
+    # the README's real-data examples name tests/data/... as seen from the repository root
+    (tmp_path / "tests").mkdir()
+    (tmp_path / "tests" / "data").symlink_to(REPO / "tests" / "data")
     for block in blocks:
         if block.lang == "python":
             _python(block, tmp_path)
