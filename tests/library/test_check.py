@@ -162,3 +162,23 @@ def test_size_change_scales_the_path_and_keeps_the_turn(hpm_takes: TakeSet) -> N
         tr.rotations()[:-1].transpose(0, 2, 1) @ tr.rotations()[1:]), axis=1).sum())
             for tr in (same, larger)]
     assert turn[1] == pytest.approx(turn[0], rel=0.01)
+
+
+def test_one_stroke_in_two_directions_needs_the_vertical(hpm_takes: TakeSet) -> None:
+    """go_left turned upright is go_left to full invariance, and another gesture to gravity."""
+    rng = np.random.default_rng(11)
+    upright = []
+    for k in range(5):
+        tr = synthesize_gesture("go_left", rng)
+        W = np.eye(4)
+        W[:3, :3] = se3.rotation_from_vector(np.array([[np.pi / 2, 0.0, 0.0]]))[0]  # about forward x
+        W[:3, 3] = tr.p[0] - W[:3, :3] @ tr.p[0]
+        upright.append(tr.transformed(world=W))
+    extra = TakeSet(tuple(upright), ("swipe_up",) * 5, tuple(f"swipe_up/own/trial_{k + 1}" for k in range(5)))
+    report = check_takes(hpm_takes + extra)
+    direction = [f for f in report.findings if "differ mainly in direction" in f.message]
+    assert {f.gesture for f in direction} & {"swipe_up", "go_left"}, report.format()
+
+
+def test_hpm_seven_need_no_vertical(hpm_report: CheckReport) -> None:
+    assert not [f for f in hpm_report.findings if "direction" in f.message]

@@ -21,7 +21,12 @@ recognizes the take iff ``min_h other_i(h) > same_i``.
   fast as a stop signal (then the stop threshold, ``stop_margin`` above the fastest gesture, would
   miss slow stop signals);
 * **everyday**: the margin of ``g`` against reaching and repositioning moves
-  (:func:`~framefree.library.probes.everyday_motions`).
+  (:func:`~framefree.library.probes.everyday_motions`);
+* **direction**: the margin of ``g`` against its nearest other gesture once more, between canonical
+  paths that keep the vertical (:class:`~framefree.descriptors.canonical.CanonicalPath`,
+  ``invariance="gravity"``). Two gestures that are close under full invariance and far apart
+  there are one stroke in two directions (*swipe up*, *swipe left*): more than full invariance
+  can tell apart (docs/real-people.md).
 
 A margin between gestures below :attr:`CheckSettings.fail_margin`, or more than half of a
 gesture's takes recognized as another gesture, is a *problem*: the vocabulary should not go live.
@@ -41,6 +46,7 @@ from typing import Any
 import numpy as np
 
 from ..descriptors.base import Descriptor
+from ..descriptors.canonical import CanonicalPath
 from ..online.config import RecognizerConfig
 from ..online.recognizer import model_window_spacing, segment_descriptor
 from ..online.stop import sustained_peak_speed
@@ -283,8 +289,33 @@ def check_takes(
         )
     report = CheckReport(list(takes.names), list(takes.labels), D, list(predicted),
                          [str(x) for x in per_take], checks)
-    report.findings = _findings(report, s, config)
+    report.findings = _findings(report, s, config) + _direction_findings(takes, report, s)
     return report
+
+
+def _direction_findings(takes: TakeSet, r: CheckReport, s: CheckSettings) -> list[Finding]:
+    """Gestures that full invariance confuses and keeping the vertical separates."""
+    close = {g: c.nearest for g, c in r.gestures.items()
+             if c.nearest is not None and (c.margin < s.warn_margin or c.loo_correct < c.takes)}
+    if not close:
+        return []
+    path = CanonicalPath("gravity")
+    seqs = [path.compute(tr) for tr in takes.takes]
+    labels = np.array(takes.labels)
+    gestures = takes.gestures
+    near, _ = _loo(path.distance_matrix(seqs, seqs), labels, gestures)
+    same = near[np.arange(len(labels)), [gestures.index(g) for g in labels]]
+    out = []
+    for g, h in close.items():
+        spread = max(float(np.median(same[labels == g])), 1e-12)
+        upright = float(np.median(near[labels == g][:, gestures.index(h)])) / spread
+        if upright >= s.warn_margin:
+            out.append(Finding(
+                "warning", g, f"{g} and {h} differ mainly in direction: full invariance (the live "
+                f"recognizer) brings them within {r.gestures[g].margin:.2f}x, keeping the vertical "
+                f"{upright:.1f}x apart. Give one of them another shape for live use, or classify "
+                "with --invariance gravity (docs/real-people.md)"))
+    return out
 
 
 def _most_common(names: np.ndarray) -> str | None:
