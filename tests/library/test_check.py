@@ -168,7 +168,7 @@ def test_one_stroke_in_two_directions_needs_the_vertical(hpm_takes: TakeSet) -> 
     """go_left turned upright is go_left to full invariance, and another gesture to gravity."""
     rng = np.random.default_rng(11)
     upright = []
-    for k in range(5):
+    for _ in range(5):
         tr = synthesize_gesture("go_left", rng)
         W = np.eye(4)
         W[:3, :3] = se3.rotation_from_vector(np.array([[np.pi / 2, 0.0, 0.0]]))[0]  # about forward x
