@@ -57,3 +57,18 @@ def test_command_line_mistakes(tmp_path: Path):
     (tmp_path / "p" / "g" / "x.csv").write_text("not,a,pose\n")
     run = subprocess.run([*CLI, "evaluate-people", str(tmp_path)], capture_output=True, text=True)
     assert run.returncode == 2 and run.stderr.strip().count("\n") == 0 and "x.csv" in run.stderr
+
+
+def test_classify_takes_multi_tracker_recordings(tmp_path: Path):
+    import shutil
+
+    for g in ("hook_right", "uppercut_right"):
+        shutil.copytree(SHIPPED_MACHETE / "Sub_U001" / g, tmp_path / g)
+    queries = [str(SHIPPED_MACHETE / "Sub_U002" / g / "ex_0_moderate")
+               for g in ("hook_right", "uppercut_right")]
+    run = subprocess.run([*CLI, "classify", "-m", str(tmp_path), *queries, "--invariance", "gravity"],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert "multi-tracker recordings of 2 labels" in run.stderr
+    lines = run.stdout.splitlines()[1:]
+    assert [ln.split()[1] for ln in lines] == ["hook_right", "uppercut_right"]

@@ -12,8 +12,10 @@ import numpy as np
 
 from ..classifier import NearestNeighborClassifier
 from ..core.trajectory import Trajectory
+from ..datasets.people_layout import is_multi_tracker_file, load_labelled, read_recording
 from ..descriptors import available_descriptors, get_descriptor
 from ..descriptors.base import Descriptor
+from ..descriptors.canonical import INVARIANCES
 from ..errors import FramefreeError
 from .inputs import model_options, pose_file_options, read_models, writable_file, writable_folder
 
@@ -129,23 +131,41 @@ def describe(files, descriptor, progress, L, ds_scale, lam, quat_order, units, s
 @descriptor_options
 @pose_file_options
 @click.option(
+    "--invariance", type=click.Choice(INVARIANCES), default="full", show_default=True,
+    help="full: any change of world frame and grip; gravity: turns about the vertical only "
+    "(keeps up and down apart; docs/real-people.md).",
+)
+@click.option(
     "--json", "json_path", type=click.Path(dir_okay=False), help="Also write results as JSON."
 )
 def classify(queries, models, model_context, model_quat_order, descriptor, progress, L, ds_scale,
-             lam, quat_order, units, skip_header, json_path):
-    """Recognize each QUERY pose file by its nearest labelled model (1-NN)."""
+             lam, quat_order, units, skip_header, invariance, json_path):
+    """Recognize each QUERY pose file by its nearest labelled model (1-NN).
+
+    QUERY files with several trackers (a framefree multi-tracker CSV or a Machete recording) are
+    compared with MODELS of the same kind, <label>/<recording>.
+    """
     desc = descriptor_from_options(descriptor, progress, L, ds_scale, lam)
     if json_path:
         writable_file(json_path, "--json")
-    found = read_models(models, model_context, model_quat_order, units)
-    labels = found.labels
-    query_trajs = [
-        Trajectory.from_csv(q, quat_order=quat_order, units=units, skip_header=skip_header)
-        for q in queries
-    ]
-    clf = NearestNeighborClassifier(desc).fit(found.trajectories, labels)
-    predicted = clf.predict(query_trajs)
-    D = clf.distances_
+    if any(is_multi_tracker_file(q) for q in queries):
+        query_samples = [read_recording(q) for q in queries]
+        model_samples, labels = load_labelled(models)
+        click.echo(f"{models}: {len(model_samples)} multi-tracker recordings of "
+                   f"{len(set(labels))} labels", err=True)
+    else:
+        found = read_models(models, model_context, model_quat_order, units)
+        model_samples, labels = found.trajectories, found.labels
+        query_samples = [
+            Trajectory.from_csv(q, quat_order=quat_order, units=units, skip_header=skip_header)
+            for q in queries
+        ]
+    clf = NearestNeighborClassifier(desc, invariance=invariance).fit(model_samples, labels)
+    _report(queries, clf.predict(query_samples), clf.distances_, list(labels), desc, json_path)
+
+
+def _report(queries, predicted, D, labels, desc, json_path) -> None:
+    """One line per query: label, distance, runner-up label and margin; the same as JSON."""
     rows = []
     width = max(len(str(q)) for q in queries)
     click.echo(

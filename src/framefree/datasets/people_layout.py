@@ -23,7 +23,8 @@ from ..io.machete import read_machete
 from ..io.multicsv import read_multi_csv
 from .layout import _natural_key
 
-__all__ = ["PeopleDataset", "Recording", "load_people", "read_recording"]
+__all__ = ["PeopleDataset", "Recording", "is_multi_tracker_file", "load_labelled", "load_people",
+           "read_recording"]
 
 _SKIPPED = {"readme", "readme.md", "readme.txt", "license", "licence", "license.txt", "notice"}
 
@@ -109,6 +110,37 @@ def read_recording(path: str | Path, convention: str | Convention | None = None)
         traj = Trajectory.from_csv(path)
         return MultiTrajectory((traj,), ("tracker_0",), UP, str(path))
     return read_machete(path, convention or "unity")
+
+
+def is_multi_tracker_file(path: str | Path) -> bool:
+    """Whether ``path`` holds several trackers: a Machete recording or a CSV with a ``t,...`` header."""
+    path = Path(path)
+    if not path.is_file():
+        return False
+    with path.open("rb") as fh:
+        head = fh.read(2)
+    return head in (b"t,", b"t\r") or path.suffix.lower() != ".csv"
+
+
+def load_labelled(
+    root: str | Path, convention: str | Convention | None = None
+) -> tuple[list[MultiTrajectory], list[str]]:
+    """Multi-tracker recordings in ``<root>/<label>/<recording>`` folders, and their labels.
+
+    Raises
+    ------
+    DatasetError
+        When ``root`` holds no ``<label>/<recording>`` files.
+    """
+    root = Path(root)
+    samples, labels = [], []
+    for ldir in (p for p in _files(root) if p.is_dir()):
+        for f in (f for f in _files(ldir) if f.is_file()):
+            samples.append(read_recording(f, convention))
+            labels.append(ldir.name)
+    if not samples:
+        raise DatasetError(f"{root}: no <label>/<recording> files")
+    return samples, labels
 
 
 def _files(folder: Path) -> list[Path]:
