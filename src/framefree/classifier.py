@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from .core.multitrajectory import MultiTrajectory
+from .core.pruning import ModelBank, grouped_nearest
 from .core.trajectory import Trajectory
 from .descriptors.base import Descriptor, get_descriptor
 from .descriptors.canonical import INVARIANCES, CanonicalPath
@@ -143,6 +144,7 @@ class NearestNeighborClassifier:
         round_digits: int | None = None,
         descriptor_params: dict[str, Any] | None = None,
         invariance: str = "full",
+        prune: bool = False,
     ) -> None:
         self.descriptor = descriptor
         self.progress = progress
@@ -155,6 +157,7 @@ class NearestNeighborClassifier:
         self.round_digits = round_digits
         self.descriptor_params = descriptor_params
         self.invariance = invariance
+        self.prune = prune
 
     # ------------------------------------------------------------------ scikit-learn protocol
     @classmethod
@@ -270,6 +273,7 @@ class NearestNeighborClassifier:
         if not descriptors:
             raise ValueError("at least one model is needed")
         self.models_ = descriptors
+        self._bank_cache = None
         self.labels_ = np.asarray(labels)
         self.classes_ = np.unique(self.labels_)
         return self
@@ -292,9 +296,25 @@ class NearestNeighborClassifier:
     def predict_descriptors(self, descriptors: Sequence[np.ndarray]) -> np.ndarray:
         """Like :meth:`predict` with precomputed descriptor sequences."""
         self._check_fitted()
-        self.distances_ = self._distances(list(descriptors))
+        descriptors = list(descriptors)
+        bank = self._bank() if self.prune else None
+        if bank is None:
+            self.distances_ = self._distances(descriptors)
+        else:
+            self.distances_ = np.array([grouped_nearest(d, bank).values for d in descriptors])
         self.nearest_ = np.argmin(self.distances_, axis=1)
         return self.labels_[self.nearest_]
+
+    def _bank(self) -> ModelBank | None:
+        """The models packed for pruned search (built once), or None if the distance cannot be
+        pruned."""
+        compare = self.path_ if getattr(self, "path_", None) is not None else self.descriptor_
+        spec = compare.distance_spec()
+        if spec is None:
+            return None
+        if getattr(self, "_bank_cache", None) is None:
+            self._bank_cache = ModelBank(self.models_, spec)
+        return self._bank_cache
 
     def _distances(self, descriptors: list[np.ndarray]) -> np.ndarray:
         compare = self.path_ if getattr(self, "path_", None) is not None else self.descriptor_

@@ -25,6 +25,8 @@ is declared here, on :class:`Descriptor`, and nowhere else:
 :meth:`from_reparameterized`  descriptor of poses already at equidistant progress (the benchmark's
                             cached input), given the 50 Hz arclength for global descriptors
 :meth:`distance_matrix`     classifier distances between descriptor sequences
+:meth:`distance_spec`       how the distance is computed, for exact pruned search
+                            (:mod:`framefree.core.pruning`); None: no pruning
 ==========================  ===========================================================================
 
 To add a descriptor: one module with a :class:`Descriptor` subclass decorated with :func:`register`,
@@ -43,6 +45,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..core.progress import PROGRESS_TYPES
+from ..core.pruning import DistanceSpec
 from ..core.trajectory import Trajectory
 
 __all__ = [
@@ -212,6 +215,12 @@ class Descriptor(ABC):
     def distance(self, model: np.ndarray, query: np.ndarray) -> float:
         """Classifier distance between a model sequence and a query sequence (both (K, F))."""
         return float(self.distance_matrix([query], [model])[0, 0])
+
+    def distance_spec(self) -> DistanceSpec | None:
+        """How :meth:`distance` is computed by :func:`~framefree.core.dtw.path_distance_kernel`,
+        so that nearest-neighbour search can prune it exactly (:mod:`framefree.core.pruning`);
+        None (the default) when the distance is computed otherwise: no pruning."""
+        return None
 
     @abstractmethod
     def distance_matrix(

@@ -34,6 +34,7 @@ from ..core.dtw import (
     path_distance_matrix_kernel,
 )
 from ..core.progress import DEFAULT_SAMPLES, reparameterize
+from ..core.pruning import DistanceSpec
 from ..core.smoothing import smooth_poses
 from ..core.trajectory import Trajectory
 from .base import Descriptor, register
@@ -354,6 +355,10 @@ class _BILTSBase(Descriptor):
     def alignment_columns(self, n_features: int) -> slice:
         """DTW aligns on the six singular values (columns 18–23)."""
         return slice(18, 24) if n_features == N_FEATURES else slice(0, n_features)
+
+    def distance_spec(self) -> DistanceSpec:
+        """DTW on the singular values (columns 18–23), then the pointwise term along the path."""
+        return DistanceSpec(18, 24, self._pointwise, bool(self.open_end))
 
     def distance(self, model: np.ndarray, query: np.ndarray) -> float:
         """Distance between one model and one query sequence (both (K, 24))."""

@@ -31,6 +31,7 @@ import numpy as np
 
 from ..core.dtw import POINTWISE_EUCLIDEAN, pack_sequences, path_distance_matrix_kernel
 from ..core.multitrajectory import MultiTrajectory
+from ..core.pruning import DistanceSpec
 from ..core.trajectory import Trajectory
 from ..errors import DegenerateMotionError
 
@@ -151,6 +152,10 @@ class CanonicalPath:
             local = (tr.p - tr.p[0]) @ R
             cols += [np.interp(grid, t, local[:, k]) for k in range(3)]
         return np.column_stack(cols)
+
+    def distance_spec(self) -> DistanceSpec:
+        """DTW with Euclidean local cost over all columns, closed end."""
+        return DistanceSpec(0, 0, POINTWISE_EUCLIDEAN, False)
 
     def distance_matrix(self, queries: Sequence[np.ndarray], models: Sequence[np.ndarray]) -> np.ndarray:
         """DTW distances (n_queries, n_models): Euclidean local cost, averaged along the path."""

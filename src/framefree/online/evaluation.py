@@ -198,11 +198,14 @@ class TracingRecognizer:
     Parameters
     ----------
     recognizer : Recognizer
-        Reset on construction.
+        Reset on construction; its pruning is turned off, so that the trace holds every
+        gesture's exact distance (the events are the same either way).
     """
 
     def __init__(self, recognizer: Any) -> None:
         recognizer.reset()
+        if hasattr(recognizer, "prune"):
+            recognizer.prune = False
         self.recognizer = recognizer
         self.gestures = list(recognizer.gestures)
         self._gidx = np.array([self.gestures.index(s) for s in recognizer.labels])

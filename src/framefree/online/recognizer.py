@@ -291,8 +291,23 @@ class Recognizer(StreamingRecognizer):
     # ---------------------------------------------------------------------------------- running
     @property
     def stats(self) -> dict[str, int]:
-        """Counters of the acceptance stage and of the recognizer's own stages."""
-        return {**self.gate.stats, **self._counts}
+        """Counters of the acceptance stage and of the recognizer's own stages, and the DTW cells
+        the candidates' classification computed (``dtw_cells``) against what an unpruned search
+        would have computed (``dtw_cells_unpruned``)."""
+        cells, full = self.classifier.cells
+        return {**self.gate.stats, **self._counts, "dtw_cells": cells, "dtw_cells_unpruned": full}
+
+    @property
+    def prune(self) -> bool:
+        """Whether candidates are classified with exact pruning (:mod:`framefree.core.pruning`):
+        the same decisions, fewer DTW computations. Off, every model's distance is computed (the
+        per-gesture dissimilarities of :meth:`gesture_dissimilarities` and of traces are then
+        exact for every gesture, not only the nearest)."""
+        return self.classifier.prune
+
+    @prune.setter
+    def prune(self, value: bool) -> None:
+        self.classifier.prune = bool(value)
 
     def reset(self) -> None:
         """Forget the stream and the counters (a new session)."""
@@ -385,7 +400,8 @@ class Recognizer(StreamingRecognizer):
         return Event(self.labels[fired.model], t, fired.distance, fired.model)
 
     def gesture_dissimilarities(self) -> dict[str, float]:
-        """Distance of the latest classified candidate to each gesture's nearest model."""
+        """Distance of the latest classified candidate to each gesture's nearest model (with
+        :attr:`prune`, exact for the nearest gesture and a lower bound above it for others)."""
         out = dict.fromkeys(self.gestures, math.inf)
         d = self.spotter.last_distances
         if d is not None:

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.progress import reparameterize
+from ..core.pruning import ModelBank, grouped_nearest
 from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor
 from ..errors import DegenerateMotionError
@@ -45,9 +46,17 @@ class SegmentClassifier:
         Model descriptor sequences, computed with ``descriptor.compute`` on the model recordings.
     """
 
-    def __init__(self, descriptor: Descriptor, models: Sequence[np.ndarray]) -> None:
+    def __init__(self, descriptor: Descriptor, models: Sequence[np.ndarray], prune: bool = True) -> None:
         self.descriptor = descriptor
         self.models = list(models)
+        spec = descriptor.distance_spec()
+        #: packed models for exact pruned search (None: the descriptor's distance cannot be pruned)
+        self.bank = ModelBank(self.models, spec) if spec is not None and self.models else None
+        #: search with lower bounds (:mod:`framefree.core.pruning`); the nearest model and its
+        #: distance are those of the full search
+        self.prune = prune
+        #: DTW cells computed / that a full search would compute, over every :meth:`search`
+        self.cells = [0, 0]
 
     def describe(self, times: np.ndarray, poses: np.ndarray) -> tuple[np.ndarray, float] | None:
         """Descriptor of a segment (times (n,) [s], poses (n, 4, 4)) and its size: the total
@@ -73,6 +82,20 @@ class SegmentClassifier:
         if out is None:
             return np.full(len(self.models), math.inf), 0.0
         return self.descriptor.distance_matrix([out[0]], self.models)[0], out[1]
+
+    def search(self, times: np.ndarray, poses: np.ndarray) -> tuple[np.ndarray, float]:
+        """Like :meth:`distances`, pruned when :attr:`prune` is set: the nearest model's distance
+        is exact (and so is every decision made on it); every other value is the model's exact
+        distance or a lower bound of it that exceeds the nearest distance."""
+        if not (self.prune and self.bank is not None):
+            return self.distances(times, poses)
+        out = self.describe(times, poses)
+        if out is None:
+            return np.full(len(self.models), math.inf), 0.0
+        found = grouped_nearest(out[0], self.bank)
+        self.cells[0] += found.cells
+        self.cells[1] += found.full_cells
+        return found.values, out[1]
 
 
 @dataclass(frozen=True)
@@ -243,7 +266,7 @@ class Spotter:
                                         self.max_pause, after, self.pause_ratio, self.min_pause):
             lo_index = max(first.start - self.margin, buffer.oldest)
             times, poses = buffer.slice(lo_index, last.end + self.margin)
-            d, size = self.classifier.distances(times, poses)
+            d, size = self.classifier.search(times, poses)
             # the margin after the unit may not be in the buffer yet: cut the unit out exactly
             inner = first.start - lo_index
             c = closure(poses[inner:inner + last.end - first.start + 1], self.L)

@@ -1,0 +1,109 @@
+"""Exact pruning (framefree.core.pruning): bounds never exceed the distance, and every decision is
+the full search's — on random vocabularies, on real recordings and live on a stream."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from framefree import NearestNeighborClassifier
+from framefree.core.dtw import (
+    POINTWISE_EUCLIDEAN,
+    POINTWISE_KABSCH,
+    POINTWISE_SQUARED,
+    path_distance_kernel,
+)
+from framefree.core.pruning import (
+    DistanceSpec,
+    ModelBank,
+    bound_features,
+    grouped_nearest,
+    lower_bounds,
+)
+
+MODES = {POINTWISE_KABSCH: (18, 24, 24), POINTWISE_SQUARED: (18, 24, 24), POINTWISE_EUCLIDEAN: (0, 6, 6)}
+
+
+@st.composite
+def vocabularies(draw):
+    mode = draw(st.sampled_from(sorted(MODES)))
+    lo, hi, width = MODES[mode]
+    open_end = draw(st.booleans())
+    seed = draw(st.integers(0, 2**31 - 1))
+    rng = np.random.default_rng(seed)
+    n_models = draw(st.integers(1, 12))
+    models = [rng.normal(size=(int(rng.integers(3, 25)), width)) for _ in range(n_models)]
+    if n_models > 2 and draw(st.booleans()):
+        models[-1] = models[0].copy()  # an exact tie
+    if mode != POINTWISE_EUCLIDEAN:  # singular-value columns as BILTS stores them, or noise
+        for m in models:
+            if draw(st.booleans()):
+                m[:, 18:24] = bound_features(m, DistanceSpec(18, 24, mode, open_end))
+    groups = rng.integers(0, draw(st.integers(1, 4)), n_models)
+    queries = [rng.normal(size=(int(rng.integers(3, 25)), width)) for _ in range(3)]
+    queries.append(models[0] + rng.normal(scale=0.01, size=models[0].shape))
+    return DistanceSpec(lo, hi, mode, open_end), models, groups, queries
+
+
+def _full(models, query, spec):
+    return np.array([path_distance_kernel(np.ascontiguousarray(m), np.ascontiguousarray(query),
+                                          spec.align_lo, spec.align_hi, spec.mode, spec.open_end)
+                     for m in models])
+
+
+@given(vocab=vocabularies(), chunk=st.integers(1, 5))
+def test_decisions_equal_the_full_search(vocab, chunk):
+    spec, models, groups, queries = vocab
+    bank = ModelBank(models, spec, groups)
+    for q in queries:
+        full = _full(models, q, spec)
+        assert np.all(lower_bounds(q, bank) <= full)
+        found = grouped_nearest(q, bank, chunk=chunk)
+        assert found.nearest == int(np.argmin(full))
+        assert np.array_equal(found.values[found.exact], full[found.exact])
+        for g in np.unique(groups):
+            assert found.values[groups == g].min() == full[groups == g].min()
+        assert found.cells <= found.full_cells
+
+
+def test_classifier_predicts_the_same_with_and_without_pruning(kettle_files, real_dir):
+    from framefree import Trajectory
+
+    trajs = [Trajectory.from_csv(f) for f in kettle_files]
+    scoop = Trajectory.from_csv(real_dir / "reference_set" / "ip_scooping_motion.csv")
+    moved = Trajectory.from_csv(real_dir / "reference_set" / "ip_scooping_motion__tfworldbody.csv")
+    models, labels = [trajs[0], trajs[3], scoop], ["pour", "pour_top", "scoop"]
+    queries = [*trajs, moved, scoop]
+    for make in (NearestNeighborClassifier.recommended, lambda **k: NearestNeighborClassifier("bilts", **k)):
+        plain = make().fit(models, labels)
+        pruned = make(prune=True).fit(models, labels)
+        assert list(pruned.predict(queries)) == list(plain.predict(queries))
+        assert np.array_equal(pruned.nearest_, plain.nearest_)
+        rows = np.arange(len(queries))
+        assert np.array_equal(pruned.distances_[rows, pruned.nearest_],
+                              plain.distances_[rows, plain.nearest_])
+
+
+@pytest.mark.slow
+def test_live_events_are_the_same_with_and_without_pruning():
+    from framefree.datasets.layout import load_model_recordings
+    from framefree.datasets.stream_files import load_stream
+    from framefree.online import Recognizer
+    from framefree.replica import replica_path
+
+    root = replica_path(0)
+    trajs, labels = load_model_recordings(root, "original_1")
+    stream, _ = load_stream(root / "streams" / "stream_1.csv")
+    rec = Recognizer.from_trajectories(trajs, labels)
+    runs = {}
+    for prune in (False, True):
+        rec.reset()
+        rec.prune = prune
+        events = []
+        for k in range(len(stream)):
+            events += rec.push(stream.t[k], stream.p[k], stream.q[k])
+        runs[prune] = ([(e.label, e.time, e.dissimilarity) for e in events], dict(rec.stats))
+    assert runs[True][0] == runs[False][0] and len(runs[True][0]) > 5
+    assert runs[True][1]["dtw_cells"] <= runs[True][1]["dtw_cells_unpruned"]
