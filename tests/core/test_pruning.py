@@ -68,6 +68,24 @@ def test_decisions_equal_the_full_search(vocab, chunk):
         assert found.cells <= found.full_cells
 
 
+@given(vocab=vocabularies(), scale=st.floats(0.0, 2.0), chunk=st.integers(1, 5))
+def test_decisions_with_rejection_equal_the_full_search(vocab, scale, chunk):
+    """1-NN with rejection: accepted iff the nearest model is below its threshold; then the same
+    model and distance."""
+    spec, models, _, queries = vocab
+    bank = ModelBank(models, spec)
+    rng = np.random.default_rng(len(models))
+    for q in queries:
+        full = _full(models, q, spec)
+        tau = scale * np.median(full) * rng.uniform(0.5, 1.5, len(models))
+        found = grouped_nearest(q, bank, chunk=chunk, accept_below=tau)
+        j_full, j = int(np.argmin(full)), found.nearest
+        accepted_full = full[j_full] < tau[j_full]
+        assert (found.values[j] < tau[j]) == accepted_full
+        if accepted_full:
+            assert j == j_full and found.values[j] == full[j_full] and found.exact[j]
+
+
 def test_classifier_predicts_the_same_with_and_without_pruning(kettle_files, real_dir):
     from framefree import Trajectory
 

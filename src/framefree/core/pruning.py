@@ -169,10 +169,15 @@ def _exact_chunk(qdata, idx, mdata, moff, lo, hi, mode, open_end):
 
 
 @njit(cache=True)
-def _grouped_search(qdata, bounds, mdata, moff, groups, n_groups, lo, hi, mode, open_end, chunk):
+def _grouped_search(qdata, bounds, mdata, moff, groups, n_groups, lo, hi, mode, open_end, chunk,
+                    accept_below):
     """Exact distances in bound order, ``chunk`` at a time (in parallel), until every remaining
-    bound exceeds its group's best distance so far."""
+    bound exceeds its group's best distance so far — or, with acceptance thresholds, until the
+    best so far cannot be accepted and no remaining model could be (its bound is at or above the
+    largest threshold)."""
     M = bounds.shape[0]
+    reject = accept_below.shape[0] == M
+    top = accept_below.max() if reject and M > 0 else np.inf
     values = bounds.copy()
     exact = np.zeros(M, dtype=np.bool_)
     best = np.full(n_groups, np.inf)
@@ -180,7 +185,11 @@ def _grouped_search(qdata, bounds, mdata, moff, groups, n_groups, lo, hi, mode, 
     cells = 0
     k = 0
     todo = np.empty(chunk, dtype=np.int64)
+    overall = -1
     while k < M:
+        if reject and bounds[order[k]] >= top and (
+                overall < 0 or values[overall] >= accept_below[overall]):
+            break  # the nearest model, whichever it is, cannot be accepted
         n_todo = 0
         while k < M and n_todo < chunk:
             j = order[k]
@@ -198,6 +207,8 @@ def _grouped_search(qdata, bounds, mdata, moff, groups, n_groups, lo, hi, mode, 
             cells += (moff[j + 1] - moff[j]) * qdata.shape[0]
             if d[t] < best[groups[j]]:
                 best[groups[j]] = d[t]
+            if overall < 0 or d[t] < values[overall] or (d[t] == values[overall] and j < overall):
+                overall = j
     return values, exact, cells
 
 
@@ -268,7 +279,8 @@ def lower_bounds(query: np.ndarray, bank: ModelBank) -> np.ndarray:
     return _lower_bounds_kernel(bank.sdata, bank.soff, qS, bank.spec.squared, bank.spec.open_end)
 
 
-def grouped_nearest(query: np.ndarray, bank: ModelBank, chunk: int = 8) -> SearchResult:
+def grouped_nearest(query: np.ndarray, bank: ModelBank, chunk: int = 8,
+                    accept_below: np.ndarray | None = None) -> SearchResult:
     """The exact nearest model of every group, pruning the rest by their lower bounds.
 
     Parameters
@@ -278,6 +290,12 @@ def grouped_nearest(query: np.ndarray, bank: ModelBank, chunk: int = 8) -> Searc
     chunk : int
         Exact distances computed together (in parallel) before the bounds are compared with the
         best distances again; larger chunks use more cores and prune a little less.
+    accept_below : ndarray, shape (M,), optional
+        1-NN with rejection: the query is accepted only if its nearest model ``j`` is nearer than
+        ``accept_below[j]``. The search then also stops once the best model so far cannot be
+        accepted and every remaining bound is at or above ``max(accept_below)``: the query is
+        rejected whichever model is nearest. The decision (accepted, and then the nearest model
+        and its distance) is still exact; for a rejected query ``nearest`` may be a pruned model.
 
     Returns
     -------
@@ -287,7 +305,10 @@ def grouped_nearest(query: np.ndarray, bank: ModelBank, chunk: int = 8) -> Searc
     if q.ndim != 2 or q.shape[1] != bank.mdata.shape[1]:
         raise ValueError(f"query of shape {q.shape}; the models have {bank.mdata.shape[1]} columns")
     s = bank.spec
+    tau = np.zeros(0) if accept_below is None else np.ascontiguousarray(accept_below, dtype=np.float64)
+    if tau.size and tau.shape != (len(bank),):
+        raise ValueError(f"accept_below needs one threshold per model ({len(bank)}), got {tau.shape}")
     values, exact, cells = _grouped_search(q, lower_bounds(q, bank), bank.mdata, bank.moff, bank.groups,
                                            bank.n_groups, s.align_lo, s.align_hi, s.mode, s.open_end,
-                                           max(1, int(chunk)))
+                                           max(1, int(chunk)), tau)
     return SearchResult(values, exact, int(cells), int(bank.dtw_cells * q.shape[0]))

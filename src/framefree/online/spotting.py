@@ -83,16 +83,19 @@ class SegmentClassifier:
             return np.full(len(self.models), math.inf), 0.0
         return self.descriptor.distance_matrix([out[0]], self.models)[0], out[1]
 
-    def search(self, times: np.ndarray, poses: np.ndarray) -> tuple[np.ndarray, float]:
-        """Like :meth:`distances`, pruned when :attr:`prune` is set: the nearest model's distance
-        is exact (and so is every decision made on it); every other value is the model's exact
-        distance or a lower bound of it that exceeds the nearest distance."""
+    def search(self, times: np.ndarray, poses: np.ndarray, accept_below: np.ndarray | None = None
+               ) -> tuple[np.ndarray, float]:
+        """Like :meth:`distances`, pruned when :attr:`prune` is set: every value is a model's exact
+        distance or a lower bound of it. With ``accept_below`` (each model's threshold), whether
+        the nearest model is below its threshold is exact, and when it is, so are the nearest
+        model and its distance (:func:`~framefree.core.pruning.grouped_nearest`); without it, the
+        nearest model and its distance always are."""
         if not (self.prune and self.bank is not None):
             return self.distances(times, poses)
         out = self.describe(times, poses)
         if out is None:
             return np.full(len(self.models), math.inf), 0.0
-        found = grouped_nearest(out[0], self.bank)
+        found = grouped_nearest(out[0], self.bank, accept_below=accept_below)
         self.cells[0] += found.cells
         self.cells[1] += found.full_cells
         return found.values, out[1]
@@ -266,7 +269,7 @@ class Spotter:
                                         self.max_pause, after, self.pause_ratio, self.min_pause):
             lo_index = max(first.start - self.margin, buffer.oldest)
             times, poses = buffer.slice(lo_index, last.end + self.margin)
-            d, size = self.classifier.search(times, poses)
+            d, size = self.classifier.search(times, poses, self.model_thresholds)
             # the margin after the unit may not be in the buffer yet: cut the unit out exactly
             inner = first.start - lo_index
             c = closure(poses[inner:inner + last.end - first.start + 1], self.L)
