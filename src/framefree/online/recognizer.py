@@ -315,6 +315,7 @@ class Recognizer(StreamingRecognizer):
         self.stop.rearm_now()
         self._restart()
         self._counts = dict.fromkeys(STAT_KEYS, 0)
+        self.classifier.cells = [0, 0]
 
     def _restart(self) -> None:
         self.resampler.reset()
