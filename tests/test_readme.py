@@ -38,6 +38,8 @@ PLACEHOLDER_FILES = {
 SHORTENED = [
     ("make demo", "make -n demo", "the whole demo: its make target is checked (dry run)"),
     ("make test", "make -n test", "would run this test suite again: dry run"),
+    ("source .venv/bin/activate", f"test -e {Path(sys.prefix) / 'bin' / 'activate'}",
+     "a shell builtin: the environment running these tests has the activate script"),
     ("framefree benchmark --out", "{} --methods bilts+:screw --no-figures",
      "all 17 rows take minutes on a shared machine: one row"),
     ("framefree benchmark --methods", "{} --no-figures", "no figures (the first run drew them)"),

@@ -8,6 +8,7 @@ wait for the benchmark's or the robot's imports.
 
 from __future__ import annotations
 
+import difflib
 import importlib
 import sys
 import warnings
@@ -70,6 +71,15 @@ class _Group(click.Group):
 
     def list_commands(self, ctx: click.Context) -> list[str]:
         return sorted(set(COMMANDS) | set(self.commands))
+
+    def resolve_command(self, ctx: click.Context, args: list[str]):
+        """As click's, with the nearest command names suggested for a mistyped one."""
+        name = click.utils.make_str(args[0]) if args else ""
+        if args and self.get_command(ctx, name) is None and not name.startswith("-"):
+            close = difflib.get_close_matches(name, self.list_commands(ctx), n=2, cutoff=0.6)
+            hint = f" Did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+            ctx.fail(f"No such command {name!r}.{hint} (framefree --help lists them)")
+        return super().resolve_command(ctx, args)
 
     def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
         if cmd_name not in self.commands and cmd_name in COMMANDS:

@@ -108,10 +108,12 @@ def describe(files, descriptor, progress, L, ds_scale, lam, quat_order, units, s
     """Compute the descriptor of each pose FILE and write it as CSV (one row per sample)."""
     desc = descriptor_from_options(descriptor, progress, L, ds_scale, lam)
     tag = desc.name.replace("+", "plus")
-    pairs = _describe_targets(files, writable_folder(out), tag)
-    for path, target in pairs:
-        traj = Trajectory.from_csv(path, quat_order=quat_order, units=units, skip_header=skip_header)
-        seq = desc.compute(traj)
+    pairs = _describe_targets(files, Path(out), tag)
+    # every input is read and described before anything is written: a bad file leaves no output
+    seqs = [desc.compute(Trajectory.from_csv(path, quat_order=quat_order, units=units,
+                                             skip_header=skip_header)) for path, _ in pairs]
+    writable_folder(out)
+    for (path, target), seq in zip(pairs, seqs, strict=True):
         header = ",".join(_feature_names(desc, seq.shape[1]))
         np.savetxt(target, seq, delimiter=",", header=header, comments="", fmt="%.12g")
         click.echo(f"{path} -> {target}  ({seq.shape[0]} samples x {seq.shape[1]} features)")

@@ -40,20 +40,24 @@ def dataset_group() -> None:
 @click.option("--streams", "-k", "n_streams", type=int, default=3, show_default=True,
               help="Number of continuous labelled streams.")
 def make_command(out: Path | None, seed: int, n_streams: int) -> None:
-    """Write the replica: 7 gestures × 12 contexts × 5 trials, plus streams.
+    """Write the replica: 7 gestures × 16 contexts (the paper's 12 and 4 stress contexts) × 5 trials,
+    plus streams.
 
     \b
     Layout: OUT/<gesture>/<context>/trial_<k>.csv and OUT/streams/stream_<i>.csv
     with OUT/streams/stream_<i>_labels.csv (label,start_t,end_t).
+    Without --out: the cached replica in $FRAMEFREE_CACHE (default ~/.cache/framefree).
     """
     from ..replica import make_replica, replica_path
 
     if out is None:
         path = replica_path(seed)
-        click.echo(f"replica (seed {seed}) at {path}")
+        click.echo(f"replica (seed {seed}) at {path} (the cache: $FRAMEFREE_CACHE, default "
+                   "~/.cache/framefree)")
         return
     make_replica(out, seed=seed, n_streams=n_streams)
-    click.echo(f"wrote 420 trials and {n_streams} streams to {out}")
+    trials = sum(1 for _ in Path(out).glob("*/*/trial_*.csv"))
+    click.echo(f"wrote {trials} trials and {n_streams} streams to {out}")
 
 
 @dataset_group.command("info")
@@ -93,8 +97,9 @@ def info_command(root: Path, model_context: str, quat_order: str, units: str) ->
 @click.command("plot")
 @click.argument("target", type=click.Path(exists=True, path_type=Path))
 @click.option("--out", "-o", type=click.Path(dir_okay=False, path_type=Path), default=None,
-              help="PNG file (default: in the working folder, <name>.png for a trial file, "
-              "<name>_gallery.png for a dataset; never inside TARGET).")
+              help="PNG file (default: in the working folder, <gesture>_<context>_<trial>.png for a "
+              "trial file (its last two folders and its name), <name>_gallery.png for a dataset; "
+              "never inside TARGET).")
 @click.option("--context", default=None,
               help="Context shown in a dataset gallery (default: the model context).")
 @click.option("--trial", default=None, help="Trial shown per gesture in a gallery (default: the first).")
@@ -113,7 +118,9 @@ def plot_command(target: Path, out: Path | None, context: str | None, trial: str
         ds = load_dataset(target, quat_order=quat_order, units=units)
         plot_gallery(ds, out, context=context, trial=trial)
     else:
-        out = writable_file(out or Path(f"{target.stem}.png"))
+        # named after the file and its folders (go_up_original_1_trial_1.png), so that trials of
+        # different gestures or contexts do not overwrite each other
+        out = writable_file(out or Path("_".join(target.resolve().with_suffix("").parts[-3:]) + ".png"))
         if out.resolve() == target.resolve():
             raise FramefreeError(f"{out}: would overwrite the input; choose another --out")
         traj = Trajectory.from_csv(target, quat_order=quat_order, units=units,
