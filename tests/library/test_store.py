@@ -20,9 +20,10 @@ from framefree.library import (
     load_recognizer,
     read_takes,
 )
+from framefree.library.store import combine_takes
 from framefree.online import Recognizer
 from framefree.online.evaluation import run_stream
-from framefree.replica import make_stream
+from framefree.replica import make_stream, synthesize_gesture
 
 #: Everything the recognizer derives from its models (each must not run when a library loads);
 #: names of earlier and later versions of the recognizer module, those present are patched.
@@ -162,3 +163,38 @@ def test_read_takes_prefers_own_and_explains_layout_errors(tmp_path: Path, hpm_t
     (tmp_path / "lib" / "wave" / "own").rename(tmp_path / "lib" / "wave" / "third")
     with pytest.raises(LibraryError, match="--context"):
         read_takes(tmp_path / "lib")
+
+
+def test_one_gesture_name_in_two_sources_is_refused_unless_merged(tmp_path: Path) -> None:
+    """A folder go_up/ of other takes enrolled with the replica must not silently become go_up."""
+    import shutil
+
+    from click.testing import CliRunner
+
+    from framefree.cli import cli
+    from framefree.replica import replica_path
+
+    mine = tmp_path / "mine" / "go_up" / "own"
+    mine.mkdir(parents=True)
+    rng = np.random.default_rng(3)
+    for k in range(3):
+        synthesize_gesture("figure_eight", rng).to_csv(mine / f"trial_{k + 1}.csv")
+    vocab = tmp_path / "hpm"
+    for g in ("go_up", "go_left"):
+        shutil.copytree(replica_path() / g / "original_1", vocab / g / "original_1")
+    res = CliRunner().invoke(cli, ["enroll", str(vocab), str(tmp_path / "mine"), "-o",
+                                   str(tmp_path / "x.npz")])
+    assert res.exit_code == 2, res.output
+    assert "'go_up' is in both" in res.output and "--merge go_up" in res.output
+    assert not (tmp_path / "x.npz").exists()
+    combined = combine_takes([("a", read_takes(vocab)), ("b", read_takes(tmp_path / "mine"))],
+                             merge=["go_up"])
+    assert combined.counts()["go_up"] == 8
+
+
+def test_a_copied_take_is_refused(hpm_takes: TakeSet) -> None:
+    a = TakeSet(hpm_takes.takes[:2], ("wave", "wave"), ("wave/own/trial_1", "wave/own/trial_2"))
+    b = TakeSet(hpm_takes.takes[1:3], ("circle", "circle"),
+                ("circle/own/trial_1", "circle/own/trial_2"))
+    with pytest.raises(LibraryError, match="circle/own/trial_1 is an exact copy of take wave/own/trial_2"):
+        enroll(a + b)

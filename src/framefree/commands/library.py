@@ -99,11 +99,12 @@ def _parse_sets(sets: tuple[str, ...]) -> dict[str, Any]:
     return out
 
 
-def _gather(sources: tuple[str, ...], context: str | None):
-    """Takes of all sources (folders or library files) and the settings of the first library file."""
-    from ..library.store import load_library, read_takes
+def _gather(sources: tuple[str, ...], context: str | None, merge: tuple[str, ...] = ()):
+    """Takes of all sources (folders or library files) and the settings of the first library file.
+    Two sources may not hold a gesture of one name unless it is in ``merge``, nor copies of a take."""
+    from ..library.store import combine_takes, load_library, read_takes
 
-    takes = None
+    parts = []
     settings: dict[str, Any] | None = None
     for src in sources:
         if Path(src).is_dir():
@@ -112,8 +113,8 @@ def _gather(sources: tuple[str, ...], context: str | None):
             lib = load_library(src)
             part = lib.takes
             settings = settings if settings is not None else dict(lib.settings)
-        takes = part if takes is None else takes + part
-    return takes, settings
+        parts.append((str(src), part))
+    return combine_takes(parts, merge), settings
 
 
 def _changes(old, new) -> str:
@@ -137,9 +138,12 @@ def _changes(old, new) -> str:
               help="Leave out a gesture (wave) or a take (wave/own/trial_3); repeatable.")
 @click.option("--set", "sets", multiple=True,
               help="Recognizer setting KEY=VALUE (a RecognizerConfig field); repeatable.")
+@click.option("--merge", "merges", multiple=True,
+              help="Pool the takes of a gesture found in several sources (e.g. a second person's); "
+                   "without it, one gesture name in two sources is an error. Repeatable.")
 @click.option("--force", is_flag=True, help="Recalibrate even if the library file is up to date.")
 def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, removals: tuple[str, ...],
-               sets: tuple[str, ...], force: bool):
+               sets: tuple[str, ...], merges: tuple[str, ...], force: bool):
     """Build the models and calibrate the thresholds once; write a library file for live use.
 
     \b
@@ -156,7 +160,7 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
             raise click.UsageError("give the library file to write with -o/--out")
         folder = Path(sources[0]).resolve()
         out = str(folder.with_name(folder.name + ".npz"))
-    takes, settings = _gather(sources, context)
+    takes, settings = _gather(sources, context, merges)
     if removals:
         takes = takes.without(removals)
     base = RecognizerConfig.from_dict(settings) if settings else RecognizerConfig()

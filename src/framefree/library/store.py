@@ -41,10 +41,12 @@ __all__ = [
     "LibraryError",
     "TakeSet",
     "build_recognizer",
+    "combine_takes",
     "enroll",
     "load_library",
     "load_recognizer",
     "read_takes",
+    "refuse_copies",
 ]
 
 #: Context folder that ``framefree record`` writes by default and :func:`read_takes` prefers.
@@ -211,6 +213,51 @@ def read_takes(folder: str | Path, context: str | None = None) -> TakeSet:
     if not takes:
         raise LibraryError(f"{root}: no gesture folders with takes")
     return TakeSet(tuple(takes), tuple(labels), tuple(names))
+
+
+def combine_takes(parts: Sequence[tuple[str, TakeSet]], merge: Iterable[str] = ()) -> TakeSet:
+    """The takes of several sources as one vocabulary, refusing what would corrupt it.
+
+    Parameters
+    ----------
+    parts : sequence of (str, TakeSet)
+        Each source (a folder or library file, for messages) and its takes.
+    merge : iterable of str
+        Gestures whose takes may come from several sources (e.g. a second person's takes of the
+        same gesture); any other gesture name found in two sources is an error.
+
+    Raises
+    ------
+    LibraryError
+        When two sources hold a gesture of the same name that was not named in ``merge`` (two
+        different gestures would silently become one).
+    """
+    allowed = set(merge)
+    owner: dict[str, str] = {}
+    for source, part in parts:
+        for g in part.gestures:
+            if g in owner and owner[g] != source and g not in allowed:
+                raise LibraryError(
+                    f"gesture {g!r} is in both {owner[g]} and {source}: rename one of the folders if "
+                    f"they are different gestures, or add --merge {g} to pool their takes")
+            owner.setdefault(g, source)
+    takes = parts[0][1]
+    for _, part in parts[1:]:
+        takes = takes + part
+    return takes
+
+
+def refuse_copies(takes: TakeSet) -> None:
+    """Raise :class:`LibraryError` if a take is an exact copy of another (the same samples, at any
+    time offset): leave-one-out calibration would put its gesture's threshold at about zero."""
+    seen: dict[bytes, str] = {}
+    for name, rows in zip(takes.names, takes.rows(), strict=True):
+        key = hashlib.sha256(np.ascontiguousarray(rows[:, 1:]).tobytes()).digest()
+        if key in seen:
+            raise LibraryError(f"take {name} is an exact copy of take {seen[key]}: remove one "
+                               f"(--remove {name}); a copied take makes its gesture's threshold "
+                               "meaningless")
+        seen[key] = name
 
 
 def _natural(name: str) -> list:
@@ -393,8 +440,10 @@ def enroll(
     Raises
     ------
     LibraryError
-        For a vocabulary with a gesture of fewer than 2 takes (no leave-one-out calibration).
+        For a vocabulary with a gesture of fewer than 2 takes (no leave-one-out calibration), or
+        with a take that is an exact copy of another (:func:`refuse_copies`).
     """
+    refuse_copies(takes)
     few = [g for g, n in takes.counts().items() if n < 2]
     if few:
         raise LibraryError(f"gesture {few[0]!r} has {takes.counts()[few[0]]} take; record at least 2 "
