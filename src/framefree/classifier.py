@@ -14,6 +14,8 @@ from .core.pruning import ModelBank, grouped_nearest
 from .core.trajectory import Trajectory
 from .descriptors.base import Descriptor, get_descriptor
 from .descriptors.canonical import INVARIANCES, CanonicalPath
+from .rejection import REJECTED, thresholds_from_models
+from .samples import as_samples, not_fitted_error
 
 __all__ = ["RECOMMENDED", "NearestNeighborClassifier", "round_significant"]
 
@@ -120,10 +122,16 @@ class NearestNeighborClassifier:
         Label of each model, in fit order.
     classes_ : ndarray, shape (n_classes,)
         The distinct labels, sorted.
-    distances_ : ndarray, shape (n_queries, n_models)
-        Distances behind the latest :meth:`predict` call.
-    nearest_ : ndarray of int, shape (n_queries,)
-        Index of the nearest model of each query of the latest :meth:`predict` call.
+    thresholds_ : dict of label to float or None
+        The rejection threshold of each class (None without ``thresholds``).
+
+    Notes
+    -----
+    Samples are :class:`~framefree.Trajectory` or
+    :class:`~framefree.core.multitrajectory.MultiTrajectory` objects, ``(n, 8)`` arrays
+    ``t, x, y, z, qw, qx, qy, qz``, or tuples of such arrays (several trackers): see
+    :func:`framefree.samples.as_samples`. Predicting changes no state; distances come from
+    :meth:`distance_matrix`, :meth:`kneighbors` and :meth:`decision_function`.
 
     Examples
     --------
@@ -145,6 +153,8 @@ class NearestNeighborClassifier:
         descriptor_params: dict[str, Any] | None = None,
         invariance: str = "full",
         prune: bool = False,
+        thresholds: str | dict[str, float] | None = None,
+        rejection_label: str = REJECTED,
     ) -> None:
         self.descriptor = descriptor
         self.progress = progress
@@ -158,6 +168,8 @@ class NearestNeighborClassifier:
         self.descriptor_params = descriptor_params
         self.invariance = invariance
         self.prune = prune
+        self.thresholds = thresholds
+        self.rejection_label = rejection_label
 
     # ------------------------------------------------------------------ scikit-learn protocol
     @classmethod
@@ -239,23 +251,24 @@ class NearestNeighborClassifier:
             out.append(d)
         return out
 
-    def fit(
-        self, trajectories: Sequence[Trajectory], labels: Sequence[Any]
-    ) -> NearestNeighborClassifier:
+    def fit(self, X: Any, y: Sequence[Any]) -> NearestNeighborClassifier:
         """Build the descriptor and compute and store the model descriptors.
 
         Parameters
         ----------
-        trajectories : sequence of Trajectory, length n_models
-            The models (1-NN neighbours).
-        labels : sequence, length n_models
+        X : sequence of samples, length n_models
+            The models (1-NN neighbours): :class:`~framefree.Trajectory` or
+            :class:`~framefree.core.multitrajectory.MultiTrajectory` objects, ``(n, 8)`` arrays
+            ``t, x, y, z, qw, qx, qy, qz``, or tuples of such arrays (one per tracker).
+        y : sequence, length n_models
             One label per model.
         """
-        if len(trajectories) != len(labels):
-            raise ValueError(f"{len(trajectories)} models but {len(labels)} labels")
+        samples = as_samples(X)
+        if len(samples) != len(y):
+            raise ValueError(f"{len(samples)} models but {len(y)} labels")
         self.descriptor_ = self.build_descriptor()
-        self.path_ = canonical_comparison(self.invariance, trajectories)
-        return self._store(self._describe(trajectories), labels)
+        self.path_ = canonical_comparison(self.invariance, samples)
+        return self._store(self._describe(samples), y)
 
     def fit_descriptors(
         self, descriptors: Sequence[np.ndarray], labels: Sequence[Any]
@@ -265,9 +278,7 @@ class NearestNeighborClassifier:
         self.path_ = None
         return self._store(list(descriptors), labels)
 
-    def _store(
-        self, descriptors: list[np.ndarray], labels: Sequence[Any]
-    ) -> NearestNeighborClassifier:
+    def _store(self, descriptors: list[np.ndarray], labels: Sequence[Any]) -> NearestNeighborClassifier:
         if len(descriptors) != len(labels):
             raise ValueError(f"{len(descriptors)} models but {len(labels)} labels")
         if not descriptors:
@@ -276,34 +287,91 @@ class NearestNeighborClassifier:
         self._bank_cache = None
         self.labels_ = np.asarray(labels)
         self.classes_ = np.unique(self.labels_)
+        self.thresholds_ = self._thresholds()
         return self
+
+    def _thresholds(self) -> dict[str, float] | None:
+        if self.thresholds is None:
+            return None
+        if isinstance(self.thresholds, str):
+            if self.thresholds != "auto":
+                raise ValueError(f"thresholds must be None, 'auto' or a dict, not {self.thresholds!r}")
+            return thresholds_from_models(self._distances(self.models_), self.labels_)
+        missing = [c for c in self.classes_ if c not in self.thresholds]
+        if missing:
+            raise ValueError(f"thresholds has no value for {', '.join(map(str, missing))}")
+        return {c: float(self.thresholds[c]) for c in self.classes_}
 
     def _check_fitted(self) -> None:
         if not hasattr(self, "models_"):
-            raise RuntimeError("call fit() before predict()")
+            raise not_fitted_error(self)
 
-    def distance_matrix(self, trajectories: Sequence[Trajectory]) -> np.ndarray:
-        """Distances (n_queries, n_models) from each query trajectory to each model."""
+    def distance_matrix(self, X: Any) -> np.ndarray:
+        """Distances (n_queries, n_models) from each query sample to each model."""
         self._check_fitted()
-        return self._distances(self._describe(trajectories))
+        return self._distances(self._describe(as_samples(X)))
 
-    def predict(self, trajectories: Sequence[Trajectory]) -> np.ndarray:
-        """Labels of the nearest models, shape (n_queries,) (ties: the first model in fit order,
-        as the reference)."""
+    def predict(self, X: Any) -> np.ndarray:
+        """Label of each query's nearest model, shape (n_queries,) (ties: the first model in fit
+        order, as the reference); with ``thresholds``, :data:`~framefree.rejection.REJECTED` for a
+        query farther from its nearest model than that class's threshold. Changes no state."""
         self._check_fitted()
-        return self.predict_descriptors(self._describe(trajectories))
+        return self.predict_descriptors(self._describe(as_samples(X)))
 
     def predict_descriptors(self, descriptors: Sequence[np.ndarray]) -> np.ndarray:
         """Like :meth:`predict` with precomputed descriptor sequences."""
         self._check_fitted()
-        descriptors = list(descriptors)
+        index, distance = self._nearest(list(descriptors))
+        labels = self.labels_[index]
+        if self.thresholds_ is None:
+            return labels
+        keep = np.array([d < self.thresholds_[lab] for lab, d in zip(labels, distance, strict=True)])
+        return np.where(keep, labels.astype(object), self.rejection_label)
+
+    def _nearest(self, descriptors: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+        """Index and distance of each query's nearest model (pruned when ``prune`` is set)."""
         bank = self._bank() if self.prune else None
         if bank is None:
-            self.distances_ = self._distances(descriptors)
-        else:
-            self.distances_ = np.array([grouped_nearest(d, bank).values for d in descriptors])
-        self.nearest_ = np.argmin(self.distances_, axis=1)
-        return self.labels_[self.nearest_]
+            D = self._distances(descriptors)
+            index = np.argmin(D, axis=1)
+            return index, D[np.arange(len(descriptors)), index]
+        found = [grouped_nearest(d, bank) for d in descriptors]
+        index = np.array([f.nearest for f in found], dtype=np.int64)
+        return index, np.array([f.values[f.nearest] for f in found])
+
+    def kneighbors(
+        self, X: Any, n_neighbors: int = 1, return_distance: bool = True
+    ) -> tuple[np.ndarray, np.ndarray] | np.ndarray:
+        """The ``n_neighbors`` nearest models of each query, nearest first.
+
+        Returns
+        -------
+        distances : ndarray, shape (n_queries, n_neighbors)
+            Only with ``return_distance``.
+        indices : ndarray of int, shape (n_queries, n_neighbors)
+            Model indices in fit order (``labels_[indices]`` are their labels).
+        """
+        self._check_fitted()
+        if not 1 <= n_neighbors <= len(self.models_):
+            raise ValueError(f"n_neighbors must be between 1 and {len(self.models_)}, got {n_neighbors}")
+        D = self.distance_matrix(X)
+        indices = np.argsort(D, axis=1, kind="stable")[:, :n_neighbors]
+        distances = np.take_along_axis(D, indices, axis=1)
+        return (distances, indices) if return_distance else indices
+
+    def decision_function(self, X: Any) -> np.ndarray:
+        """Minus the distance to the nearest model of each class, shape (n_queries, n_classes) in
+        the order of ``classes_``: the larger, the more likely."""
+        D = self.distance_matrix(X)
+        return -np.stack([D[:, self.labels_ == c].min(axis=1) for c in self.classes_], axis=1)
+
+    def predict_proba(self, X: Any) -> np.ndarray:
+        """Class probabilities of 1-NN, shape (n_queries, n_classes): 1 for the nearest model's
+        class, 0 for the others (the nearest neighbour alone decides, as in scikit-learn's
+        ``KNeighborsClassifier(n_neighbors=1)``; rejection does not change them)."""
+        self._check_fitted()
+        index, _ = self._nearest(self._describe(as_samples(X)))
+        return (self.labels_[index][:, None] == self.classes_[None, :]).astype(np.float64)
 
     def _bank(self) -> ModelBank | None:
         """The models packed for pruned search (built once), or None if the distance cannot be
@@ -320,7 +388,7 @@ class NearestNeighborClassifier:
         compare = self.path_ if getattr(self, "path_", None) is not None else self.descriptor_
         return compare.distance_matrix(descriptors, self.models_)
 
-    def score(self, trajectories: Sequence[Trajectory], labels: Sequence[Any]) -> float:
+    def score(self, X: Any, y: Sequence[Any]) -> float:
         """Recognition ratio (fraction of queries given their true label)."""
-        pred = self.predict(trajectories)
-        return float(np.mean(pred == np.asarray(labels)))
+        pred = self.predict(X)
+        return float(np.mean(pred == np.asarray(y)))

@@ -97,9 +97,10 @@ def test_nearest_neighbor_classifier_end_to_end(kettle_files, real_dir):
     queries = [*trajs[1:], scoop_moved]
     labels = ["pour"] * 5 + ["scoop"]
     np.testing.assert_array_equal(clf.predict(queries), labels)
-    assert clf.distances_.shape == (6, 2)
+    assert clf.distance_matrix(queries).shape == (6, 2)
     assert clf.score(queries, labels) == 1.0
-    assert np.array_equal(np.argmin(clf.distance_matrix(queries), axis=1), clf.nearest_)
+    _, nearest = clf.kneighbors(queries)
+    assert np.array_equal(np.argmin(clf.distance_matrix(queries), axis=1), nearest[:, 0])
 
 
 def test_classifier_ties_go_to_the_first_model_and_rounding_option(kettle_files):
@@ -107,7 +108,7 @@ def test_classifier_ties_go_to_the_first_model_and_rounding_option(kettle_files)
     clf = ff.NearestNeighborClassifier("bilts+", round_digits=5).fit([traj, traj], ["a", "b"])
     assert clf.predict([traj])[0] == "a"
     assert np.all(clf.models_[0] == ff.classifier.round_significant(clf.models_[0], 5))
-    with pytest.raises(RuntimeError):
+    with pytest.raises(ValueError, match="not fitted"):
         ff.NearestNeighborClassifier("bilts").predict([traj])
     with pytest.raises(ValueError, match="labels"):
         ff.NearestNeighborClassifier("bilts").fit([traj], ["a", "b"])

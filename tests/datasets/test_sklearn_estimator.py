@@ -52,7 +52,7 @@ def test_clone_gives_an_unfitted_copy_with_equal_parameters(xy):
     copy = clone(clf)
     assert copy.get_params() == clf.get_params()
     assert not hasattr(copy, "models_") and not hasattr(copy, "descriptor_")
-    with pytest.raises(RuntimeError, match="fit"):
+    with pytest.raises(NotFittedError, match="fit"):
         copy.predict(X[:1])
     check_is_fitted(clf)
     with pytest.raises(NotFittedError):
@@ -98,3 +98,47 @@ def test_pipeline_with_a_trajectory_transformer(xy):
     assert pipe.get_params()["nn__L"] is None
     pipe.set_params(nn__L=0.3)
     assert pipe.named_steps["nn"].L == 0.3
+
+
+def test_arrays_are_trajectories_and_predicting_changes_nothing(xy):
+    X, y = xy
+    arrays = [t.to_array() for t in X]
+    clf = NearestNeighborClassifier.recommended().fit(arrays, y)
+    same = NearestNeighborClassifier.recommended().fit(X, y)
+    assert list(clf.predict(arrays[:5])) == list(same.predict(X[:5]))
+    before = dict(vars(clf))
+    clf.predict(arrays[:3])
+    assert vars(clf).keys() == before.keys()
+    with pytest.raises(TypeError, match=r"sample 0: an array of shape \(5, 7\)"):
+        clf.predict([np.zeros((5, 7))])
+    with pytest.raises(TypeError, match="samples must be"):
+        clf.predict("trial_1.csv")
+
+
+def test_kneighbors_decision_function_and_predict_proba(xy):
+    X, y = xy
+    clf = NearestNeighborClassifier.recommended().fit(X[5:], y[5:])
+    dist, ind = clf.kneighbors(X[:5], n_neighbors=3)
+    D = clf.distance_matrix(X[:5])
+    assert np.array_equal(dist, np.sort(D, axis=1)[:, :3])
+    assert np.array_equal(clf.labels_[ind[:, 0]], clf.predict(X[:5]))
+    scores = clf.decision_function(X[:5])
+    assert scores.shape == (5, len(clf.classes_))
+    assert np.array_equal(clf.classes_[np.argmax(scores, axis=1)], clf.predict(X[:5]))
+    proba = clf.predict_proba(X[:5])
+    assert np.allclose(proba.sum(axis=1), 1.0)
+    assert np.array_equal(clf.classes_[np.argmax(proba, axis=1)], clf.predict(X[:5]))
+
+
+def test_rejection_says_no_gesture_for_motion_that_is_none(xy, real_dir):
+    from framefree import Trajectory
+
+    X, y = xy
+    held_out = np.arange(len(X)) % 4 == 0
+    Xm = [x for x, h in zip(X, held_out, strict=True) if not h]
+    clf = NearestNeighborClassifier.recommended(thresholds="auto").fit(Xm, y[~held_out])
+    assert set(clf.thresholds_) == set(clf.classes_)
+    pour = Trajectory.from_csv(real_dir / "kettle_pour_trial1_ref_com.csv")
+    assert clf.predict([pour])[0] == "no_gesture"
+    queries = [x for x, h in zip(X, held_out, strict=True) if h]
+    assert (clf.predict(queries) == y[held_out]).mean() >= 0.8

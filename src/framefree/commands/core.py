@@ -163,7 +163,8 @@ def classify(queries, models, model_context, model_quat_order, descriptor, progr
             for q in queries
         ]
     clf = NearestNeighborClassifier(desc, invariance=invariance).fit(model_samples, labels)
-    _report(queries, clf.predict(query_samples), clf.distances_, list(labels), desc, json_path)
+    _report(queries, clf.predict(query_samples), clf.distance_matrix(query_samples), list(labels), desc,
+            json_path)
 
 
 def _report(queries, predicted, D, labels, desc, json_path) -> None:
