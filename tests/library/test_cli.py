@@ -18,6 +18,7 @@ from click.testing import CliRunner
 
 from framefree.cli import cli
 from framefree.replica import make_stream, save_stream, synthesize_gesture
+from real_data import REAL_MOTIONS
 
 from .conftest import chain
 
@@ -185,3 +186,38 @@ def test_enroll_keeps_settings(recorded, tmp_path) -> None:
     assert loaded.settings["negative_quantile"] == 0.1 and loaded.config["confirm"] == 0.3
     bad = CliRunner().invoke(cli, ["enroll", str(lib), "-o", str(out), "--set", "nonsense"])
     assert bad.exit_code == 2 and "KEY=VALUE" in bad.output
+
+
+def test_classify_takes_a_library_file_and_rejects(tmp_path, hpm_library_file) -> None:
+    from framefree.replica import replica_path
+
+    root = replica_path()
+    query = root / "go_up" / "world_frame_1" / "trial_3.csv"
+    pour = REAL_MOTIONS / "kettle_pour_trial1_ref_com.csv"
+    res = CliRunner().invoke(cli, ["classify", "-m", str(hpm_library_file), str(query), str(pour)])
+    assert res.exit_code == 0, res.output
+    lines = [ln.split() for ln in res.output.splitlines() if ln.startswith(("/", str(tmp_path)))]
+    assert [ln[1] for ln in lines[-2:]] == ["go_up", "no_gesture"]
+    assert "gesture library" in res.output
+
+
+def test_classify_takes_a_record_folder_without_model_context(recorded) -> None:
+    lib, _ = recorded
+    take = next(lib.glob("*/own/*.csv"))
+    res = CliRunner().invoke(cli, ["classify", "-m", str(lib), str(take)])
+    assert res.exit_code == 0, res.output
+    assert "the only context" in res.output
+
+
+def test_classify_stops_on_millimetres(tmp_path) -> None:
+    from framefree.replica import replica_path
+
+    root = replica_path()
+    data = np.loadtxt(root / "go_up" / "world_frame_1" / "trial_3.csv", delimiter=",")
+    data[:, 1:4] *= 1000.0
+    mm = tmp_path / "mm.csv"
+    np.savetxt(mm, data, delimiter=",")
+    res = CliRunner().invoke(cli, ["classify", "-m", str(root), str(mm)])
+    assert res.exit_code == 2 and "--units mm" in res.output and "--force" in res.output
+    res = CliRunner().invoke(cli, ["classify", "-m", str(root), str(mm), "--units", "mm"])
+    assert res.exit_code == 0 and "go_up" in res.output

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -11,6 +12,7 @@ import click
 import numpy as np
 
 from ..classifier import NearestNeighborClassifier
+from ..core.posecsv import PlausibilityWarning
 from ..core.trajectory import Trajectory
 from ..datasets.people_layout import is_multi_tracker_file, load_labelled, read_recording
 from ..descriptors import available_descriptors, get_descriptor
@@ -125,9 +127,11 @@ def describe(files, descriptor, progress, L, ds_scale, lam, quat_order, units, s
     "--models",
     "-m",
     required=True,
-    type=click.Path(exists=True, file_okay=False),
-    help="A dataset root <gesture>/<context>/*.csv (see --model-context) or a folder of "
-    "<label>/*.csv recordings.",
+    type=click.Path(exists=True),
+    help="A dataset root <gesture>/<context>/*.csv (see --model-context), a folder of "
+    "<label>/*.csv recordings, a library folder written by record, or a library file (.npz) from "
+    "enroll (its descriptor settings and thresholds are used: motion that is no gesture is "
+    "rejected).",
 )
 @model_options
 @descriptor_options
@@ -137,11 +141,17 @@ def describe(files, descriptor, progress, L, ds_scale, lam, quat_order, units, s
     help="full: any change of world frame and grip; gravity: turns about the vertical only "
     "(keeps up and down apart; docs/real-people.md).",
 )
+@click.option("--reject", is_flag=True,
+              help="Say no_gesture for a query farther from its nearest model than that gesture's "
+              "threshold (computed from the models; a library file always rejects).")
+@click.option("--force", is_flag=True,
+              help="Classify files whose numbers look implausible (millimetres, scalar-last "
+              "quaternions) instead of stopping.")
 @click.option(
     "--json", "json_path", type=click.Path(dir_okay=False), help="Also write results as JSON."
 )
 def classify(queries, models, model_context, model_quat_order, descriptor, progress, L, ds_scale,
-             lam, quat_order, units, skip_header, invariance, json_path):
+             lam, quat_order, units, skip_header, invariance, reject, force, json_path):
     """Recognize each QUERY pose file by its nearest labelled model (1-NN).
 
     QUERY files with several trackers (a framefree multi-tracker CSV or a Machete recording) are
@@ -150,50 +160,77 @@ def classify(queries, models, model_context, model_quat_order, descriptor, progr
     desc = descriptor_from_options(descriptor, progress, L, ds_scale, lam)
     if json_path:
         writable_file(json_path, "--json")
+    thresholds = "auto" if reject else None
     if any(is_multi_tracker_file(q) for q in queries):
         query_samples = [read_recording(q) for q in queries]
         model_samples, labels = load_labelled(models)
         click.echo(f"{models}: {len(model_samples)} multi-tracker recordings of "
                    f"{len(set(labels))} labels", err=True)
     else:
-        found = read_models(models, model_context, model_quat_order, units)
-        model_samples, labels = found.trajectories, found.labels
-        query_samples = [
+        query_samples = _plausible(lambda: [
             Trajectory.from_csv(q, quat_order=quat_order, units=units, skip_header=skip_header)
-            for q in queries
-        ]
-    clf = NearestNeighborClassifier(desc, invariance=invariance).fit(model_samples, labels)
+            for q in queries], force)
+        if Path(models).is_file():
+            desc, thresholds, model_samples, labels = _library_models(models)
+        else:
+            found = _plausible(lambda: read_models(models, model_context, model_quat_order, units),
+                               force)
+            model_samples, labels = found.trajectories, found.labels
+    clf = NearestNeighborClassifier(desc, invariance=invariance, thresholds=thresholds)
+    clf.fit(model_samples, labels)
     _report(queries, clf.predict(query_samples), clf.distance_matrix(query_samples), list(labels), desc,
-            json_path)
+            json_path, clf.thresholds_)
 
 
-def _report(queries, predicted, D, labels, desc, json_path) -> None:
-    """One line per query: label, distance, runner-up label and margin; the same as JSON."""
+def _plausible(read, force: bool):
+    """``read()``, stopped with one line by a file whose numbers look wrong (unless ``force``)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", PlausibilityWarning)
+        out = read()
+    for w in caught:
+        if issubclass(w.category, PlausibilityWarning) and not force:
+            raise FramefreeError(f"{w.message}; or --force to classify it anyway")
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return out
+
+
+def _library_models(path: str):
+    """Descriptor, thresholds, takes and labels of a gesture library file."""
+    from ..library.store import load_library
+    from ..online.recognizer import segment_descriptor
+
+    lib = load_library(path)
+    click.echo(f"models: {path} is a gesture library: {len(lib.takes)} takes of "
+               f"{len(lib.takes.gestures)} gestures, with its descriptor and thresholds", err=True)
+    desc = segment_descriptor(lib.recognizer_config())
+    return desc, dict(lib.gesture_thresholds), list(lib.takes.takes), list(lib.takes.labels)
+
+
+def _report(queries, predicted, D, labels, desc, json_path, thresholds=None) -> None:
+    """One line per query: label, distance, and either the runner-up label and how much farther it
+    lies, or, for a rejected query, the nearest gesture and how far beyond its threshold it lies;
+    the same as JSON."""
     rows = []
     width = max(len(str(q)) for q in queries)
-    click.echo(
-        f"{'query':<{width}}  {'label':<16} {'distance':>10} {'runner-up':<16} {'margin':>8}"
-    )
+    click.echo(f"{'query':<{width}}  {'label':<16} {'distance':>10} {'runner-up/nearest':<18} "
+               f"{'margin':>8}")
     for q, lab, d in zip(queries, predicted, D, strict=True):
         order = np.argsort(d, kind="stable")
-        best = d[order[0]]
-        others = [k for k in order if labels[k] != lab]
-        runner = labels[others[0]] if others else "-"
-        margin = (d[others[0]] / best if best > 0 else np.inf) if others else np.inf
-        rows.append(
-            {
-                "query": str(q),
-                "label": str(lab),
-                "distance": float(best),
-                "runner_up": runner,
-                "margin": float(margin),
-            }
-        )
-        click.echo(f"{q!s:<{width}}  {lab:<16} {best:>10.4g} {runner:<16} {margin:>7.2f}x")
+        best, nearest = d[order[0]], labels[order[0]]
+        if thresholds is not None and lab != nearest:  # rejected: beyond the nearest's threshold
+            runner, margin = nearest, best / thresholds[nearest]
+        else:
+            others = [k for k in order if labels[k] != lab]
+            runner = labels[others[0]] if others else "-"
+            margin = (d[others[0]] / best if best > 0 else np.inf) if others else np.inf
+        rows.append({
+            "query": str(q), "label": str(lab), "distance": float(best), "nearest": str(nearest),
+            "threshold": None if thresholds is None else float(thresholds[nearest]),
+            "runner_up": runner, "margin": float(margin),
+        })
+        click.echo(f"{q!s:<{width}}  {lab:<16} {best:>10.4g} {runner:<18} {margin:>7.2f}x")
     if json_path:
-        Path(json_path).write_text(
-            json.dumps({"descriptor": repr(desc), "results": rows}, indent=2)
-        )
+        Path(json_path).write_text(json.dumps({"descriptor": repr(desc), "results": rows}, indent=2))
 
 
 def register(group: click.Group) -> None:

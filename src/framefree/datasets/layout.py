@@ -345,6 +345,8 @@ def resolve_models(
         recordings become the models) or a folder of ``<root>/<label>/*.csv`` recordings.
     model_context : str
         Context folder of the models in a dataset root (ignored for a ``<label>/*.csv`` folder).
+        When it is the default and missing, a gesture folder's only context is used (the ``own``
+        folders that ``framefree record`` writes).
     quat_order : {"wxyz", "xyzw"}
         Quaternion column order of the model files.
     units : {"m", "cm", "mm"}
@@ -360,9 +362,12 @@ def resolve_models(
     trajs: list[Trajectory] = []
     labels: list[str] = []
     layout = _layout_of(root)
+    asked = model_context
     for gdir in _subfolders(root, "gesture" if layout == "dataset" else "label", skip=(STREAMS_DIR,)):
         if layout == "dataset":
             names = [c.name for c in _subfolders(gdir, "context")]
+            if asked == MODEL_CONTEXT and model_context not in names and len(names) == 1:
+                model_context = names[0]  # a library folder (framefree record writes "own")
             if model_context not in names:
                 raise DatasetError(
                     f"{gdir}: no model context folder {model_context!r} (found: "
@@ -377,6 +382,8 @@ def resolve_models(
     n_labels = len(set(labels))
     if layout == "dataset":
         what = f"dataset root, context {model_context!r} (<gesture>/{model_context}/*.csv)"
+        if model_context != asked:
+            what += f", the only context (no {asked!r})"
     else:
         what = "folder of <label>/*.csv recordings"
     description = f"models: {root} is a {what}: {len(trajs)} recordings of {n_labels} labels"
