@@ -51,3 +51,14 @@ def test_dataset_make_says_how_many_trials_it_wrote(tmp_path: Path):
     assert res.exit_code == 0, res.output
     written = len(list((tmp_path / "r").glob("*/*/trial_*.csv")))
     assert f"wrote {written} trials" in res.output and written == 7 * 16 * 5
+
+
+def test_the_live_view_fits_the_terminal(monkeypatch):
+    from framefree.commands.online import _view_line
+
+    gestures = {g: 0.1 for g in ("go_left", "go_right", "go_up", "go_down", "open", "close", "home")}
+    short = {g: g[:6] for g in gestures}
+    taus = dict.fromkeys(gestures, 0.2)
+    for columns in (50, 80, 200):
+        monkeypatch.setenv("COLUMNS", str(columns))
+        assert len(_view_line(12.3, gestures, short, taus)) < columns

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import shutil
 import sys
 import time
 from pathlib import Path
@@ -115,6 +116,20 @@ def _library_recognizer(path: str, method: str, overrides: dict[str, Any]):
     click.echo(f"{len(rec.labels)} models, {len(rec.gestures)} gestures, {_thresholds(rec)}, "
                f"{_stop_and_resolution(rec)} ({time.perf_counter() - t0:.1f} s)", err=True)
     return rec
+
+
+def _view_line(t: float, dissimilarities: dict[str, float], short: dict[str, str],
+               thresholds: dict[str, float]) -> str:
+    """One status line that fits the terminal: time, then a bar per gesture (shorter bars, then
+    fewer gestures, on narrow terminals)."""
+    columns = shutil.get_terminal_size((80, 24)).columns - 1
+    head = f"{t:8.2f} s "
+    items = list(dissimilarities.items())
+    for width in (6, 4, 2):
+        line = head + " ".join(f"{short[g]} {_bar(v, thresholds[g], width)}" for g, v in items)
+        if len(line) <= columns:
+            return line
+    return line[:max(columns, 10)]
 
 
 def _bar(d: float, threshold: float, width: int = 6) -> str:
@@ -239,9 +254,8 @@ def _run_live(rec: Any, src: Any, view: bool, sim: Any) -> tuple[int, float | No
             now = time.perf_counter()
             if tty and now - last_view > 0.1:
                 last_view = now
-                gd = rec.gesture_dissimilarities()
-                line = " ".join(f"{short[g]} {_bar(v, thresholds[g])}" for g, v in gd.items())
-                click.echo(f"\r\033[K{t:8.2f} s {line}", nl=False)
+                line = _view_line(t, rec.gesture_dissimilarities(), short, thresholds)
+                click.echo(f"\r\033[K{line}", nl=False)
     except KeyboardInterrupt:
         pass
     if tty:

@@ -250,10 +250,12 @@ def plot_timeline(
     threshold: float | Mapping[str, float] | None = None,
     title: str = "",
 ) -> Path:
-    """Timeline figure: labelled gestures, events, and per-gesture dissimilarities (PNG/PDF/SVG).
+    """Timeline figure: labelled gestures, events, and how near each classified candidate came to
+    a gesture (PNG/PDF/SVG).
 
-    Each gesture's dissimilarity curve is drawn with its own threshold τ_g as a dashed line of the
-    same colour (a gesture fires when its curve dips below its own line).
+    The lower panel shows, for every candidate the recognizer classified, its distance to the
+    nearest gesture divided by that gesture's threshold τ_g (coloured by the gesture): below 1 the
+    candidate could fire. One line at 1 replaces seven thresholds.
 
     Parameters
     ----------
@@ -265,9 +267,7 @@ def plot_timeline(
     trace : StreamTrace
         Per-gesture dissimilarities (and, from :func:`run_stream`, the per-gesture thresholds).
     threshold : float or mapping of str to float, optional
-        Per-gesture thresholds, or one τ for all gestures. Default: ``trace.thresholds``. A single
-        float is ignored when the trace carries per-gesture thresholds (recognizers built with
-        ``threshold_mode="per_gesture"`` report their median as ``threshold``).
+        Per-gesture thresholds, or one τ for all gestures. Default: ``trace.thresholds``.
     title : str
 
     Returns
@@ -284,42 +284,62 @@ def plot_timeline(
     cmap = plt.get_cmap("tab10")
     color = {lab: cmap(i % 10) for i, lab in enumerate(labels)}
     fig, (ax0, ax1) = plt.subplots(2, 1, figsize=(14, 5.5), sharex=True,
-                                   gridspec_kw={"height_ratios": [1, 2.2]})
-    for s in segments:
-        ax0.axvspan(s.start_t, s.end_t, ymin=0.55, ymax=0.95, color=color[s.label], alpha=0.6)
-        ax0.text(0.5 * (s.start_t + s.end_t), 0.78, s.label.replace("_", "\n"), ha="center",
-                 va="center", fontsize=6)
-    for ev in events:
-        ax0.plot([ev.time], [0.3], marker="v", ms=8, color=color.get(ev.label, "k"))
-        ax0.text(ev.time, 0.08, ev.label.replace("_", "\n"), ha="center", va="bottom", fontsize=5)
-    ax0.set_ylim(0, 1)
-    ax0.set_yticks([0.3, 0.78], ["events", "labels"])
+                                   gridspec_kw={"height_ratios": [1, 1.6]})
+    _draw_labels_and_events(ax0, segments, events, color)
     ax0.set_title(title)
-    if isinstance(threshold, Mapping):
-        taus = {g: float(v) for g, v in threshold.items()}
-    elif trace.thresholds:
-        taus = dict(trace.thresholds)
-    elif threshold is not None:
-        taus = dict.fromkeys(trace.gestures, float(threshold))
-    else:
-        taus = {}
-    if trace.times.size:
-        d = np.where(np.isfinite(trace.dissimilarity), trace.dissimilarity, np.nan)
-        for g, lab in enumerate(trace.gestures):
-            ax1.plot(trace.times, d[:, g], lw=0.9, color=color[lab], label=lab)
-    if len(set(taus.values())) == 1:
-        ax1.axhline(next(iter(taus.values())), color="k", ls="--", lw=1, label="threshold")
-    else:
-        for lab, tau in taus.items():
-            ax1.axhline(tau, color=color.get(lab, "k"), ls="--", lw=1)
-        ax1.plot([], [], color="k", ls="--", lw=1, label="τ per gesture (same colour)")
-    ax1.set_yscale("log")
-    ax1.set_xlabel("time [s]")
-    ax1.set_ylabel("avg. pointwise dissimilarity")
-    ax1.legend(loc="upper right", fontsize=6, ncol=4)
-    fig.tight_layout()
+    _draw_ratios(ax1, trace, _thresholds(trace, threshold), color)
+    handles = [plt.Line2D([], [], marker="o", ls="", color=color[g], label=g.replace("_", " "))
+               for g in labels]
+    fig.legend(handles=handles, loc="center right", fontsize=8, title="gesture", title_fontsize=8,
+               frameon=False)
+    fig.tight_layout(rect=(0, 0, 0.9, 1))
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
+
+
+def _draw_labels_and_events(ax: Any, segments: Sequence[SegmentLike], events: Sequence[Event],
+                            color: dict[str, Any]) -> None:
+    """Upper panel: the labelled gestures as bars, the events as triangles below them."""
+    for s in segments:
+        ax.axvspan(s.start_t, s.end_t, ymin=0.55, ymax=0.95, color=color.get(s.label, "0.5"), alpha=0.6)
+        ax.text(0.5 * (s.start_t + s.end_t), 0.78, s.label.replace("_", "\n"), ha="center",
+                va="center", fontsize=7)
+    for ev in events:
+        ax.plot([ev.time], [0.3], marker="v", ms=8, color=color.get(ev.label, "k"))
+        ax.text(ev.time, 0.05, ev.label.replace("_", "\n"), ha="center", va="bottom", fontsize=6)
+    ax.set_ylim(0, 1)
+    ax.set_yticks([0.3, 0.78], ["events", "labels"])
+
+
+def _thresholds(trace: StreamTrace, threshold: float | Mapping[str, float] | None) -> dict[str, float]:
+    if isinstance(threshold, Mapping):
+        return {g: float(v) for g, v in threshold.items()}
+    if trace.thresholds:
+        return dict(trace.thresholds)
+    if threshold is not None:
+        return dict.fromkeys(trace.gestures, float(threshold))
+    return {}
+
+
+def _draw_ratios(ax: Any, trace: StreamTrace, taus: dict[str, float], color: dict[str, Any]) -> None:
+    """Lower panel: each candidate's distance to its nearest gesture over that gesture's τ."""
+    if trace.times.size:
+        tau = np.array([taus.get(g, 1.0) for g in trace.gestures])
+        ratio = np.where(np.isfinite(trace.dissimilarity), trace.dissimilarity / tau, np.inf)
+        nearest = np.argmin(ratio, axis=1)
+        best = ratio[np.arange(len(nearest)), nearest]
+        finite = np.isfinite(best)
+        for g, lab in enumerate(trace.gestures):
+            sel = finite & (nearest == g)
+            ax.scatter(trace.times[sel], best[sel], s=14, color=color[lab], zorder=3)
+    ax.axhspan(1e-3, 1.0, color="0.92", zorder=0)
+    ax.axhline(1.0, color="k", ls="--", lw=1)
+    ax.text(0.005, 0.5, "below the threshold: may fire", transform=ax.get_yaxis_transform(),
+            fontsize=7, va="top", color="0.3")
+    ax.set_yscale("log")
+    ax.set_ylim(0.05, 20)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("distance / threshold τ\nof the nearest gesture")

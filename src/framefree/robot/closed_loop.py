@@ -192,6 +192,12 @@ def run_commands(loop: ClosedLoop, commands: Sequence[tuple[float, str]], policy
     """
     from tqdm import tqdm
 
-    for onset, label in tqdm(commands, unit="command", disable=not progress, leave=False):
-        loop.command(onset, label, policy)
+    echo = loop.echo
+    if progress and echo is not None:
+        loop.echo = tqdm.write  # a line above the bar, never on the bar's own line
+    try:
+        for onset, label in tqdm(commands, unit="command", disable=not progress, leave=False):
+            loop.command(onset, label, policy)
+    finally:
+        loop.echo = echo
     return loop.finish()

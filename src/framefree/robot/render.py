@@ -182,8 +182,22 @@ def save_gif(frames: list[np.ndarray], path: str | Path, fps: float = 10.0) -> P
     return path
 
 
+def _block_colours(names: list[str]) -> dict[str, tuple[str, tuple[float, ...]]]:
+    """Each block's colour in the scene (a word and an RGBA) for the default scene's blocks."""
+    from .panda_model import SceneSpec
+
+    rgba = {b.name: b.rgba for b in SceneSpec().blocks}
+    out = {}
+    for name in names:
+        c = rgba.get(name, (0.5, 0.5, 0.5, 1.0))
+        word = ("red", "green", "blue")[int(max(range(3), key=lambda i: c[i]))]
+        out[name] = (word, c)
+    return out
+
+
 def plot_session(log, path: str | Path, title: str = "") -> Path:
-    """Figure of a session: TCP path (y–z and x–y), TCP height and gripper, block heights, joints.
+    """Figure of a session: TCP and block paths, TCP position with the gripper and the commands,
+    block heights, joint angles.
 
     Parameters
     ----------
@@ -201,42 +215,23 @@ def plot_session(log, path: str | Path, title: str = "") -> Path:
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(2, 2, figsize=(11, 7.5))
-    a = ax[0, 0]
-    a.plot(log.ee[:, 1], log.ee[:, 2], "k-", lw=1.2, label="TCP")
-    for k, name in enumerate(log.block_names):
-        b = log.blocks[:, k]
-        a.plot(b[:, 1], b[:, 2], "--", lw=1.0, label=name)
-        a.plot(b[0, 1], b[0, 2], "o", ms=4, color=a.lines[-1].get_color())
-        a.plot(b[-1, 1], b[-1, 2], "s", ms=5, color=a.lines[-1].get_color())
-    a.set_xlabel("y [m] (+ = robot's left)")
-    a.set_ylabel("z [m]")
-    a.set_title("TCP and block paths (base frame, side view)")
-    a.set_aspect("equal", adjustable="datalim")
-    a.legend(fontsize=8)
-    a = ax[0, 1]
-    a.plot(log.t, log.ee[:, 0], label="x")
-    a.plot(log.t, log.ee[:, 1], label="y")
-    a.plot(log.t, log.ee[:, 2], label="z")
-    a2 = a.twinx()
-    a2.plot(log.t, log.gripper, "k:", lw=1.0, label="gripper opening")
-    a2.set_ylabel("gripper opening [m]")
-    a.set_xlabel("t [s]")
-    a.set_ylabel("TCP position [m]")
-    a.legend(loc="upper left", fontsize=8)
-    for d in log.decisions:
-        a.axvline(d.time, color="0.8", lw=0.6, zorder=0)
-        a.text(d.time, a.get_ylim()[1], d.event.label, rotation=90, fontsize=6, va="top")
+    colours = _block_colours(list(log.block_names))
+    fig, ax = plt.subplots(2, 2, figsize=(12, 8.5))
+    _session_paths(ax[0, 0], log, colours)
+    _session_tcp(ax[0, 1], log)
     a = ax[1, 0]
     for k, name in enumerate(log.block_names):
-        a.plot(log.t, log.blocks[:, k, 2], label=name)
+        word, rgba = colours[name]
+        a.plot(log.t, log.blocks[:, k, 2], color=rgba, label=f"{name} ({word})")
     a.set_xlabel("t [s]")
-    a.set_ylabel("block centre z [m]")
+    a.set_ylabel("block centre height z [m]")
+    a.set_title("Block heights")
     a.legend(fontsize=8)
     a = ax[1, 1]
     a.plot(log.t, log.q)
     a.set_xlabel("t [s]")
-    a.set_ylabel("joint angles [rad]")
+    a.set_ylabel("joint angle [rad]")
+    a.set_title("Joint angles")
     a.legend([f"q{i + 1}" for i in range(7)], fontsize=7, ncol=4)
     if title:
         fig.suptitle(title)
@@ -245,3 +240,40 @@ def plot_session(log, path: str | Path, title: str = "") -> Path:
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
+
+
+def _session_paths(a, log, colours) -> None:
+    """Side view of the TCP path and the blocks' paths (start ○, end □), blocks in their colour."""
+    a.plot(log.ee[:, 1], log.ee[:, 2], "k-", lw=1.2, label="TCP")
+    for k, name in enumerate(log.block_names):
+        word, rgba = colours[name]
+        b = log.blocks[:, k]
+        a.plot(b[:, 1], b[:, 2], "--", lw=1.0, color=rgba, label=f"{name} ({word})")
+        a.plot(b[0, 1], b[0, 2], "o", ms=4, color=rgba)
+        a.plot(b[-1, 1], b[-1, 2], "s", ms=5, color=rgba)
+    a.plot([], [], "o", color="0.4", ms=4, label="block at start")
+    a.plot([], [], "s", color="0.4", ms=5, label="block at end")
+    a.set_xlabel("y [m] (+ = robot's left)")
+    a.set_ylabel("z [m]")
+    a.set_title("TCP and block paths (base frame, side view)")
+    a.set_aspect("equal", adjustable="datalim")
+    a.legend(fontsize=7)
+
+
+def _session_tcp(a, log) -> None:
+    """TCP position and gripper opening over time; the commands as labelled ticks on top."""
+    for k, axis in enumerate("xyz"):
+        a.plot(log.t, log.ee[:, k], label=f"TCP {axis}")
+    a2 = a.twinx()
+    a2.plot(log.t, log.gripper, "k:", lw=1.0, label="gripper opening")
+    a2.set_ylabel("gripper opening [m]")
+    a.set_xlabel("t [s]")
+    a.set_ylabel("TCP position [m]")
+    lines = a.get_lines() + a2.get_lines()
+    a.legend(lines, [ln.get_label() for ln in lines], loc="lower right", fontsize=7)
+    for d in log.decisions:
+        a.axvline(d.time, color="0.85", lw=0.6, zorder=0)
+    top = a.secondary_xaxis("top")
+    top.set_xticks([d.time for d in log.decisions], [d.event.label.replace("_", " ") for d in log.decisions],
+                   rotation=90, fontsize=6)
+    top.tick_params(length=2, pad=1)
