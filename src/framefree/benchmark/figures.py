@@ -130,6 +130,26 @@ def prealign(descriptor: Descriptor, model: np.ndarray, query: np.ndarray) -> np
     return descriptor.prealign(model, query)
 
 
+def _feature_labels(descriptor: Descriptor, cols: slice, k: int) -> list[str]:
+    """Names of the first ``k`` aligned features (the descriptor's own names where it has them)."""
+    from ..descriptors import bilts
+
+    names = list(bilts.FEATURE_NAMES) if descriptor.name.startswith("bilts") else []
+    picked = names[cols][:k] if names else []
+    return picked if len(picked) == k else [f"feature {cols.start + f}" for f in range(k)]
+
+
+def _draw_pairs(ax, Xa: np.ndarray, Xb: np.ndarray, wp: np.ndarray, k: int, offset: float) -> None:
+    """Both sequences (the query shifted down) and grey lines joining paired samples."""
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for f in range(k):
+        c = colors[f % len(colors)]
+        ax.plot(Xa[:, f], color=c, lw=1.5)
+        ax.plot(Xb[:, f] - 2 * offset, color=c, lw=1.2, ls="--")
+    for i, j in wp[:: max(1, len(wp) // 40)]:
+        ax.plot([i, j], [Xa[i, 0], Xb[j, 0] - 2 * offset], color="0.6", lw=0.5, zorder=0)
+
+
 def plot_aligned_signals(
     descriptor: Descriptor,
     model: Trajectory,
@@ -167,25 +187,28 @@ def plot_aligned_signals(
     Xa, Xb = A[:, cols], B[:, cols]
     wp = warping_path(Xa, Xb)
     k = min(max_signals, Xa.shape[1])
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=False)
+    names = _feature_labels(descriptor, cols, k)
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 7), sharex=False)
     offset = 1.1 * float(np.nanmax(np.abs(np.concatenate([Xa[:, :k], Xb[:, :k]])))) or 1.0
-    for f in range(k):
-        c = colors[f % len(colors)]
-        ax1.plot(Xa[:, f], color=c, lw=1.5)
-        ax1.plot(Xb[:, f] - 2 * offset, color=c, lw=1.2, ls="--")
-    for i, j in wp[:: max(1, len(wp) // 40)]:
-        ax1.plot([i, j], [Xa[i, 0], Xb[j, 0] - 2 * offset], color="0.6", lw=0.5, zorder=0)
-    title = f"{descriptor!r}\n{labels[0]} (solid, top) and {labels[1]} (dashed, shifted down)"
-    ax1.set_title(title, fontsize=9)
-    ax1.set_xlabel("descriptor sample")
+    _draw_pairs(ax1, Xa, Xb, wp, k, offset)
+    ax1.set_title(f"{descriptor.label()}, {descriptor.progress} progress: the aligned features of "
+                  f"both trials\n(dashed: shifted down by {2 * offset:.2g}); grey lines join the "
+                  "samples DTW pairs", fontsize=9)
+    ax1.set_xlabel("descriptor sample (equidistant progress)")
+    ax1.set_ylabel("feature value")
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for f in range(k):
         c = colors[f % len(colors)]
         ax2.plot(Xa[:, f], color=c, lw=1.5)
         ax2.plot(wp[:, 0], Xb[wp[:, 1], f], color=c, lw=1.0, ls="--", marker=".", ms=2)
-    ax2.set_title(f"{labels[1]} warped onto {labels[0]} by DTW ({len(wp)} path pairs)", fontsize=9)
-    ax2.set_xlabel(f"{labels[0]} sample")
-    fig.tight_layout()
+    ax2.set_title(f"the dashed trial warped onto the solid one ({len(wp)} path pairs)", fontsize=9)
+    ax2.set_xlabel("sample of the solid trial")
+    ax2.set_ylabel("feature value")
+    handles = [plt.Line2D([], [], color=colors[f % len(colors)], label=names[f]) for f in range(k)]
+    handles += [plt.Line2D([], [], color="k", label=labels[0].replace("/", "/\n", 1)),
+                plt.Line2D([], [], color="k", ls="--", label=labels[1].replace("/", "/\n", 1))]
+    fig.legend(handles=handles, loc="center right", fontsize=7, frameon=False)
+    fig.tight_layout(rect=(0, 0, 0.8, 1))
     fig.savefig(path, dpi=130)
     plt.close(fig)
     return path
