@@ -7,7 +7,7 @@ pyplot's global state or needs a display.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -40,14 +40,34 @@ def _equal_box(ax: Axes3D, pts: np.ndarray) -> None:
     ax.set_box_aspect((1, 1, 1))
 
 
-def _draw(ax: Axes3D, traj: Trajectory, n_frames: int, triad_length: float | None) -> None:
+def _speeds(traj: Trajectory) -> np.ndarray:
+    """Speed [m/s] of the tracker origin at each sample."""
+    return np.r_[0.0, np.linalg.norm(np.diff(traj.p, axis=0), axis=1) / np.diff(traj.t)]
+
+
+def _key(fig: Figure, mappable: Any) -> None:
+    """What the colours and markers mean: a speed colour bar, start/end markers, triad axes."""
+    from matplotlib.lines import Line2D
+
+    fig.colorbar(mappable, ax=fig.axes, shrink=0.5, pad=0.02, label="speed [m/s]")
+    handles = [Line2D([], [], marker="o", color="k", ls="", label="start"),
+               Line2D([], [], marker="s", color="k", ls="", label="end")]
+    handles += [Line2D([], [], color=c, label=f"tracker {a} axis")
+                for a, c in zip("xyz", _AXIS_COLORS, strict=True)]
+    fig.legend(handles=handles, loc="lower right", bbox_to_anchor=(0.92, 0.04), fontsize=7, ncol=1,
+               frameon=False)
+
+
+def _draw(ax: Axes3D, traj: Trajectory, n_frames: int, triad_length: float | None,
+          vmax: float | None = None) -> Any:
     p = traj.p - traj.p[0]  # start at the origin: the world frame is arbitrary anyway
     R = traj.rotations()
     extent = float(np.ptp(p, axis=0).max()) or 0.1
     length = triad_length if triad_length is not None else max(0.15 * extent, 0.03)
-    speed = np.r_[0.0, np.linalg.norm(np.diff(p, axis=0), axis=1) / np.diff(traj.t)]
+    speed = _speeds(traj)
     ax.plot(*p.T, color="0.3", lw=1.0)
-    ax.scatter(*p.T, c=speed, cmap="viridis", s=4, depthshade=False)
+    dots = ax.scatter(*p.T, c=speed, cmap="viridis", s=4, depthshade=False, vmin=0.0,
+                      vmax=vmax if vmax is not None else max(float(speed.max()), 1e-6))
     ax.scatter(*p[0], color="k", s=25, marker="o")
     ax.scatter(*p[-1], color="k", s=25, marker="s")
     idx = np.unique(np.linspace(0, len(traj) - 1, n_frames).round().astype(int))
@@ -60,6 +80,7 @@ def _draw(ax: Axes3D, traj: Trajectory, n_frames: int, triad_length: float | Non
     ax.set_ylabel("y [m]", fontsize=7, labelpad=-6)
     ax.set_zlabel("z [m]", fontsize=7, labelpad=-6)
     ax.tick_params(labelsize=5, pad=-2)
+    return dots
 
 
 def plot_trajectory(
@@ -96,8 +117,9 @@ def plot_trajectory(
         ax = fig.add_subplot(projection="3d")
     else:
         fig = ax.figure
-    _draw(ax, traj, n_frames, triad_length)
+    dots = _draw(ax, traj, n_frames, triad_length)
     ax.set_title(title if title is not None else (traj.source or ""), fontsize=9)
+    _key(fig, dots)
     if path is not None:
         fig.savefig(path, dpi=120)
     return fig
@@ -133,18 +155,21 @@ def plot_gallery(
     gestures = ds.gestures
     cols = min(4, len(gestures))
     rows = -(-len(gestures) // cols)
-    fig = _new_figure((3.2 * cols, 3.2 * rows))
+    fig = _new_figure((3.2 * cols + 1.0, 3.2 * rows + 0.4))
+    shown = {g: [t for t in ds.select(g, context) if trial is None or t.name == trial] for g in gestures}
+    vmax = max([float(_speeds(ts[0].trajectory).max()) for ts in shown.values() if ts] or [1.0])
+    dots = None
     for i, g in enumerate(gestures):
-        trials = ds.select(g, context)
-        if trial is not None:
-            trials = [t for t in trials if t.name == trial]
         ax = fig.add_subplot(rows, cols, i + 1, projection="3d")
-        if not trials:
+        if not shown[g]:
             ax.set_title(f"{g}: no {context}/{trial}", fontsize=9)
             continue
-        _draw(ax, trials[0].trajectory, 8, None)
-        ax.set_title(f"{g} ({trials[0].name})", fontsize=9)
-    fig.suptitle(f"{ds.root.name}: context {context}", fontsize=10)
+        dots = _draw(ax, shown[g][0].trajectory, 8, None, vmax)
+        ax.set_title(f"{g.replace('_', ' ')} ({shown[g][0].name})", fontsize=9)
+    fig.suptitle(f"{ds.root.name}: context {context}; paths from their start, coloured by speed",
+                 fontsize=10)
+    if dots is not None:
+        _key(fig, dots)
     if path is not None:
         fig.savefig(path, dpi=110)
     return fig

@@ -118,6 +118,11 @@ def _library_recognizer(path: str, method: str, overrides: dict[str, Any]):
     return rec
 
 
+def _seconds(value: float | None) -> str:
+    """A latency for people: ``0.05 s``, or ``-`` when there is none."""
+    return "-" if value is None or not math.isfinite(value) else f"{value:.2f} s"
+
+
 def _view_line(t: float, dissimilarities: dict[str, float], short: dict[str, str],
                thresholds: dict[str, float]) -> str:
     """One status line that fits the terminal: time, then a bar per gesture (shorter bars, then
@@ -385,7 +390,7 @@ def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None
     click.echo(
         f"all: TP {total['tp']} FP {total['fp']} FN {total['fn']}  precision {total['precision']:.3f} "
         f"recall {total['recall']:.3f} F1 {total['f1']:.3f}  FP/min {total['fp_per_minute']:.3f}  "
-        f"latency after end: median {total['latency_median_s']} s"
+        f"latency after end: median {_seconds(total['latency_median_s'])}"
     )
     return total, per_stream
 
