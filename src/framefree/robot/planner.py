@@ -380,66 +380,20 @@ class Planner:
         p = self.params
         pos = np.asarray(ee_pose, dtype=float)[:3, 3]
         speed = float(np.linalg.norm(self.velocity))
-        v_des = np.zeros(3)
+        v_des = self._desired_velocity(pos, speed)
         a_max = p.acceleration
-        if self.state == "move":
-            if self._p_cmd is None:
-                self._p_cmd = pos.copy()
-            lag = float(self._direction @ (self._p_cmd - pos))
-            if p.contact_deviation > 0 and lag > p.contact_deviation:
-                self.contact = True
-                self.state = "idle"
-                self._hard_brake = True
-            else:
-                remaining = self._travel - self._travelled
-                if remaining > 1e-6:
-                    v_des = self._direction * min(p.speed, math.sqrt(2 * a_max * remaining))
-                elif speed == 0.0:
-                    self.state = "idle"
-        elif self.state == "idle" and self.contact and not self._hard_brake:
-            # after a contact: back the reference off until the lag (≈ contact force) is small
-            lag = float(self._direction @ (self._p_cmd - pos))
-            excess = lag - 0.25 * p.contact_deviation
-            if excess > 0:
-                v_des = -self._direction * min(p.speed, p.home_gain * excess + 1e-3)
-            elif speed == 0.0:
-                self.contact = False
-        elif self.state == "home":
-            e = self._home - pos
-            dist = float(np.linalg.norm(e))
-            if dist < p.home_tolerance and speed < 1e-3:
-                self.state = "idle"
-            elif dist > 0:
-                v_des = e / dist * min(p.home_speed, math.sqrt(2 * a_max * dist), p.home_gain * dist)
         if self.state == "stop" or self._hard_brake:
             a_max = p.stop_deceleration
             v_des = np.zeros(3)
-        # workspace: brake to rest at the box faces
-        room_hi = np.maximum(self._hi - pos, 0.0)
-        room_lo = np.maximum(pos - self._lo, 0.0)
-        v_des = np.minimum(v_des, np.sqrt(2 * p.acceleration * room_hi))
-        v_des = np.maximum(v_des, -np.sqrt(2 * p.acceleration * room_lo))
-        # bounded acceleration
-        dv = v_des - self.velocity
-        n = float(np.linalg.norm(dv))
-        if n > a_max * dt:
-            dv *= a_max * dt / n
-        self.velocity = self.velocity + dv
-        if not np.any(np.abs(self.velocity) > 1e-9):
-            self.velocity = np.zeros(3)
-            if self.state == "stop" or (self.state == "idle" and self._hard_brake):
-                self.state = "idle"
-                self._hard_brake = False
+        v_des = self._inside_workspace(v_des, pos)
+        self._accelerate(v_des, a_max, dt)
         if self.state == "move":
             self._travelled += float(self._direction @ self.velocity) * dt
             if not np.any(self.velocity) and not np.any(v_des):
                 self.state = "idle"  # blocked by the workspace box
         if self._p_cmd is not None:
             self._p_cmd = self._p_cmd + self.velocity * dt
-        # gripper reference
-        g_err = self.gripper_target - self.gripper_width
-        g_step = math.copysign(min(abs(g_err), p.gripper_speed * dt), g_err)
-        self.gripper_width += g_step
+        g_step = self._gripper_step(dt)
         self.time += dt
         twist = np.zeros(6)
         twist[3:] = self.velocity
@@ -451,3 +405,83 @@ class Planner:
             state=self.state,
             label=self.label,
         )
+
+    def _desired_velocity(self, pos: np.ndarray, speed: float) -> np.ndarray:
+        """The velocity the current state asks for (it may change the state: arrival, contact)."""
+        if self.state == "move":
+            return self._move_velocity(pos, speed)
+        if self.state == "idle" and self.contact and not self._hard_brake:
+            return self._back_off_velocity(pos, speed)
+        if self.state == "home":
+            return self._home_velocity(pos, speed)
+        return np.zeros(3)
+
+    def _move_velocity(self, pos: np.ndarray, speed: float) -> np.ndarray:
+        """Towards the move's end with a braking profile; a large lag of the TCP behind the
+        reference is a contact: stop hard."""
+        p = self.params
+        if self._p_cmd is None:
+            self._p_cmd = pos.copy()
+        lag = float(self._direction @ (self._p_cmd - pos))
+        if p.contact_deviation > 0 and lag > p.contact_deviation:
+            self.contact = True
+            self.state = "idle"
+            self._hard_brake = True
+            return np.zeros(3)
+        remaining = self._travel - self._travelled
+        if remaining > 1e-6:
+            return self._direction * min(p.speed, math.sqrt(2 * p.acceleration * remaining))
+        if speed == 0.0:
+            self.state = "idle"
+        return np.zeros(3)
+
+    def _back_off_velocity(self, pos: np.ndarray, speed: float) -> np.ndarray:
+        """After a contact: back the reference off until the lag (≈ contact force) is small."""
+        p = self.params
+        lag = float(self._direction @ (self._p_cmd - pos))
+        excess = lag - 0.25 * p.contact_deviation
+        if excess > 0:
+            return -self._direction * min(p.speed, p.home_gain * excess + 1e-3)
+        if speed == 0.0:
+            self.contact = False
+        return np.zeros(3)
+
+    def _home_velocity(self, pos: np.ndarray, speed: float) -> np.ndarray:
+        """Towards the home position, slowing down proportionally near it."""
+        p = self.params
+        e = self._home - pos
+        dist = float(np.linalg.norm(e))
+        if dist < p.home_tolerance and speed < 1e-3:
+            self.state = "idle"
+        elif dist > 0:
+            return e / dist * min(p.home_speed, math.sqrt(2 * p.acceleration * dist), p.home_gain * dist)
+        return np.zeros(3)
+
+    def _inside_workspace(self, v_des: np.ndarray, pos: np.ndarray) -> np.ndarray:
+        """The desired velocity limited so that the TCP can brake to rest at the box's faces."""
+        a = self.params.acceleration
+        room_hi = np.maximum(self._hi - pos, 0.0)
+        room_lo = np.maximum(pos - self._lo, 0.0)
+        v_des = np.minimum(v_des, np.sqrt(2 * a * room_hi))
+        return np.maximum(v_des, -np.sqrt(2 * a * room_lo))
+
+    def _accelerate(self, v_des: np.ndarray, a_max: float, dt: float) -> None:
+        """Move the commanded velocity towards ``v_des`` with bounded acceleration; at rest, a stop
+        or a hard brake ends."""
+        dv = v_des - self.velocity
+        n = float(np.linalg.norm(dv))
+        if n > a_max * dt:
+            dv *= a_max * dt / n
+        self.velocity = self.velocity + dv
+        if not np.any(np.abs(self.velocity) > 1e-9):
+            self.velocity = np.zeros(3)
+            if self.state == "stop" or (self.state == "idle" and self._hard_brake):
+                self.state = "idle"
+                self._hard_brake = False
+
+    def _gripper_step(self, dt: float) -> float:
+        """Move the gripper reference towards its target at the gripper speed; returns the step."""
+        g_err = self.gripper_target - self.gripper_width
+        g_step = math.copysign(min(abs(g_err), self.params.gripper_speed * dt), g_err)
+        self.gripper_width += g_step
+        return g_step
