@@ -418,15 +418,7 @@ def run_demo(
     seconds: dict[str, float] = {}
 
     tic = time.perf_counter()
-    if recognizer is None and models is not None:
-        from ..online import Recognizer
-
-        _say(echo, f"1/3  gesture models: library {models} ...")
-        recognizer = Recognizer.load(models)
-        recognizer.warmup()
-    if recognizer is None:
-        _say(echo, f"1/3  gesture models ({method}): HPM replica (generated once, then cached) ...")
-        recognizer = build_recognizer(method, replica_seed)
+    recognizer = _demo_recognizer(recognizer, models, method, replica_seed, echo)
     method = getattr(recognizer, "method", "paper")
     seconds["models_and_calibration"] = time.perf_counter() - tic
     _say(echo, f"     {len(recognizer.labels)} models, {method} recognizer, thresholds calibrated")
@@ -450,6 +442,21 @@ def run_demo(
     (out / "summary.json").write_text(json.dumps(summary, indent=2, default=_jsonable))
     result.files["summary"] = str(out / "summary.json")
     return result
+
+
+def _demo_recognizer(recognizer: Any, models: str | Path | None, method: str, replica_seed: int,
+                     echo: Callable[[str], None] | None) -> Any:
+    """The recognizer given, or one from a library file, or one built from the replica's models."""
+    if recognizer is None and models is not None:
+        from ..online import Recognizer
+
+        _say(echo, f"1/3  gesture models: library {models} ...")
+        recognizer = Recognizer.load(models)
+        recognizer.warmup()
+    if recognizer is None:
+        _say(echo, f"1/3  gesture models ({method}): HPM replica (generated once, then cached) ...")
+        recognizer = build_recognizer(method, replica_seed)
+    return recognizer
 
 
 def _jsonable(x: Any) -> Any:
