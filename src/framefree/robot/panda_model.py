@@ -180,8 +180,38 @@ def scene_xml(spec: SceneSpec | None = None) -> str:
         each finger [m], 0 = closed).
     """
     spec = SceneSpec() if spec is None else spec
+    lines = _scene_header(spec)
+    indent = "      "
+    for i in range(7):
+        a, d, alpha = DH_TABLE[i]
+        pos = np.array([a, -d * math.sin(alpha), d * math.cos(alpha)])
+        lines.append(
+            f'{indent}<body name="link{i + 1}" pos="{_f(pos)}" quat="{_f(_rotx_quat(alpha))}">'
+        )
+        inner = indent + "  "
+        lines.append(inner + _inertial(i))
+        lines.append(
+            f'{inner}<joint name="joint{i + 1}" axis="0 0 1" range="{Q_MIN[i]} {Q_MAX[i]}"/>'
+        )
+        lines.extend(_link_geoms(i, inner))
+        indent = inner
+    lines += _hand(indent)
+    for _ in range(7):
+        indent = indent[:-2]
+        lines.append(f"{indent}</body>")
+    lines.append("    </body>")
+    lines += _blocks(spec)
+    lines.append("  </worldbody>")
+    lines.append('  <contact><exclude body1="link7" body2="hand"/></contact>')
+    lines += _actuators()
+    lines.append("</mujoco>")
+    return "\n".join(lines) + "\n"
+
+
+def _scene_header(spec: SceneSpec) -> list[str]:
+    """MJCF up to the robot's base body: options, defaults, assets, lights, floor, table, link0."""
     mu = spec.friction
-    lines = [
+    return [
         '<mujoco model="framefree_panda">',
         '  <compiler angle="radian" autolimits="true"/>',
         f'  <option timestep="{spec.timestep}" integrator="implicitfast" cone="elliptic"'
@@ -216,23 +246,12 @@ def scene_xml(spec: SceneSpec | None = None) -> str:
         '      <geom class="link" type="capsule" size="0.06" fromto="0 0 0.05 0 0 0.333"'
         ' rgba="0.9 0.9 0.9 1"/>',
     ]
-    indent = "      "
-    for i in range(7):
-        a, d, alpha = DH_TABLE[i]
-        pos = np.array([a, -d * math.sin(alpha), d * math.cos(alpha)])
-        lines.append(
-            f'{indent}<body name="link{i + 1}" pos="{_f(pos)}" quat="{_f(_rotx_quat(alpha))}">'
-        )
-        inner = indent + "  "
-        lines.append(inner + _inertial(i))
-        lines.append(
-            f'{inner}<joint name="joint{i + 1}" axis="0 0 1" range="{Q_MIN[i]} {Q_MAX[i]}"/>'
-        )
-        lines.extend(_link_geoms(i, inner))
-        indent = inner
-    # flange, hand, fingers (children of link7)
+
+
+def _hand(indent: str) -> list[str]:
+    """Flange, hand and fingers (children of link7), at the indentation of link7's contents."""
     hand_quat = (math.cos(HAND_YAW / 2), 0.0, 0.0, math.sin(HAND_YAW / 2))
-    lines += [
+    lines = [
         f'{indent}<site name="flange" pos="0 0 {FLANGE_LENGTH}" size="0.005"/>',
         f'{indent}<body name="hand" pos="0 0 {FLANGE_LENGTH}" quat="{_f(hand_quat)}">',
         f'{indent}  <inertial mass="{HAND_MASS}" pos="{_f(HAND_CENTER_OF_MASS)}"'
@@ -244,10 +263,13 @@ def scene_xml(spec: SceneSpec | None = None) -> str:
     lines += _finger("left_finger", "1 0 0 0", indent + "  ")
     lines += _finger("right_finger", "0 0 0 1", indent + "  ")
     lines.append(f"{indent}</body>")
-    for _ in range(7):
-        indent = indent[:-2]
-        lines.append(f"{indent}</body>")
-    lines.append("    </body>")
+    return lines
+
+
+def _blocks(spec: SceneSpec) -> list[str]:
+    """One free body per block."""
+    mu = spec.friction
+    lines = []
     for b in spec.blocks:
         lines += [
             f'    <body name="{b.name}" pos="{_f(b.position)}">',
@@ -256,9 +278,12 @@ def scene_xml(spec: SceneSpec | None = None) -> str:
             f' rgba="{_f(b.rgba)}" condim="4" friction="{mu} 0.005 0.0001" solref="0.004 1"/>',
             "    </body>",
         ]
-    lines.append("  </worldbody>")
-    lines.append('  <contact><exclude body1="link7" body2="hand"/></contact>')
-    lines.append("  <actuator>")
+    return lines
+
+
+def _actuators() -> list[str]:
+    """Joint torque motors and the two finger position servos."""
+    lines = ["  <actuator>"]
     for i in range(7):
         lines.append(
             f'    <motor name="torque{i + 1}" joint="joint{i + 1}"'
@@ -270,5 +295,4 @@ def scene_xml(spec: SceneSpec | None = None) -> str:
             f' ctrlrange="0 {FINGER_RANGE}" forcerange="{-FINGER_FORCE} {FINGER_FORCE}"/>'
         )
     lines.append("  </actuator>")
-    lines.append("</mujoco>")
-    return "\n".join(lines) + "\n"
+    return lines
