@@ -148,6 +148,8 @@ def _mmt(A, B, out):
             out[i, j] = s
 
 
+# Kept as one compiled function (about 60 lines of code): the forward filter and the backward
+# smoother share their state arrays in one numba frame; the steps are marked inside.
 @njit(cache=True)
 def rts_gains(n, h, sigma, q, with_covariance=True):
     """Data-independent part of the smoother for one signal group.

@@ -118,6 +118,8 @@ def _gram(F):
     return G
 
 
+# Kept as one compiled function (about 75 lines of code): it runs once per descriptor sample in
+# the hot loop, and its numbered steps follow docs/algorithms/bilts.md one to one.
 @njit(cache=True)
 def bilts_sample(xm, x0, xp, p_obj, L, regularized, axis_prior):
     """One BILTS(+) sample (24,) from the window twists ``ξ_{k-m}, ξ_k, ξ_{k+m}`` (6,) each.

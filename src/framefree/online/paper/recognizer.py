@@ -244,51 +244,13 @@ class PaperRecognizer(StreamingRecognizer):
         list of Event
             A stop event, or a gesture event, or nothing.
         """
-        st = self.stats
-        st["samples"] += 1
+        self.stats["samples"] += 1
         self.observations.clear()
-        t = float(t)
-        p = np.asarray(p, dtype=np.float64).reshape(3)
-        q = np.asarray(q, dtype=np.float64).reshape(4)
-        if not (math.isfinite(t) and np.isfinite(p).all() and np.isfinite(q).all()):
-            st["nan"] += 1
+        accepted = self._accept(t, p, q)
+        if accepted is None:
             return []
-        nq = math.sqrt(float(q @ q))
-        if nq < 1e-9:
-            st["bad_quaternion"] += 1
-            return []
-        q = q / nq
-        c = self.config
-        if self._t is not None:
-            dt = t - self._t
-            if dt == 0.0:
-                st["repeated"] += 1
-                return []
-            if dt < 0.0:
-                st["backwards"] += 1
-                return []
-            if se3.quaternion_sign(q, self._q) < 0.0:
-                q = -q
-                st["sign_flips"] += 1
-            dot = float(q @ self._q)
-            if dt > c.max_gap:
-                st["gaps"] += 1
-                self._restart()
-                self._jump_run = 0
-            else:
-                dp = p - self._p
-                if float(dp @ dp) > c.jump_distance**2 or dot < self._cos_jump:
-                    self._jump_run += 1
-                    if self._jump_run < c.jump_patience:
-                        st["jumps"] += 1
-                        return []
-                    st["relocations"] += 1
-                    self._restart()
-                self._jump_run = 0
-        self._t = t
-        self._p = p
-        self._q = q
-        st["accepted"] += 1
+        t, p, q = accepted
+        st, c = self.stats, self.config
         stop = self.stop.update(t, q)
         n_geo = self.preprocessor.n_geometric
         d = self.preprocessor.push(p, q)
@@ -309,6 +271,54 @@ class PaperRecognizer(StreamingRecognizer):
             st["bad_descriptors"] += 1
             self._restart()
             return []
+        return self._on_descriptor(t, d)
+
+    def _accept(self, t: float, p: Any, q: Any) -> tuple[float, np.ndarray, np.ndarray] | None:
+        """Validate a sample (finite, non-zero quaternion, time moving on, no jump) and make its
+        quaternion sign continuous; None when it is skipped (counted in :attr:`stats`)."""
+        st, c = self.stats, self.config
+        t = float(t)
+        p = np.asarray(p, dtype=np.float64).reshape(3)
+        q = np.asarray(q, dtype=np.float64).reshape(4)
+        if not (math.isfinite(t) and np.isfinite(p).all() and np.isfinite(q).all()):
+            st["nan"] += 1
+            return None
+        nq = math.sqrt(float(q @ q))
+        if nq < 1e-9:
+            st["bad_quaternion"] += 1
+            return None
+        q = q / nq
+        if self._t is not None:
+            dt = t - self._t
+            if dt <= 0.0:
+                st["repeated" if dt == 0.0 else "backwards"] += 1
+                return None
+            if se3.quaternion_sign(q, self._q) < 0.0:
+                q = -q
+                st["sign_flips"] += 1
+            if dt > c.max_gap:
+                st["gaps"] += 1
+                self._restart()
+            elif self._is_jump(p, q):
+                self._jump_run += 1
+                if self._jump_run < c.jump_patience:
+                    st["jumps"] += 1
+                    return None
+                st["relocations"] += 1
+                self._restart()
+            self._jump_run = 0
+        self._t, self._p, self._q = t, p, q
+        st["accepted"] += 1
+        return t, p, q
+
+    def _is_jump(self, p: np.ndarray, q: np.ndarray) -> bool:
+        """Farther from the previous sample than a hand can move in one sample."""
+        dp = p - self._p
+        return float(dp @ dp) > self.config.jump_distance**2 or float(q @ self._q) < self._cos_jump
+
+    def _on_descriptor(self, t: float, d: np.ndarray) -> list[Event]:
+        """Match a new descriptor sample and decide (first crossing, or the minimum ratio)."""
+        st, c = self.stats, self.config
         dj = self.bank.update(d)
         self.last_matched = dj.copy()
         self.observations.append((t, self.last_matched))
