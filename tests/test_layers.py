@@ -121,3 +121,27 @@ def test_no_import_circles():
         if v not in index:
             visit(v)
     assert not circles, f"modules that import each other: {circles}"
+
+
+def _code_lines(node: ast.FunctionDef) -> int:
+    """Lines of a function from its first statement after the docstring to its end."""
+    body = node.body
+    first = body[0]
+    docstring = isinstance(first, ast.Expr) and isinstance(getattr(first, "value", None), ast.Constant) \
+        and isinstance(first.value.value, str)
+    start = (body[1].lineno if len(body) > 1 else first.end_lineno) if docstring else first.lineno
+    return node.end_lineno - start + 1
+
+
+def test_functions_are_short_or_say_why():
+    """No function has more than 60 lines of code (docstring aside) unless a comment right above
+    it says why it is kept whole."""
+    long = []
+    for name, path in MODULES.items():
+        lines = path.read_text().splitlines()
+        for node in ast.walk(ast.parse("\n".join(lines))):
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef) and _code_lines(node) > 60:
+                above = node.decorator_list[0].lineno if node.decorator_list else node.lineno
+                if not lines[above - 2].lstrip().startswith("#"):
+                    long.append(f"{name}.{node.name} ({_code_lines(node)} lines)")
+    assert not long, f"functions over 60 lines without a reason next to them: {long}"
