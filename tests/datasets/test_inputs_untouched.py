@@ -54,7 +54,7 @@ def test_plot_describe_and_benchmark_leave_inputs_byte_identical(small_dataset, 
             assert status and all(ln.startswith("running 1 row(s)") for ln in status), res.output
     assert snapshot(small_dataset) == before
     made = {p.name for p in work.iterdir()}
-    assert {"data_gallery.png", "trial_1.png", "trial_1_biltsplus.csv",
+    assert {"data_gallery.png", "go_up_original_1_trial_1.png", "trial_1_biltsplus.csv",
             "benchmark-results"} <= made
     # a relative input from inside the dataset, with --out elsewhere: nothing lands beside it
     monkeypatch.chdir(trial.parent)

@@ -20,7 +20,8 @@ def test_plot_trajectory_png(replica, tmp_path: Path) -> None:
 
 def test_plot_gallery_has_seven_panels(replica, tmp_path: Path) -> None:
     fig = plot_gallery(replica, tmp_path / "g.png")
-    assert len(fig.axes) == 7
+    assert len([ax for ax in fig.axes if ax.name == "3d"]) == 7
+    assert any(ax.get_ylabel() == "speed [m/s]" for ax in fig.axes)  # the colour bar
     assert (tmp_path / "g.png").stat().st_size > 10_000
 
 
