@@ -162,10 +162,17 @@ def stream_cmd(file: str, port: int, rate: float | None, speed: float, fmt: str,
     click.echo(f"sent {n} poses", err=True)
 
 
+_emit_option = click.option(
+    "--emit", "emit", multiple=True, metavar="SPEC",
+    help="Also send every event to an output (repeatable): jsonl:- (stdout), jsonl:FILE, "
+    "osc://HOST:PORT/ADDRESS, lsl://NAME (marker stream). See docs/io.md.")
+
+
 @click.command("live")
 @_model_options
 @click.option("--source", required=True,
-              help="zmq://127.0.0.1:PORT, a CSV file (replayed in real time), or 'openvr'.")
+              help="zmq://127.0.0.1:PORT, lsl://NAME[#TRACKER], a ROS 2 bag BAG[#TOPIC], a CSV "
+              "file (replayed in real time), or 'openvr'.")
 @click.option("--quat-order", default="wxyz", show_default=True, type=click.Choice(QUAT_ORDERS),
               help="Quaternion order of the source (a CSV file's columns or the messages).")
 @click.option("--speed", type=float, default=1.0, show_default=True,
@@ -181,9 +188,10 @@ def stream_cmd(file: str, port: int, rate: float | None, speed: float, fmt: str,
               help="With --robot sim: write the session figure (PNG) at the end.")
 @click.option("--robot-settle", type=float, default=3.0, show_default=True,
               help="With --robot sim: simulated seconds after the last pose.")
+@_emit_option
 def live_cmd(models: str, model_context: str, model_quat_order: str, units: str, source: str,
              quat_order: str, speed: float, timeout: float, view: bool, robot: str,
-             robot_plot: str | None, robot_settle: float, **kw: Any):
+             robot_plot: str | None, robot_settle: float, emit: tuple[str, ...] = (), **kw: Any):
     """Recognize gestures live from a pose source and print events as they happen.
 
     With ``--robot sim`` the events drive the simulated robot: the simulation clock follows the
@@ -197,7 +205,12 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     # the source is checked (and a ZeroMQ subscriber connected) before the slow model building
     src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units)
     rec = _recognizer(models, model_context, model_quat_order, units, **kw)
-    n, t0, sim = _run_live(rec, src, view, sim)
+    out = _emitters(emit, rec)
+    try:
+        n, t0, sim = _run_live(rec, src, view, sim, out)
+    finally:
+        if out is not None:
+            out.close()
     if n == 0 and getattr(src, "timed_out", False):
         raise FramefreeError(
             f"{source}: no pose arrived within {timeout:g} s; is a publisher running "
@@ -211,7 +224,17 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
         _finish_robot(sim, robot_settle, robot_plot)
 
 
-def _run_live(rec: Any, src: Any, view: bool, sim: Any) -> tuple[int, float | None, Any]:
+def _emitters(specs: tuple[str, ...], rec: Any):
+    """The ``--emit`` outputs (None when there are none)."""
+    if not specs:
+        return None
+    from ..io.outputs import Emitters
+
+    return Emitters(specs, rec.gesture_thresholds)
+
+
+def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None
+              ) -> tuple[int, float | None, Any]:
     """Push every pose of ``src``; print events (and a live view). Returns (poses, t0, robot)."""
     t0: float | None = None
     tty = view and sys.stdout.isatty()
@@ -231,6 +254,8 @@ def _run_live(rec: Any, src: Any, view: bool, sim: Any) -> tuple[int, float | No
                 d = "" if ev.is_stop else f"  d={ev.dissimilarity:.4g}  model {ev.model}"
                 click.secho(f"{ev.time:9.2f} s  {ev.label.upper():<14}{d}", bold=True,
                             fg="red" if ev.is_stop else "green")
+                if emit is not None:
+                    emit(ev)
                 if sim is not None:
                     sim.handle(ev)
             if sim is not None:
@@ -308,10 +333,12 @@ def _robot_sim():
 @click.option("--compare/--no-compare", default=False, show_default=True,
               help="Also evaluate the other method (default settings) on the same streams and "
               "report both side by side.")
+@_emit_option
 def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_context: str,
                         model_quat_order: str, units: str, streams: tuple[str, ...],
                         quat_order: str, tolerance: float, json_path: str | None,
-                        figures: str | None, compare: bool, method: str, **kw: Any):
+                        figures: str | None, compare: bool, method: str,
+                        emit: tuple[str, ...] = (), **kw: Any):
     """Event-level precision, recall, F1, false positives per minute and latency on labelled streams
     (--stream FILE, repeatable, and/or STREAM arguments)."""
     from ..datasets.streams import load_stream
@@ -327,7 +354,12 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
         writable_folder(figures, "--figures")
     loaded = [(path, *load_stream(path, quat_order=quat_order)) for path in streams]
     rec = _recognizer(models, model_context, model_quat_order, units, method, **kw)
-    total, per_stream = _evaluate(rec, loaded, tolerance, figures)
+    out = _emitters(emit, rec)
+    try:
+        total, per_stream = _evaluate(rec, loaded, tolerance, figures, out)
+    finally:
+        if out is not None:
+            out.close()
     out = {"total": total, "streams": per_stream, "recognizer": rec.describe(), "method": method,
            "tolerance_s": tolerance}
     if compare:
@@ -344,7 +376,7 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
         Path(json_path).write_text(json.dumps(out, indent=2, default=float))
 
 
-def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None
+def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None, emit: Any = None
               ) -> tuple[dict, dict]:
     """Run ``rec`` over every loaded ``(path, traj, segments)``; print and return the pooled and
     per-stream metrics."""
@@ -356,6 +388,8 @@ def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None
         t0 = time.perf_counter()
         events, trace = run_stream(rec, traj)
         wall = time.perf_counter() - t0
+        for ev in events if emit is not None else ():
+            emit(ev)
         res = match_events(events, segs, float(traj.t[-1] - traj.t[0]), tolerance)
         results.append(res)
         click.echo(f"{Path(path).name}: TP {res.tp} FP {res.fp} FN {res.fn}  P {res.precision:.3f} "
