@@ -2,14 +2,22 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from framefree import Trajectory
 from framefree.datasets import make_stream, save_stream, synthesize_gesture
 
 GESTURES = ("go_left", "open_gripper")
+
+#: Start of the replica session on the transports' clock [s]. LSL and ROS clocks never read 0
+#: (liblsl even replaces a time stamp of 0 by "now"), and ROS stamps are whole nanoseconds: the
+#: session's times are moved to start here and rounded to the nanosecond, so that the CSV, the LSL
+#: stream and the bag carry bit-identical times.
+T0 = 1000.0
 
 
 @pytest.fixture(scope="module")
@@ -24,6 +32,8 @@ def tiny(tmp_path_factory) -> tuple[Path, Path]:
         for k in range(3):
             synthesize_gesture(g, rng).to_csv(d / f"trial_{k + 1}.csv")
     traj, segs = make_stream(101, sequence=[*GESTURES, *GESTURES])
+    traj = Trajectory(np.rint((traj.t + T0) * 1e9) / 1e9, traj.p, traj.q, source="replica")
+    segs = [replace(s, start_t=s.start_t + T0, end_t=s.end_t + T0) for s in segs]
     (root / "streams").mkdir()
     stream = save_stream(root / "streams" / "stream.csv", traj, segs)
     return root, stream

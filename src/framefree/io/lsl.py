@@ -149,7 +149,9 @@ class LslSource:
         self._order = [3, 0, 1, 2] if quat_order == "xyzw" else [0, 1, 2, 3]
         self._inlet = pylsl.StreamInlet(info, max_buflen=360, recover=False)
         self._inlet.open_stream(resolve_timeout)
-        self._lost = pylsl.LostError
+        from pylsl.util import LostError
+
+        self._lost = LostError
         self.received = 0
         self.timed_out = False
 

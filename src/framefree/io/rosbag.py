@@ -6,7 +6,7 @@ optional ``#TOPIC`` (default: the only pose topic in the bag); for tf give the f
 
 Convention: ROS's (REP 103) — right-handed, z up, metres, quaternions scalar last in the message
 (``x, y, z, w``); poses come out scalar first ``(w, x, y, z)`` like every framefree source. The
-time of a pose is its header stamp [s] (``sensor_msgs`` style ``sec + nanosec·1e-9``), i.e. the
+time of a pose is its header stamp [s] (``sec + nanosec·1e-9``), i.e. the
 recording system's clock.
 """
 
@@ -36,7 +36,9 @@ def is_bag(path: str | Path) -> bool:
 
 
 def _stamp(header) -> float:
-    return float(header.stamp.sec) + 1e-9 * float(header.stamp.nanosec)
+    """Header stamp [s]: the nearest double to ``sec + nanosec·1e-9`` (one correctly rounded
+    division of the whole nanoseconds)."""
+    return (int(header.stamp.sec) * 1_000_000_000 + int(header.stamp.nanosec)) / 1e9
 
 
 def _pq(position, orientation) -> tuple[np.ndarray, np.ndarray]:
