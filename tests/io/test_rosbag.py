@@ -87,7 +87,8 @@ def csv_events(tiny, tmp_path_factory) -> list[dict]:
 
 @pytest.mark.parametrize("storage", [StoragePlugin.SQLITE3, StoragePlugin.MCAP], ids=["sqlite3", "mcap"])
 @pytest.mark.parametrize(("kind", "suffix"), [("pose", ""), ("tf", "#/tf:world>tracker"), ("odom", "")])
-def test_bag_replay_gives_the_csv_events(tiny, csv_events, tmp_path, storage, kind, suffix):
+def test_bag_replay_gives_the_csv_events(tiny, csv_events, tmp_path, storage, kind, suffix,
+                                         loopback_only):
     root, stream = tiny
     traj, _ = load_stream(stream)
     bag = write_bag(tmp_path / "bag", traj, kind, storage)
