@@ -162,6 +162,10 @@ def stream_cmd(file: str, port: int, rate: float | None, speed: float, fmt: str,
     click.echo(f"sent {n} poses", err=True)
 
 
+_save_option = click.option(
+    "--save", "save_rrd", type=click.Path(dir_okay=False), default=None,
+    help="Record the rerun view to this .rrd file (no viewer opens); needs framefree[view].")
+
 _emit_option = click.option(
     "--emit", "emit", multiple=True, metavar="SPEC",
     help="Also send every event to an output (repeatable): jsonl:- (stdout), jsonl:FILE, "
@@ -180,8 +184,12 @@ _emit_option = click.option(
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=10.0,
               show_default=True,
               help="ZeroMQ: give up after this many seconds without a pose (an error if none came).")
-@click.option("--view/--no-view", default=True, show_default=True,
-              help="Show a one-line live view of the per-gesture dissimilarities.")
+@click.option("--view", "view_kind", type=click.Choice(["terminal", "rerun"]), default="terminal",
+              show_default=True, help="terminal: a one-line live view of the per-gesture "
+              "dissimilarities; rerun: open a rerun viewer (trackers, speed, cuts, distances "
+              "against thresholds, stop detector, events).")
+@click.option("--no-view", is_flag=True, help="No terminal view.")
+@_save_option
 @click.option("--robot", type=click.Choice(["none", "sim"]), default="none", show_default=True,
               help="sim: drive the simulated Panda (MuJoCo, block stacking) with the events.")
 @click.option("--robot-plot", type=click.Path(dir_okay=False), default=None,
@@ -190,8 +198,10 @@ _emit_option = click.option(
               help="With --robot sim: simulated seconds after the last pose.")
 @_emit_option
 def live_cmd(models: str, model_context: str, model_quat_order: str, units: str, source: str,
-             quat_order: str, speed: float, timeout: float, view: bool, robot: str,
-             robot_plot: str | None, robot_settle: float, emit: tuple[str, ...] = (), **kw: Any):
+             quat_order: str, speed: float, timeout: float, robot: str,
+             robot_plot: str | None, robot_settle: float, emit: tuple[str, ...] = (),
+             view_kind: str = "terminal", no_view: bool = False, save_rrd: str | None = None,
+             **kw: Any):
     """Recognize gestures live from a pose source and print events as they happen.
 
     With ``--robot sim`` the events drive the simulated robot: the simulation clock follows the
@@ -201,16 +211,22 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
 
     if robot_plot:
         writable_file(robot_plot, "--robot-plot")
+    if save_rrd:
+        writable_file(save_rrd, "--save")
+    view = view_kind == "terminal" and not no_view
     sim = _robot_sim() if robot == "sim" else None
     # the source is checked (and a ZeroMQ subscriber connected) before the slow model building
     src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units)
     rec = _recognizer(models, model_context, model_quat_order, units, **kw)
     out = _emitters(emit, rec)
+    rview = _rerun_view(rec, view_kind == "rerun", save_rrd)
     try:
-        n, t0, sim = _run_live(rec, src, view, sim, out)
+        n, t0, sim = _run_live(rec, src, view, sim, out, rview)
     finally:
         if out is not None:
             out.close()
+        if rview is not None:
+            rview.close()
     if n == 0 and getattr(src, "timed_out", False):
         raise FramefreeError(
             f"{source}: no pose arrived within {timeout:g} s; is a publisher running "
@@ -233,7 +249,16 @@ def _emitters(specs: tuple[str, ...], rec: Any):
     return Emitters(specs, rec.gesture_thresholds)
 
 
-def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None
+def _rerun_view(rec: Any, spawn: bool, save: str | None):
+    """The rerun view (None unless ``--view rerun`` or ``--save``)."""
+    if not spawn and not save:
+        return None
+    from ..view.rerun_view import RerunView
+
+    return RerunView(rec, save=save, spawn=spawn)
+
+
+def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None, rview: Any = None
               ) -> tuple[int, float | None, Any]:
     """Push every pose of ``src``; print events (and a live view). Returns (poses, t0, robot)."""
     t0: float | None = None
@@ -248,7 +273,10 @@ def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None
             if sim is not None and t0 is None:
                 t0 = float(t)
                 sim = sim(t0)
-            for ev in rec.push(t, p, q):
+            events = rec.push(t, p, q)
+            if rview is not None:
+                rview.update(t, p, q, events)
+            for ev in events:
                 if tty:
                     click.echo("\r\033[K", nl=False)
                 d = "" if ev.is_stop else f"  d={ev.dissimilarity:.4g}  model {ev.model}"
@@ -334,11 +362,12 @@ def _robot_sim():
               help="Also evaluate the other method (default settings) on the same streams and "
               "report both side by side.")
 @_emit_option
+@_save_option
 def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_context: str,
                         model_quat_order: str, units: str, streams: tuple[str, ...],
                         quat_order: str, tolerance: float, json_path: str | None,
                         figures: str | None, compare: bool, method: str,
-                        emit: tuple[str, ...] = (), **kw: Any):
+                        emit: tuple[str, ...] = (), save_rrd: str | None = None, **kw: Any):
     """Event-level precision, recall, F1, false positives per minute and latency on labelled streams
     (--stream FILE, repeatable, and/or STREAM arguments)."""
     from ..datasets.streams import load_stream
@@ -354,12 +383,17 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
         writable_folder(figures, "--figures")
     loaded = [(path, *load_stream(path, quat_order=quat_order)) for path in streams]
     rec = _recognizer(models, model_context, model_quat_order, units, method, **kw)
+    if save_rrd:
+        writable_file(save_rrd, "--save")
     out = _emitters(emit, rec)
+    rview = _rerun_view(rec, False, save_rrd)
     try:
-        total, per_stream = _evaluate(rec, loaded, tolerance, figures, out)
+        total, per_stream = _evaluate(rec, loaded, tolerance, figures, out, rview)
     finally:
         if out is not None:
             out.close()
+        if rview is not None:
+            rview.close()
     out = {"total": total, "streams": per_stream, "recognizer": rec.describe(), "method": method,
            "tolerance_s": tolerance}
     if compare:
@@ -376,8 +410,8 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
         Path(json_path).write_text(json.dumps(out, indent=2, default=float))
 
 
-def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None, emit: Any = None
-              ) -> tuple[dict, dict]:
+def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None, emit: Any = None,
+              rview: Any = None) -> tuple[dict, dict]:
     """Run ``rec`` over every loaded ``(path, traj, segments)``; print and return the pooled and
     per-stream metrics."""
     from ..online.evaluation import combine, match_events, plot_timeline, run_stream
@@ -386,7 +420,7 @@ def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None, emi
     results = []
     for path, traj, segs in loaded:
         t0 = time.perf_counter()
-        events, trace = run_stream(rec, traj)
+        events, trace = run_stream(rec, traj, rview)
         wall = time.perf_counter() - t0
         for ev in events if emit is not None else ():
             emit(ev)
