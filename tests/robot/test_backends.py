@@ -88,3 +88,29 @@ def test_franka_mapping_builds_franky_motions():
     twist = franky.Twist(lin.tolist(), ang.tolist())
     franky.CartesianVelocityMotion(twist, duration=franky.Duration(100))
     assert "0.1" in repr(twist) and "-0.05" in repr(twist)
+
+
+def test_live_drives_the_dry_run_robot(tmp_path):
+    """``framefree live --robot dry-run``: events go to the planner, its commands to stderr."""
+    from click.testing import CliRunner
+
+    from framefree.cli import cli
+    from framefree.datasets import make_stream, save_stream, synthesize_gesture
+
+    rng = np.random.default_rng(7)
+    for g in ("go_left", "open_gripper"):
+        d = tmp_path / "models" / g / "original_1"
+        d.mkdir(parents=True)
+        for k in range(3):
+            synthesize_gesture(g, rng).to_csv(d / f"trial_{k + 1}.csv")
+    stream = save_stream(tmp_path / "s.csv", *make_stream(101, sequence=["go_left"]))
+    res = CliRunner().invoke(cli, ["live", "--models", str(tmp_path / "models"), "--source",
+                                   str(stream), "--speed", "0", "--no-view", "--robot", "dry-run",
+                                   "--emit", f"jsonl:{tmp_path / 'ev.jsonl'}"])
+    assert res.exit_code == 0, res.output
+    events = [json.loads(s) for s in (tmp_path / "ev.jsonl").read_text().splitlines()]
+    commands = [json.loads(s) for s in res.output.splitlines() if s.startswith('{"time"')]
+    assert "commands logged" in res.output
+    assert any(e["label"] == "go_left" for e in events)
+    assert any(c["label"] == "go_left" and any(c["velocity"]) for c in commands)
+    assert commands and commands[0]["state"] == "idle"

@@ -190,7 +190,8 @@ _emit_option = click.option(
               "against thresholds, stop detector, events).")
 @click.option("--no-view", is_flag=True, help="No terminal view.")
 @_save_option
-@click.option("--robot", type=click.Choice(["none", "sim"]), default="none", show_default=True,
+@click.option("--robot", type=click.Choice(["none", "sim", "dry-run"]), default="none",
+              show_default=True,
               help="sim: drive the simulated Panda (MuJoCo, block stacking) with the events.")
 @click.option("--robot-plot", type=click.Path(dir_okay=False), default=None,
               help="With --robot sim: write the session figure (PNG) at the end.")
@@ -214,7 +215,7 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     if save_rrd:
         writable_file(save_rrd, "--save")
     view = view_kind == "terminal" and not no_view
-    sim = _robot_sim() if robot == "sim" else None
+    sim = _robot_sim() if robot == "sim" else _robot_dry_run() if robot == "dry-run" else None
     # the source is checked (and a ZeroMQ subscriber connected) before the slow model building
     src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units)
     rec = _recognizer(models, model_context, model_quat_order, units, **kw)
@@ -301,8 +302,29 @@ def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None, rview:
     return n, t0, sim
 
 
+def _robot_dry_run():
+    """Factory ``time_offset -> RobotSession`` for ``--robot dry-run``: the planner's commands,
+    as JSON lines on standard error, instead of a robot (see docs/robot.md)."""
+    from ..robot.backends import DryRunBackend, RobotSession
+    from ..robot.kinematics import PandaKinematics
+    from ..robot.scenario import STACKING_PLANNER, STACKING_START
+
+    def make(time_offset: float) -> RobotSession:
+        # the commands go to stderr beside the other robot messages, not among the events
+        backend = DryRunBackend(PandaKinematics().tcp_pose(STACKING_START), log=sys.stderr,
+                                dt=0.01)
+        return RobotSession(backend, STACKING_PLANNER, time_offset=time_offset)
+
+    return make
+
+
 def _finish_robot(sim: Any, robot_settle: float, robot_plot: str | None) -> None:
     sim.advance_to(sim.time + robot_settle)
+    if not hasattr(sim, "log"):  # dry run
+        sim.backend.close()
+        click.echo(f"robot (dry run): {len(sim.backend.commands)} commands logged, "
+                   f"{sim.time:.1f} s", err=True)
+        return
     log = sim.log()
     acted = sum(1 for d in log.decisions if d.accepted)
     click.echo(f"robot: {len(log.decisions)} events handled, {acted} changed the plan, "

@@ -30,14 +30,15 @@ class DryRunBackend:
         Initial finger opening [m].
     dt : float
         Control period [s] (1 ms: libfranka's rate).
-    log : str or Path, optional
-        Also write every logged command as a JSON line to this file ('-': standard output).
+    log : str, Path or text stream, optional
+        Also write every logged command as a JSON line to this file ('-': standard output) or
+        open stream.
     tol : float
         Velocity change [m/s] that counts as a new command.
     """
 
     def __init__(self, ee_pose: np.ndarray, gripper_width: float = 0.07, dt: float = 0.001,
-                 log: str | Path | None = None, tol: float = 1e-3) -> None:
+                 log: str | Path | TextIO | None = None, tol: float = 1e-3) -> None:
         self.dt = float(dt)
         self._T = np.array(ee_pose, dtype=float)
         self._gripper = float(gripper_width)
@@ -47,7 +48,9 @@ class DryRunBackend:
         self.commands: list[dict[str, Any]] = []
         self._fh: TextIO | None = None
         self._own = False
-        if log is not None:
+        if hasattr(log, "write"):
+            self._fh = log  # an open text stream (e.g. sys.stderr), not closed here
+        elif log is not None:
             import sys
 
             self._own = str(log) != "-"
