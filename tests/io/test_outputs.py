@@ -71,3 +71,17 @@ def test_osc_server_on_loopback_receives_events(loopback_only):
         th.join(5)
     assert got[0] == ("/gesture", "go_left", 12.5, pytest.approx(0.03125), pytest.approx(0.05))
     assert got[1][:2] == ("/gesture", "stop") and got[1][3] == -1.0
+
+
+@pytest.mark.parametrize("bad", ["udp://x", "osc://127.0.0.1/x", "osc://224.0.0.1:9000/a", "jsonl:",
+                                 "lsl://"])
+def test_bad_emit_is_refused_before_the_models(tiny, bad):
+    from click.testing import CliRunner
+
+    from framefree.cli import cli
+
+    root, stream = tiny
+    res = CliRunner().invoke(cli, ["evaluate-stream", "--models", str(root), "--stream", str(stream),
+                                   "--emit", bad])
+    assert res.exit_code == 2 and "--emit" in res.output
+    assert "building the gesture models" not in res.output

@@ -192,7 +192,8 @@ _emit_option = click.option(
 @_save_option
 @click.option("--robot", type=click.Choice(["none", "sim", "dry-run"]), default="none",
               show_default=True,
-              help="sim: drive the simulated Panda (MuJoCo, block stacking) with the events.")
+              help="sim: drive the simulated Panda (MuJoCo, block stacking) with the events; "
+              "dry-run: the planner's commands as JSON lines on stderr, no robot.")
 @click.option("--robot-plot", type=click.Path(dir_okay=False), default=None,
               help="With --robot sim: write the session figure (PNG) at the end.")
 @click.option("--robot-settle", type=float, default=3.0, show_default=True,
@@ -214,6 +215,7 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
         writable_file(robot_plot, "--robot-plot")
     if save_rrd:
         writable_file(save_rrd, "--save")
+    _check_emit(emit)
     view = view_kind == "terminal" and not no_view
     sim = _robot_sim() if robot == "sim" else _robot_dry_run() if robot == "dry-run" else None
     # the source is checked (and a ZeroMQ subscriber connected) before the slow model building
@@ -239,6 +241,14 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     click.echo(f"{n} poses; {json.dumps(skipped)}", err=True)
     if sim is not None and t0 is not None:
         _finish_robot(sim, robot_settle, robot_plot)
+
+
+def _check_emit(specs: tuple[str, ...]) -> None:
+    """Catch a malformed ``--emit`` before the slow model building."""
+    from ..io.outputs import check_spec
+
+    for spec in specs:
+        check_spec(spec)
 
 
 def _emitters(specs: tuple[str, ...], rec: Any):
@@ -401,12 +411,13 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
         raise click.BadParameter("labelled streams are read in metres", param_hint="--units")
     if json_path:
         writable_file(json_path, "--json")
+    if save_rrd:
+        writable_file(save_rrd, "--save")
+    _check_emit(emit)
     if figures:
         writable_folder(figures, "--figures")
     loaded = [(path, *load_stream(path, quat_order=quat_order)) for path in streams]
     rec = _recognizer(models, model_context, model_quat_order, units, method, **kw)
-    if save_rrd:
-        writable_file(save_rrd, "--save")
     out = _emitters(emit, rec)
     rview = _rerun_view(rec, False, save_rrd)
     try:

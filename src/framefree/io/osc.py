@@ -24,14 +24,16 @@ def parse_osc_spec(spec: str) -> tuple[str, int, str]:
     hostport, slash, path = rest.partition("/")
     host, sep, port = hostport.rpartition(":")
     if not sep or not port.isdigit() or not host or not 0 < int(port) < 65536:
-        raise FramefreeError(f"{spec}: expected osc://HOST:PORT/ADDRESS (e.g. osc://127.0.0.1:9000/gesture)")
+        raise FramefreeError(f"--emit {spec}: expected osc://HOST:PORT/ADDRESS "
+                             "(e.g. osc://127.0.0.1:9000/gesture)")
     host = host.strip("[]")
     try:
         ip = ipaddress.ip_address(host)
     except ValueError:
         ip = None
     if ip is not None and (ip.is_multicast or str(ip).endswith(".255") or ip.is_unspecified):
-        raise FramefreeError(f"{spec}: broadcast, multicast and unspecified addresses are refused")
+        raise FramefreeError(f"--emit {spec}: broadcast, multicast and unspecified addresses "
+                             "are refused")
     return host, int(port), "/" + path if slash and path else "/framefree/event"
 
 

@@ -21,7 +21,7 @@ from typing import Any, Protocol
 from ..errors import FramefreeError
 from ..labels import STOP
 
-__all__ = ["Emitter", "Emitters", "event_record", "open_emitter"]
+__all__ = ["Emitter", "Emitters", "check_spec", "event_record", "open_emitter"]
 
 
 class Emitter(Protocol):
@@ -57,6 +57,17 @@ def event_record(event: Any, thresholds: Mapping[str, float]) -> dict[str, Any]:
         "threshold": None if (stop or th is None) else float(th),
         "model": int(event.model),
     }
+
+
+def check_spec(spec: str) -> None:
+    """Raise FramefreeError for a malformed ``--emit`` spec, without opening anything."""
+    if spec.startswith("osc://"):
+        from .osc import parse_osc_spec
+
+        parse_osc_spec(spec)
+    elif spec in ("jsonl:", "lsl://") or not spec.startswith(("jsonl:", "lsl://")):
+        raise FramefreeError(f"--emit {spec}: expected jsonl:-, jsonl:FILE, "
+                             "osc://HOST:PORT/ADDRESS or lsl://NAME")
 
 
 def open_emitter(spec: str) -> Emitter:
