@@ -114,3 +114,20 @@ def test_live_drives_the_dry_run_robot(tmp_path):
     assert any(e["label"] == "go_left" for e in events)
     assert any(c["label"] == "go_left" and any(c["velocity"]) for c in commands)
     assert commands and commands[0]["state"] == "idle"
+
+
+def test_mujoco_backend_moves_the_simulated_arm_like_the_dry_run():
+    """The same planner and events against the MuJoCo Panda: the TCP goes the gesture's way."""
+    pytest.importorskip("mujoco", reason="pip install 'framefree[robot]'")
+    from framefree.robot.backends import MujocoBackend
+    from framefree.robot.scenario import STACKING_START
+
+    backend = MujocoBackend(q0=STACKING_START)
+    p0 = backend.ee_pose()[:3, 3].copy()
+    session = RobotSession(backend, PlannerParams())
+    session.handle(Event("go_left", 0.2, 0.01, 0))
+    session.advance_to(2.5)
+    moved = backend.ee_pose()[:3, 3] - p0
+    direction = np.asarray(PlannerParams().directions["go_left"])
+    assert moved @ direction > 0.5 * PlannerParams().travel["go_left"]
+    assert np.linalg.norm(moved - (moved @ direction) * direction) < 0.02
