@@ -19,7 +19,7 @@ LAYERS = [
     {"datasets"},
     {"plots", "replica"},
     {"online"},
-    {"library", "benchmark"},
+    {"library", "benchmark", "view"},
     {"robot"},
     {"commands", "cli"},
 ]

@@ -17,20 +17,23 @@ _POLL_PERIOD = 0.5
 
 def _pose_source(spec: str, timeout: float):
     """Iterator of (t, p, q): a CSV file is read at once, anything else via ``open_source``."""
+    from ..io.rosbag import is_bag
+
     path = Path(spec)
-    if path.suffix.lower() == ".csv" or path.is_file():
+    if (path.suffix.lower() == ".csv" or path.is_file()) and not is_bag(spec.partition("#")[0]):
         from ..core.trajectory import Trajectory
 
         traj = Trajectory.from_csv(path)
         return zip(traj.t, traj.p, traj.q, strict=True)
     from ..io.sources import open_source
 
-    return open_source(spec, timeout=timeout)
+    return open_source(spec, speed=0.0, timeout=timeout)  # a bag is read as fast as possible
 
 
 @click.command("record")
 @click.option("--source", required=True,
-              help="zmq://127.0.0.1:PORT (live, see `framefree stream`), 'openvr', or a CSV recording.")
+              help="zmq://127.0.0.1:PORT (live, see `framefree stream`), lsl://NAME, a ROS 2 bag "
+              "(BAG[#TOPIC]), 'openvr', or a CSV recording.")
 @click.option("--gesture", required=True, help="Name of the gesture (folder name, e.g. wave).")
 @click.option("--library", "library", required=True, type=click.Path(file_okay=False),
               help="Library folder; takes go to LIBRARY/GESTURE/CONTEXT/trial_<k>.csv.")

@@ -183,10 +183,21 @@ def stream_cmd(file: str, port: int, rate: float | None, speed: float, fmt: str,
     click.echo(f"sent {n} poses", err=True)
 
 
+_save_option = click.option(
+    "--save", "save_rrd", type=click.Path(dir_okay=False), default=None,
+    help="Record the rerun view to this .rrd file (no viewer opens); needs framefree[view].")
+
+_emit_option = click.option(
+    "--emit", "emit", multiple=True, metavar="SPEC",
+    help="Also send every event to an output (repeatable): jsonl:- (stdout), jsonl:FILE, "
+    "osc://HOST:PORT/ADDRESS, lsl://NAME (marker stream). See docs/io.md.")
+
+
 @click.command("live")
 @_model_options
 @click.option("--source", required=True,
-              help="zmq://127.0.0.1:PORT, a CSV file (replayed in real time), or 'openvr'.")
+              help="zmq://127.0.0.1:PORT, lsl://NAME[#TRACKER], a ROS 2 bag BAG[#TOPIC], a CSV "
+              "file (replayed in real time), or 'openvr'.")
 @click.option("--quat-order", default="wxyz", show_default=True, type=click.Choice(QUAT_ORDERS),
               help="Quaternion order of the source (a CSV file's columns or the messages).")
 @click.option("--speed", type=float, default=1.0, show_default=True,
@@ -194,17 +205,26 @@ def stream_cmd(file: str, port: int, rate: float | None, speed: float, fmt: str,
 @click.option("--timeout", type=click.FloatRange(min=0, min_open=True), default=10.0,
               show_default=True,
               help="ZeroMQ: give up after this many seconds without a pose (an error if none came).")
-@click.option("--view/--no-view", default=True, show_default=True,
-              help="Show a one-line live view of the per-gesture dissimilarities.")
-@click.option("--robot", type=click.Choice(["none", "sim"]), default="none", show_default=True,
-              help="sim: drive the simulated Panda (MuJoCo, block stacking) with the events.")
+@click.option("--view", "view_kind", type=click.Choice(["terminal", "rerun"]), default="terminal",
+              show_default=True, help="terminal: a one-line live view of the per-gesture "
+              "dissimilarities; rerun: open a rerun viewer (trackers, speed, cuts, distances "
+              "against thresholds, stop detector, events).")
+@click.option("--no-view", is_flag=True, help="No terminal view.")
+@_save_option
+@click.option("--robot", type=click.Choice(["none", "sim", "dry-run"]), default="none",
+              show_default=True,
+              help="sim: drive the simulated Panda (MuJoCo, block stacking) with the events; "
+              "dry-run: the planner's commands as JSON lines on stderr, no robot.")
 @click.option("--robot-plot", type=click.Path(dir_okay=False), default=None,
               help="With --robot sim: write the session figure (PNG) at the end.")
 @click.option("--robot-settle", type=float, default=3.0, show_default=True,
               help="With --robot sim: simulated seconds after the last pose.")
+@_emit_option
 def live_cmd(models: str, model_context: str, model_quat_order: str, units: str, source: str,
-             quat_order: str, speed: float, timeout: float, view: bool, robot: str,
-             robot_plot: str | None, robot_settle: float, **kw: Any):
+             quat_order: str, speed: float, timeout: float, robot: str,
+             robot_plot: str | None, robot_settle: float, emit: tuple[str, ...] = (),
+             view_kind: str = "terminal", no_view: bool = False, save_rrd: str | None = None,
+             **kw: Any):
     """Recognize gestures live from a pose source and print events as they happen.
 
     With ``--robot sim`` the events drive the simulated robot: the simulation clock follows the
@@ -214,11 +234,23 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
 
     if robot_plot:
         writable_file(robot_plot, "--robot-plot")
-    sim = _robot_sim() if robot == "sim" else None
+    if save_rrd:
+        writable_file(save_rrd, "--save")
+    _check_emit(emit)
+    view = view_kind == "terminal" and not no_view
+    sim = _robot_sim() if robot == "sim" else _robot_dry_run() if robot == "dry-run" else None
     # the source is checked (and a ZeroMQ subscriber connected) before the slow model building
     src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units)
     rec = _recognizer(models, model_context, model_quat_order, units, **kw)
-    n, t0, sim = _run_live(rec, src, view, sim)
+    out = _emitters(emit, rec)
+    rview = _rerun_view(rec, view_kind == "rerun", save_rrd)
+    try:
+        n, t0, sim = _run_live(rec, src, view, sim, out, rview)
+    finally:
+        if out is not None:
+            out.close()
+        if rview is not None:
+            rview.close()
     if n == 0 and getattr(src, "timed_out", False):
         raise FramefreeError(
             f"{source}: no pose arrived within {timeout:g} s; is a publisher running "
@@ -232,7 +264,34 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
         _finish_robot(sim, robot_settle, robot_plot)
 
 
-def _run_live(rec: Any, src: Any, view: bool, sim: Any) -> tuple[int, float | None, Any]:
+def _check_emit(specs: tuple[str, ...]) -> None:
+    """Catch a malformed ``--emit`` before the slow model building."""
+    from ..io.outputs import check_spec
+
+    for spec in specs:
+        check_spec(spec)
+
+
+def _emitters(specs: tuple[str, ...], rec: Any):
+    """The ``--emit`` outputs (None when there are none)."""
+    if not specs:
+        return None
+    from ..io.outputs import Emitters
+
+    return Emitters(specs, rec.gesture_thresholds)
+
+
+def _rerun_view(rec: Any, spawn: bool, save: str | None):
+    """The rerun view (None unless ``--view rerun`` or ``--save``)."""
+    if not spawn and not save:
+        return None
+    from ..view.rerun_view import RerunView
+
+    return RerunView(rec, save=save, spawn=spawn)
+
+
+def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None, rview: Any = None
+              ) -> tuple[int, float | None, Any]:
     """Push every pose of ``src``; print events (and a live view). Returns (poses, t0, robot)."""
     t0: float | None = None
     tty = view and sys.stdout.isatty()
@@ -246,12 +305,17 @@ def _run_live(rec: Any, src: Any, view: bool, sim: Any) -> tuple[int, float | No
             if sim is not None and t0 is None:
                 t0 = float(t)
                 sim = sim(t0)
-            for ev in rec.push(t, p, q):
+            events = rec.push(t, p, q)
+            if rview is not None:
+                rview.update(t, p, q, events)
+            for ev in events:
                 if tty:
                     click.echo("\r\033[K", nl=False)
                 d = "" if ev.is_stop else f"  d={ev.dissimilarity:.4g}  model {ev.model}"
                 click.secho(f"{ev.time:9.2f} s  {ev.label.upper():<14}{d}", bold=True,
                             fg="red" if ev.is_stop else "green")
+                if emit is not None:
+                    emit(ev)
                 if sim is not None:
                     sim.handle(ev)
             if sim is not None:
@@ -268,8 +332,29 @@ def _run_live(rec: Any, src: Any, view: bool, sim: Any) -> tuple[int, float | No
     return n, t0, sim
 
 
+def _robot_dry_run():
+    """Factory ``time_offset -> RobotSession`` for ``--robot dry-run``: the planner's commands,
+    as JSON lines on standard error, instead of a robot (see docs/robot.md)."""
+    from ..robot.backends import DryRunBackend, RobotSession
+    from ..robot.kinematics import PandaKinematics
+    from ..robot.scenario import STACKING_PLANNER, STACKING_START
+
+    def make(time_offset: float) -> RobotSession:
+        # the commands go to stderr beside the other robot messages, not among the events
+        backend = DryRunBackend(PandaKinematics().tcp_pose(STACKING_START), log=sys.stderr,
+                                dt=0.01)
+        return RobotSession(backend, STACKING_PLANNER, time_offset=time_offset)
+
+    return make
+
+
 def _finish_robot(sim: Any, robot_settle: float, robot_plot: str | None) -> None:
     sim.advance_to(sim.time + robot_settle)
+    if not hasattr(sim, "log"):  # dry run
+        sim.backend.close()
+        click.echo(f"robot (dry run): {len(sim.backend.commands)} commands logged, "
+                   f"{sim.time:.1f} s", err=True)
+        return
     log = sim.log()
     acted = sum(1 for d in log.decisions if d.accepted)
     click.echo(f"robot: {len(log.decisions)} events handled, {acted} changed the plan, "
@@ -328,10 +413,13 @@ def _robot_sim():
 @click.option("--compare/--no-compare", default=False, show_default=True,
               help="Also evaluate the other method (default settings) on the same streams and "
               "report both side by side.")
+@_emit_option
+@_save_option
 def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_context: str,
                         model_quat_order: str, units: str, streams: tuple[str, ...],
                         quat_order: str, tolerance: float, json_path: str | None,
-                        figures: str | None, compare: bool, method: str, **kw: Any):
+                        figures: str | None, compare: bool, method: str,
+                        emit: tuple[str, ...] = (), save_rrd: str | None = None, **kw: Any):
     """Event-level precision, recall, F1, false positives per minute and latency on labelled streams
     (--stream FILE, repeatable, and/or STREAM arguments)."""
     from ..datasets.stream_files import load_stream
@@ -343,11 +431,22 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
         raise click.BadParameter("labelled streams are read in metres", param_hint="--units")
     if json_path:
         writable_file(json_path, "--json")
+    if save_rrd:
+        writable_file(save_rrd, "--save")
+    _check_emit(emit)
     if figures:
         writable_folder(figures, "--figures")
     loaded = [(path, *load_stream(path, quat_order=quat_order)) for path in streams]
     rec = _recognizer(models, model_context, model_quat_order, units, method, **kw)
-    total, per_stream = _evaluate(rec, loaded, tolerance, figures)
+    out = _emitters(emit, rec)
+    rview = _rerun_view(rec, False, save_rrd)
+    try:
+        total, per_stream = _evaluate(rec, loaded, tolerance, figures, out, rview)
+    finally:
+        if out is not None:
+            out.close()
+        if rview is not None:
+            rview.close()
     out = {"total": total, "streams": per_stream, "recognizer": rec.describe(), "method": method,
            "tolerance_s": tolerance}
     if compare:
@@ -364,8 +463,8 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
         Path(json_path).write_text(json.dumps(out, indent=2, default=float))
 
 
-def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None
-              ) -> tuple[dict, dict]:
+def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None, emit: Any = None,
+              rview: Any = None) -> tuple[dict, dict]:
     """Run ``rec`` over every loaded ``(path, traj, segments)``; print and return the pooled and
     per-stream metrics."""
     from ..online.evaluation import combine, match_events, plot_timeline, run_stream
@@ -374,8 +473,10 @@ def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None
     results = []
     for path, traj, segs in loaded:
         t0 = time.perf_counter()
-        events, trace = run_stream(rec, traj)
+        events, trace = run_stream(rec, traj, rview)
         wall = time.perf_counter() - t0
+        for ev in events if emit is not None else ():
+            emit(ev)
         res = match_events(events, segs, float(traj.t[-1] - traj.t[0]), tolerance)
         results.append(res)
         click.echo(f"{Path(path).name}: TP {res.tp} FP {res.fp} FN {res.fn}  P {res.precision:.3f} "

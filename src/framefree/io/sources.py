@@ -377,7 +377,9 @@ def open_source(
     spec: str, speed: float = 1.0, timeout: float | None = 5.0, quat_order: str = "wxyz",
     units: str = "m",
 ):
-    """Source from a command-line spec: ``zmq://127.0.0.1:PORT``, ``tcp://...``, ``openvr`` or a CSV.
+    """Source from a command-line spec: ``zmq://127.0.0.1:PORT``, ``tcp://...``, ``openvr``,
+    ``lsl://NAME[#TRACKER]`` (:mod:`framefree.io.lsl`), a ROS 2 bag ``BAG[#TOPIC[:PARENT>CHILD]]``
+    (:mod:`framefree.io.rosbag`) or a CSV.
 
     The spec is checked here, before anything slow: a non-loopback endpoint, a missing file or a
     missing OpenVR raise :class:`FramefreeError`. ``quat_order`` and ``units`` describe the source's
@@ -387,7 +389,20 @@ def open_source(
         return UnitsAndOrder(ZmqSource(spec, timeout=timeout), spec, quat_order, units)
     if spec == "openvr":
         return UnitsAndOrder(OpenVRSource(), spec, quat_order, units)
+    if spec.startswith("lsl://"):
+        from .lsl import LslSource
+
+        name, _, tracker = spec[len("lsl://"):].partition("#")
+        if tracker and not tracker.isdigit():
+            raise FramefreeError(f"{spec}: expected lsl://NAME or lsl://NAME#TRACKER_INDEX")
+        lsl = LslSource(name, tracker=int(tracker or 0), quat_order=quat_order, timeout=timeout)
+        return UnitsAndOrder(lsl, spec, "wxyz", units)
+    from .rosbag import RosbagSource, is_bag
+
+    if is_bag(spec.partition("#")[0]):
+        return UnitsAndOrder(RosbagSource.from_spec(spec, speed=speed), spec, "wxyz", units)
     path = Path(spec)
     if not path.is_file():
-        raise FramefreeError(f"{spec}: not a file, and not zmq://127.0.0.1:PORT or 'openvr'")
+        raise FramefreeError(f"{spec}: not a file, and not zmq://127.0.0.1:PORT, lsl://NAME, "
+                             "a ROS 2 bag or 'openvr'")
     return CsvReplay(Trajectory.from_csv(path, quat_order=quat_order, units=units), speed=speed)

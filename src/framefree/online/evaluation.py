@@ -234,11 +234,15 @@ class TracingRecognizer:
         return StreamTrace(np.array(self._times), diss, self.gestures, thresholds)
 
 
-def run_stream(recognizer: Any, traj: Trajectory) -> tuple[list[Event], StreamTrace]:
-    """Reset the recognizer, push a whole stream, return its events and a dissimilarity trace."""
+def run_stream(recognizer: Any, traj: Trajectory, view: Any = None
+               ) -> tuple[list[Event], StreamTrace]:
+    """Reset the recognizer, push a whole stream, return its events and a dissimilarity trace
+    (``view``: anything with ``update(t, p, q, events)``, e.g. the rerun view, fed every pose)."""
     tracer = TracingRecognizer(recognizer)
     for k in range(len(traj)):
-        tracer.push(traj.t[k], traj.p[k], traj.q[k])
+        events = tracer.push(traj.t[k], traj.p[k], traj.q[k])
+        if view is not None:
+            view.update(traj.t[k], traj.p[k], traj.q[k], events)
     return tracer.events, tracer.trace()
 
 

@@ -1,0 +1,1 @@
+"""Views of a running recognizer (they consume its trace and events; never part of it)."""

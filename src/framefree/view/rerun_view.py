@@ -1,0 +1,110 @@
+"""A live view of the recognizer in rerun: ``framefree live --view rerun`` / ``--save FILE.rrd``.
+
+The view only reads what the recognizer exposes after each pose; it never changes it. Logged on
+the timeline ``source_time`` (the pose source's clock, seconds):
+
+* ``world/tracker`` — the tracker as a moving frame (axes) in 3-D, its path as points;
+* ``speed/motion`` — the frame-free motion speed the recognizer cuts movement units on, and
+  ``speed/cut`` — a mark where a unit ended and candidates were classified;
+* ``distance/<gesture>`` — the nearest model's distance of each classified candidate, beside
+  ``threshold/<gesture>`` — that gesture's decision threshold (a gesture fires below it);
+* ``stop/angular_speed`` and ``stop/threshold`` — the stop detector's input and its level;
+* ``events`` — every event as a text log line (label, distance, threshold).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import FramefreeError
+
+__all__ = ["RerunView"]
+
+_MISSING = "the live view needs rerun: pip install 'framefree[view]'"
+TIMELINE = "source_time"
+
+
+class RerunView:
+    """Log a recognizer's state to rerun, to a spawned viewer or to an ``.rrd`` file.
+
+    Parameters
+    ----------
+    recognizer : Recognizer
+        Read after every pose (``gestures``, ``gesture_thresholds``, ``observations``,
+        ``segmenter.speed``, ``stop.angular_speed``, ``stop_threshold`` where it has them).
+    save : str or Path, optional
+        Write the recording to this ``.rrd`` file instead of opening a viewer.
+    spawn : bool
+        Open a rerun viewer (ignored when ``save`` is given).
+    """
+
+    def __init__(self, recognizer: Any, save: str | Path | None = None, spawn: bool = True) -> None:
+        try:
+            import rerun as rr
+        except ImportError:
+            raise FramefreeError(_MISSING) from None
+        self.rr = rr
+        self.rec_ = recognizer
+        self.gestures = list(recognizer.gestures)
+        self._gidx = np.array([self.gestures.index(s) for s in recognizer.labels])
+        self.thresholds = {g: float(v) for g, v in recognizer.gesture_thresholds.items()}
+        self.stream = rr.RecordingStream("framefree")
+        if save is not None:
+            self.stream.save(str(save))
+        elif spawn:
+            self.stream.spawn()
+        self._static()
+
+    def _static(self) -> None:
+        rr, s = self.rr, self.stream
+        s.log("world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
+        for g in self.thresholds:
+            s.log(f"threshold/{g}", rr.SeriesLines(names=f"{g} threshold", widths=1.0), static=True)
+            s.log(f"distance/{g}", rr.SeriesPoints(names=f"{g} distance", marker_sizes=4.0),
+                  static=True)
+
+    def update(self, t: float, p: np.ndarray, q: np.ndarray, events: list[Any]) -> None:
+        """Log one pose (position [m], quaternion ``(w, x, y, z)``) and its events."""
+        rr, s, rec = self.rr, self.stream, self.rec_
+        s.set_time(TIMELINE, duration=float(t))
+        s.log("world/tracker", rr.Transform3D(translation=p, quaternion=rr.Quaternion(
+            xyzw=[q[1], q[2], q[3], q[0]])), rr.TransformAxes3D(0.1))
+        s.log("world/path", rr.Points3D([p], radii=0.003))
+        speed = getattr(getattr(rec, "segmenter", None), "speed", math.nan)
+        if math.isfinite(speed):
+            s.log("speed/motion", rr.Scalars(speed))
+        stop = getattr(getattr(rec, "stop", None), "angular_speed", math.nan)
+        if math.isfinite(stop):
+            s.log("stop/angular_speed", rr.Scalars(stop))
+            s.log("stop/threshold", rr.Scalars(float(rec.stop_threshold)))
+        for g, th in self.thresholds.items():
+            s.log(f"threshold/{g}", rr.Scalars(th))
+        self._observations(getattr(rec, "observations", ()))
+        for ev in events:
+            s.set_time(TIMELINE, duration=float(ev.time))
+            d = ev.dissimilarity
+            th = self.thresholds.get(ev.label)
+            text = ev.label if d < 0 or th is None else f"{ev.label}  distance {d:.4g} ≤ threshold {th:.4g}"
+            s.log("events", rr.TextLog(f"{ev.time:.2f} s  {text}",
+                                       level="WARN" if ev.label == "stop" else "INFO"))
+
+    def _observations(self, observations: Any) -> None:
+        """Each classified candidate: the nearest model of each gesture, and a cut mark."""
+        rr, s = self.rr, self.stream
+        for when, distances in observations:
+            row = np.full(len(self.gestures), np.inf)
+            np.minimum.at(row, self._gidx, np.asarray(distances, dtype=float))
+            s.set_time(TIMELINE, duration=float(when))
+            s.log("speed/cut", rr.Scalars(0.0))
+            for g, d in zip(self.gestures, row, strict=True):
+                if math.isfinite(d):
+                    s.log(f"distance/{g}", rr.Scalars(d))
+
+    def close(self) -> None:
+        """Flush and close the recording."""
+        self.stream.flush()
+        self.stream.disconnect()
