@@ -4,7 +4,9 @@ Spec syntax (``--emit`` is repeatable):
 
 * ``jsonl:-`` (standard output) or ``jsonl:FILE`` — one JSON object per line (:mod:`.jsonl`);
 * ``osc://HOST:PORT/ADDRESS`` — an OSC message per event (:mod:`.osc`);
-* ``lsl://NAME`` — an LSL marker stream named NAME (:mod:`.lsl`).
+* ``lsl://NAME`` — an LSL marker stream named NAME (:mod:`.lsl`);
+* ``ros2:///TOPIC`` — ``std_msgs/String`` JSON messages on a live ROS 2 topic (:mod:`.ros2`,
+  where rclpy can be imported).
 
 Every event becomes the record ``{"label", "time", "distance", "threshold", "model"}``: ``time`` is
 on the pose source's clock [s] (the time stamps of the poses that went in), ``distance`` the
@@ -65,9 +67,13 @@ def check_spec(spec: str) -> None:
         from .osc import parse_osc_spec
 
         parse_osc_spec(spec)
+    elif spec.startswith("ros2://"):
+        from .ros2 import parse_topic
+
+        parse_topic(spec)
     elif spec in ("jsonl:", "lsl://") or not spec.startswith(("jsonl:", "lsl://")):
         raise FramefreeError(f"--emit {spec}: expected jsonl:-, jsonl:FILE, "
-                             "osc://HOST:PORT/ADDRESS or lsl://NAME")
+                             "osc://HOST:PORT/ADDRESS, lsl://NAME or ros2:///TOPIC")
 
 
 def open_emitter(spec: str) -> Emitter:
@@ -84,8 +90,12 @@ def open_emitter(spec: str) -> Emitter:
         from .lsl import LslMarkerEmitter
 
         return LslMarkerEmitter(spec[len("lsl://"):])
-    raise FramefreeError(f"--emit {spec}: expected jsonl:-, jsonl:FILE, osc://HOST:PORT/ADDRESS "
-                         "or lsl://NAME")
+    if spec.startswith("ros2://"):
+        from .ros2 import Ros2Emitter
+
+        return Ros2Emitter(spec)
+    raise FramefreeError(f"--emit {spec}: expected jsonl:-, jsonl:FILE, osc://HOST:PORT/ADDRESS, "
+                         "lsl://NAME or ros2:///TOPIC")
 
 
 class Emitters:

@@ -378,8 +378,9 @@ def open_source(
     units: str = "m",
 ):
     """Source from a command-line spec: ``zmq://127.0.0.1:PORT``, ``tcp://...``, ``openvr``,
-    ``lsl://NAME[#TRACKER]`` (:mod:`framefree.io.lsl`), a ROS 2 bag ``BAG[#TOPIC[:PARENT>CHILD]]``
-    (:mod:`framefree.io.rosbag`) or a CSV.
+    ``lsl://NAME[#TRACKER]`` (:mod:`framefree.io.lsl`), a live ROS 2 topic ``ros2:///TOPIC``
+    (:mod:`framefree.io.ros2`, where rclpy can be imported), a ROS 2 bag
+    ``BAG[#TOPIC[:PARENT>CHILD]]`` (:mod:`framefree.io.rosbag`) or a CSV.
 
     The spec is checked here, before anything slow: a non-loopback endpoint, a missing file or a
     missing OpenVR raise :class:`FramefreeError`. ``quat_order`` and ``units`` describe the source's
@@ -397,6 +398,10 @@ def open_source(
             raise FramefreeError(f"{spec}: expected lsl://NAME or lsl://NAME#TRACKER_INDEX")
         lsl = LslSource(name, tracker=int(tracker or 0), quat_order=quat_order, timeout=timeout)
         return UnitsAndOrder(lsl, spec, "wxyz", units)
+    if spec.startswith("ros2://"):
+        from .ros2 import Ros2PoseSource
+
+        return UnitsAndOrder(Ros2PoseSource(spec, timeout=timeout), spec, "wxyz", units)
     from .rosbag import RosbagSource, is_bag
 
     if is_bag(spec.partition("#")[0]):
