@@ -95,8 +95,7 @@ def test_live_drives_the_dry_run_robot(tmp_path):
     from click.testing import CliRunner
 
     from framefree.cli import cli
-    from framefree.replica import save_stream
-    from framefree.replica import make_stream, synthesize_gesture
+    from framefree.replica import make_stream, save_stream, synthesize_gesture
 
     rng = np.random.default_rng(7)
     for g in ("go_left", "open_gripper"):
