@@ -79,7 +79,7 @@ def _live(rec, tr) -> dict:
 
 
 def _offline(descriptor, models, labels, queries) -> dict:
-    from framefree.core.pruning import ModelBank, grouped_nearest
+    from framefree.core.pruning import ModelBank, pruned_nearest
 
     bank = ModelBank(models, descriptor.distance_spec())
     out = {}
@@ -87,7 +87,7 @@ def _offline(descriptor, models, labels, queries) -> dict:
     full = descriptor.distance_matrix(queries, models)
     out["unpruned_ms_per_query"] = 1e3 * (time.perf_counter() - a) / len(queries)
     a = time.perf_counter()
-    found = [grouped_nearest(q, bank) for q in queries]
+    found = [pruned_nearest(q, bank) for q in queries]
     out["pruned_ms_per_query"] = 1e3 * (time.perf_counter() - a) / len(queries)
     out["same_nearest"] = all(f.nearest == int(np.argmin(d)) for f, d in zip(found, full, strict=True))
     out["dtw_cells_fraction"] = sum(f.cells for f in found) / sum(f.full_cells for f in found)

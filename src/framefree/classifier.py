@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from .core.multitrajectory import MultiTrajectory
-from .core.pruning import ModelBank, grouped_nearest
+from .core.pruning import ModelBank, pruned_nearest
 from .core.trajectory import Trajectory
 from .descriptors.base import Descriptor, get_descriptor
 from .descriptors.canonical import INVARIANCES, CanonicalPath
@@ -245,7 +245,7 @@ class NearestNeighborClassifier:
     def _describe(self, trajectories: Sequence[Trajectory | MultiTrajectory]) -> list[np.ndarray]:
         out = []
         for traj in trajectories:
-            d = self.path_.compute(traj) if self.path_ is not None else self.descriptor_.compute(traj)
+            d = self._comparison().compute(traj)
             if self.round_digits is not None:
                 d = round_significant(d, self.round_digits)
             out.append(d)
@@ -335,7 +335,7 @@ class NearestNeighborClassifier:
             D = self._distances(descriptors)
             index = np.argmin(D, axis=1)
             return index, D[np.arange(len(descriptors)), index]
-        found = [grouped_nearest(d, bank) for d in descriptors]
+        found = [pruned_nearest(d, bank) for d in descriptors]
         index = np.array([f.nearest for f in found], dtype=np.int64)
         return index, np.array([f.values[f.nearest] for f in found])
 
@@ -376,17 +376,19 @@ class NearestNeighborClassifier:
     def _bank(self) -> ModelBank | None:
         """The models packed for pruned search (built once), or None if the distance cannot be
         pruned."""
-        compare = self.path_ if getattr(self, "path_", None) is not None else self.descriptor_
-        spec = compare.distance_spec()
+        spec = self._comparison().distance_spec()
         if spec is None:
             return None
         if getattr(self, "_bank_cache", None) is None:
             self._bank_cache = ModelBank(self.models_, spec)
         return self._bank_cache
 
+    def _comparison(self) -> Any:
+        """What samples are compared by: the canonical path, or else the descriptor."""
+        return self.path_ if getattr(self, "path_", None) is not None else self.descriptor_
+
     def _distances(self, descriptors: list[np.ndarray]) -> np.ndarray:
-        compare = self.path_ if getattr(self, "path_", None) is not None else self.descriptor_
-        return compare.distance_matrix(descriptors, self.models_)
+        return self._comparison().distance_matrix(descriptors, self.models_)
 
     def score(self, X: Any, y: Sequence[Any]) -> float:
         """Recognition ratio (fraction of queries given their true label)."""

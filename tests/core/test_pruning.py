@@ -19,8 +19,8 @@ from framefree.core.pruning import (
     DistanceSpec,
     ModelBank,
     bound_features,
-    grouped_nearest,
     lower_bounds,
+    pruned_nearest,
 )
 
 MODES = {POINTWISE_KABSCH: (18, 24, 24), POINTWISE_SQUARED: (18, 24, 24), POINTWISE_EUCLIDEAN: (0, 6, 6)}
@@ -41,10 +41,9 @@ def vocabularies(draw):
         for m in models:
             if draw(st.booleans()):
                 m[:, 18:24] = bound_features(m, DistanceSpec(18, 24, mode, open_end))
-    groups = rng.integers(0, draw(st.integers(1, 4)), n_models)
     queries = [rng.normal(size=(int(rng.integers(3, 25)), width)) for _ in range(3)]
     queries.append(models[0] + rng.normal(scale=0.01, size=models[0].shape))
-    return DistanceSpec(lo, hi, mode, open_end), models, groups, queries
+    return DistanceSpec(lo, hi, mode, open_end), models, queries
 
 
 def _full(models, query, spec):
@@ -55,16 +54,16 @@ def _full(models, query, spec):
 
 @given(vocab=vocabularies(), chunk=st.integers(1, 5))
 def test_decisions_equal_the_full_search(vocab, chunk):
-    spec, models, groups, queries = vocab
-    bank = ModelBank(models, spec, groups)
+    spec, models, queries = vocab
+    bank = ModelBank(models, spec)
     for q in queries:
         full = _full(models, q, spec)
         assert np.all(lower_bounds(q, bank) <= full)
-        found = grouped_nearest(q, bank, chunk=chunk)
+        found = pruned_nearest(q, bank, chunk=chunk)
         assert found.nearest == int(np.argmin(full))
         assert np.array_equal(found.values[found.exact], full[found.exact])
-        for g in np.unique(groups):
-            assert found.values[groups == g].min() == full[groups == g].min()
+        assert found.values[found.nearest] == full.min()
+        assert np.all(found.values[~found.exact] > full.min())
         assert found.cells <= found.full_cells
 
 
@@ -72,13 +71,13 @@ def test_decisions_equal_the_full_search(vocab, chunk):
 def test_decisions_with_rejection_equal_the_full_search(vocab, scale, chunk):
     """1-NN with rejection: accepted iff the nearest model is below its threshold; then the same
     model and distance."""
-    spec, models, _, queries = vocab
+    spec, models, queries = vocab
     bank = ModelBank(models, spec)
     rng = np.random.default_rng(len(models))
     for q in queries:
         full = _full(models, q, spec)
         tau = scale * np.median(full) * rng.uniform(0.5, 1.5, len(models))
-        found = grouped_nearest(q, bank, chunk=chunk, accept_below=tau)
+        found = pruned_nearest(q, bank, chunk=chunk, accept_below=tau)
         j_full, j = int(np.argmin(full)), found.nearest
         accepted_full = full[j_full] < tau[j_full]
         assert (found.values[j] < tau[j]) == accepted_full

@@ -15,8 +15,9 @@ Methods compared (:data:`PEOPLE_METHODS`):
     a practitioner's first try: 1-NN (Euclidean) on every tracker's positions relative to their
     start, resampled to 32 points in time; depends on the world frame.
 ``baseline-heading``
-    the same after turning each sample so that the horizontal direction from the first tracker to
-    the second points along x (invariant to turns about the vertical, not to tilts).
+    the same after turning each sample about the vertical by its heading (the horizontal direction
+    from the first tracker to the second, as ``invariance="gravity"`` finds it): invariant to turns
+    about the vertical, not to tilts.
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ from ..classifier import NearestNeighborClassifier
 from ..core import se3
 from ..core.multitrajectory import MultiTrajectory
 from ..datasets.people_layout import PeopleDataset, Recording
-from ..descriptors.canonical import INVARIANCES
+from ..descriptors.canonical import INVARIANCES, canonical_frame
 
 __all__ = ["FRAMES", "PEOPLE_METHODS", "PeopleResult", "distance_matrix", "evaluate_people", "reframe"]
 
@@ -108,11 +109,8 @@ def _baseline_features(samples: Sequence[MultiTrajectory], heading: bool) -> np.
     feats = []
     for s in samples:
         P = np.stack([tr.p - tr.p[0] for tr in s.trackers])  # (k, N, 3)
-        if heading and s.n_trackers > 1:
-            across = s.trackers[1].p[0] - s.trackers[0].p[0]
-            across = across - s.up * float(s.up @ across)
-            e1 = across / np.linalg.norm(across)
-            P = P @ np.column_stack([e1, np.cross(s.up, e1), s.up])
+        if heading:
+            P = P @ canonical_frame(s, "gravity")
         grid = np.linspace(s.t[0], s.t[-1], 32)
         feats.append(np.concatenate([np.interp(grid, s.t, P[k, :, c])
                                      for k in range(P.shape[0]) for c in range(3)]))

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -93,9 +92,3 @@ class MultiTrajectory:
         world = np.asarray(world, dtype=np.float64)
         trackers = tuple(tr.transformed(world=world) for tr in self.trackers)
         return MultiTrajectory(trackers, self.names, world[:3, :3] @ self.up, self.source)
-
-    def select(self, names: Sequence[str | int]) -> MultiTrajectory:
-        """A sample of some of the trackers, in the given order."""
-        chosen = [self[n] for n in names]
-        labels = [n if isinstance(n, str) else self.names[n] for n in names]
-        return MultiTrajectory(tuple(chosen), tuple(labels), self.up, self.source)

@@ -27,11 +27,10 @@ Bound features per distance (``mode`` of :mod:`framefree.core.dtw`):
 ``POINTWISE_EUCLIDEAN``
     the aligned columns themselves (the cell cost is their Euclidean distance).
 
-Search (:func:`grouped_nearest`): bounds of all models; within each group (gesture) models in
-order of their bound, exact distances until the next bound exceeds the group's best so far. The
-nearest model of every group, its exact distance and therefore every 1-NN decision are those of
-the full search (ties: the first model in order, as ``numpy.argmin``); pruned models report their
-bound, which exceeds their group's nearest distance.
+Search (:func:`pruned_nearest`): bounds of all models, then exact distances in the order of the
+bounds until the next bound exceeds the best distance so far. The nearest model, its exact
+distance and therefore every 1-NN decision are those of the full search (ties: the first model in
+order, as ``numpy.argmin``); pruned models report their bound, which exceeds the nearest distance.
 """
 
 from __future__ import annotations
@@ -50,8 +49,14 @@ from .dtw import (
     path_distance_kernel,
 )
 
-__all__ = ["DistanceSpec", "ModelBank", "SearchResult", "bound_features", "grouped_nearest",
-           "lower_bounds"]
+__all__ = [
+    "DistanceSpec",
+    "ModelBank",
+    "SearchResult",
+    "bound_features",
+    "lower_bounds",
+    "pruned_nearest",
+]
 
 #: relative slack on a bound, so that rounding in its float arithmetic never makes it exceed the
 #: exact distance
@@ -147,7 +152,7 @@ def _lower_bound(Sm, Sq, squared, open_end):
         rows = _side_sum(Sm, Sq, squared)
         if rows > best:
             best = rows
-    return best / (n + m - 1) * (1.0 - 1e-9)
+    return best / (n + m - 1) * (1.0 - _SLACK)
 
 
 @njit(cache=True, parallel=True)
@@ -169,32 +174,29 @@ def _exact_chunk(qdata, idx, mdata, moff, lo, hi, mode, open_end):
 
 
 @njit(cache=True)
-def _grouped_search(qdata, bounds, mdata, moff, groups, n_groups, lo, hi, mode, open_end, chunk,
-                    accept_below):
+def _search(qdata, bounds, mdata, moff, lo, hi, mode, open_end, chunk, accept_below):
     """Exact distances in bound order, ``chunk`` at a time (in parallel), until every remaining
-    bound exceeds its group's best distance so far — or, with acceptance thresholds, until the
-    best so far cannot be accepted and no remaining model could be (its bound is at or above the
-    largest threshold)."""
+    bound exceeds the best distance so far — or, with acceptance thresholds, until the best so far
+    cannot be accepted and no remaining model could be (its bound is at or above the largest
+    threshold). Returns the values, which are exact, and the DTW cells computed."""
     M = bounds.shape[0]
     reject = accept_below.shape[0] == M
     top = accept_below.max() if reject and M > 0 else np.inf
     values = bounds.copy()
     exact = np.zeros(M, dtype=np.bool_)
-    best = np.full(n_groups, np.inf)
     order = np.argsort(bounds, kind="mergesort")
     cells = 0
     k = 0
     todo = np.empty(chunk, dtype=np.int64)
-    overall = -1
+    best = -1  # index of the nearest model so far
     while k < M:
-        if reject and bounds[order[k]] >= top and (
-                overall < 0 or values[overall] >= accept_below[overall]):
+        if reject and bounds[order[k]] >= top and (best < 0 or values[best] >= accept_below[best]):
             break  # the nearest model, whichever it is, cannot be accepted
         n_todo = 0
         while k < M and n_todo < chunk:
             j = order[k]
             k += 1
-            if bounds[j] <= best[groups[j]]:
+            if best < 0 or bounds[j] <= values[best]:
                 todo[n_todo] = j
                 n_todo += 1
         if n_todo == 0:
@@ -205,10 +207,8 @@ def _grouped_search(qdata, bounds, mdata, moff, groups, n_groups, lo, hi, mode, 
             values[j] = d[t]
             exact[j] = True
             cells += (moff[j + 1] - moff[j]) * qdata.shape[0]
-            if d[t] < best[groups[j]]:
-                best[groups[j]] = d[t]
-            if overall < 0 or d[t] < values[overall] or (d[t] == values[overall] and j < overall):
-                overall = j
+            if best < 0 or d[t] < values[best] or (d[t] == values[best] and j < best):
+                best = j
     return values, exact, cells
 
 
@@ -221,24 +221,15 @@ class ModelBank:
         Model descriptor sequences.
     spec : DistanceSpec
         How their distance is computed.
-    groups : sequence of int, optional
-        Group (class) of each model; pruning keeps the nearest model of every group exact.
-        Default: one group.
     """
 
-    def __init__(self, models: Sequence[np.ndarray], spec: DistanceSpec,
-                 groups: Sequence[int] | None = None) -> None:
+    def __init__(self, models: Sequence[np.ndarray], spec: DistanceSpec) -> None:
         self.mdata, self.moff = pack_sequences(list(models))
         spec = spec.resolved(self.mdata.shape[1])
         self.spec = spec
         bounds = [bound_features(m, spec) for m in models]
         self.sdata = np.ascontiguousarray(np.concatenate([_sorted_columns(b) for b in bounds], axis=1))
         self.soff = np.concatenate([[0], np.cumsum([b.shape[0] for b in bounds])]).astype(np.int64)
-        self.groups = np.zeros(len(models), dtype=np.int64) if groups is None else \
-            np.asarray(groups, dtype=np.int64)
-        if self.groups.shape != (len(models),):
-            raise ValueError(f"need one group per model ({len(models)}), got {self.groups.shape}")
-        self.n_groups = int(self.groups.max()) + 1 if len(models) else 0
         self.dtw_cells = sum(int(m.shape[0]) for m in models)  # times the query length
 
     def __len__(self) -> int:
@@ -252,8 +243,7 @@ class SearchResult:
     Attributes
     ----------
     values : ndarray, shape (M,)
-        Exact distance of every model whose distance was computed, a lower bound (above its
-        group's nearest distance) of every other.
+        Exact distance of every model whose distance was computed, a lower bound of every other.
     exact : ndarray of bool, shape (M,)
         Which values are exact.
     cells : int
@@ -279,9 +269,9 @@ def lower_bounds(query: np.ndarray, bank: ModelBank) -> np.ndarray:
     return _lower_bounds_kernel(bank.sdata, bank.soff, qS, bank.spec.squared, bank.spec.open_end)
 
 
-def grouped_nearest(query: np.ndarray, bank: ModelBank, chunk: int = 8,
-                    accept_below: np.ndarray | None = None) -> SearchResult:
-    """The exact nearest model of every group, pruning the rest by their lower bounds.
+def pruned_nearest(query: np.ndarray, bank: ModelBank, chunk: int = 8,
+                   accept_below: np.ndarray | None = None) -> SearchResult:
+    """The exact nearest model, the others pruned by their lower bounds where possible.
 
     Parameters
     ----------
@@ -308,7 +298,6 @@ def grouped_nearest(query: np.ndarray, bank: ModelBank, chunk: int = 8,
     tau = np.zeros(0) if accept_below is None else np.ascontiguousarray(accept_below, dtype=np.float64)
     if tau.size and tau.shape != (len(bank),):
         raise ValueError(f"accept_below needs one threshold per model ({len(bank)}), got {tau.shape}")
-    values, exact, cells = _grouped_search(q, lower_bounds(q, bank), bank.mdata, bank.moff, bank.groups,
-                                           bank.n_groups, s.align_lo, s.align_hi, s.mode, s.open_end,
-                                           max(1, int(chunk)), tau)
+    values, exact, cells = _search(q, lower_bounds(q, bank), bank.mdata, bank.moff, s.align_lo,
+                                   s.align_hi, s.mode, s.open_end, max(1, int(chunk)), tau)
     return SearchResult(values, exact, int(cells), int(bank.dtw_cells * q.shape[0]))

@@ -99,10 +99,9 @@ def read_recording(path: str | Path, convention: str | Convention | None = None)
         Machete files, ``framefree`` for CSV).
     """
     path = Path(path)
-    with path.open("rb") as fh:
-        head = fh.read(2)
-    if path.suffix.lower() == ".csv" or head in (b"t,", b"t\r"):
-        if head.startswith(b"t"):
+    multi = _has_multi_header(path)
+    if path.suffix.lower() == ".csv" or multi:
+        if multi:
             return read_multi_csv(path, convention or "framefree")
         if convention not in (None, "framefree"):
             raise TrajectoryError(f"{path}: a single-tracker CSV is in framefree's frame; convert it "
@@ -112,14 +111,16 @@ def read_recording(path: str | Path, convention: str | Convention | None = None)
     return read_machete(path, convention or "unity")
 
 
+def _has_multi_header(path: Path) -> bool:
+    """Whether a file starts like framefree's multi-tracker CSV (``t,...``)."""
+    with path.open("rb") as fh:
+        return fh.read(2) in (b"t,", b"t\r")
+
+
 def is_multi_tracker_file(path: str | Path) -> bool:
     """Whether ``path`` holds several trackers: a Machete recording or a CSV with a ``t,...`` header."""
     path = Path(path)
-    if not path.is_file():
-        return False
-    with path.open("rb") as fh:
-        head = fh.read(2)
-    return head in (b"t,", b"t\r") or path.suffix.lower() != ".csv"
+    return path.is_file() and (path.suffix.lower() != ".csv" or _has_multi_header(path))
 
 
 def load_labelled(

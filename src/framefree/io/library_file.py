@@ -31,12 +31,14 @@ from typing import Any
 import numpy as np
 
 from .._version import __version__
+from ..core.trajectory import Trajectory
 from ..errors import FramefreeError
 
 __all__ = [
     "FORMAT_VERSION",
     "JSON_MEMBER",
     "LibraryError",
+    "library_takes",
     "read_library_file",
     "rebuild_hint",
     "write_library_file",
@@ -125,3 +127,8 @@ def read_library_file(path: str | Path) -> tuple[dict[str, Any], list[np.ndarray
     samples, offsets = arrays["samples"], arrays["offsets"]
     rows = [samples[offsets[k]:offsets[k + 1]] for k in range(len(meta["names"]))]
     return meta, rows
+
+
+def library_takes(path: str | Path, rows: Sequence[np.ndarray], names: Sequence[str]) -> list[Trajectory]:
+    """The takes of a library file as trajectories, each named ``<file>:<take name>``."""
+    return [Trajectory.from_array(r, source=f"{path}:{n}") for r, n in zip(rows, names, strict=True)]

@@ -28,6 +28,7 @@ from ..errors import DatasetError, FramefreeError
 from ..io.library_file import (
     FORMAT_VERSION,
     LibraryError,
+    library_takes,
     read_library_file,
     rebuild_hint,
     write_library_file,
@@ -390,7 +391,7 @@ def load_library(path: str | Path) -> GestureLibrary:
     path = Path(path)
     meta, rows = read_library_file(path)
     names, labels = meta["names"], meta["labels"]
-    takes = tuple(Trajectory.from_array(r, source=f"{path}:{n}") for r, n in zip(rows, names, strict=True))
+    takes = tuple(library_takes(path, rows, names))
     lib = GestureLibrary(
         TakeSet(takes, tuple(labels), tuple(names), tuple(rows)), meta["settings"], meta["config"],
         {str(k): float(v) for k, v in meta["gesture_thresholds"].items()}, float(meta["stop_threshold"]),

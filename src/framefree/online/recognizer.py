@@ -33,7 +33,7 @@ from ..core.progress import reparameterize
 from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor, get_descriptor
 from ..descriptors.bilts import window_spacing
-from ..io.library_file import LibraryError, read_library_file, rebuild_hint
+from ..io.library_file import LibraryError, library_takes, read_library_file, rebuild_hint
 from .acceptance import SampleGate
 from .config import RecognizerConfig
 from .events import STOP, Event
@@ -283,8 +283,7 @@ class Recognizer(StreamingRecognizer):
         except (TypeError, ValueError) as exc:
             raise LibraryError(f"{path}: settings do not fit framefree {__version__} ({exc}); "
                                f"{rebuild_hint(path, meta)}") from None
-        takes = [Trajectory.from_array(r, source=f"{path}:{n}")
-                 for r, n in zip(rows, meta["names"], strict=True)]
+        takes = library_takes(path, rows, meta["names"])
         thresholds = {str(k): float(v) for k, v in meta["gesture_thresholds"].items()}
         return cls.restore(takes, meta["labels"], config, thresholds)
 

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.progress import reparameterize
-from ..core.pruning import ModelBank, grouped_nearest
+from ..core.pruning import ModelBank, pruned_nearest
 from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor
 from ..errors import DegenerateMotionError
@@ -88,14 +88,14 @@ class SegmentClassifier:
         """Like :meth:`distances`, pruned when :attr:`prune` is set: every value is a model's exact
         distance or a lower bound of it. With ``accept_below`` (each model's threshold), whether
         the nearest model is below its threshold is exact, and when it is, so are the nearest
-        model and its distance (:func:`~framefree.core.pruning.grouped_nearest`); without it, the
+        model and its distance (:func:`~framefree.core.pruning.pruned_nearest`); without it, the
         nearest model and its distance always are."""
         if not (self.prune and self.bank is not None):
             return self.distances(times, poses)
         out = self.describe(times, poses)
         if out is None:
             return np.full(len(self.models), math.inf), 0.0
-        found = grouped_nearest(out[0], self.bank, accept_below=accept_below)
+        found = pruned_nearest(out[0], self.bank, accept_below=accept_below)
         self.cells[0] += found.cells
         self.cells[1] += found.full_cells
         return found.values, out[1]
