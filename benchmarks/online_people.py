@@ -14,6 +14,7 @@ false positive came from; ``--json`` writes it all.
     .venv/bin/python benchmarks/online_people.py --people dev --per-person 1 --method both
     .venv/bin/python benchmarks/online_people.py --people heldout --per-person 2 --json out.json
     .venv/bin/python benchmarks/online_people.py --people dev --set confirm=0.3
+    .venv/bin/python benchmarks/online_people.py --people dev --style hesitant
 """
 
 from __future__ import annotations
@@ -31,8 +32,15 @@ from framefree.online import Recognizer
 from framefree.online.evaluation import combine, match_events, run_stream
 from framefree.online.paper import PaperRecognizer
 from framefree.replica import replica_path
-from framefree.replica.people import DEV_PEOPLE, FRESH_PEOPLE, HELDOUT_PEOPLE
-from framefree.replica.people_streams import make_person_streams
+from framefree.replica.people import (
+    DEV_PEOPLE,
+    FRESH_PEOPLE,
+    HELDOUT_PEOPLE,
+    STYLES,
+    person,
+    styled,
+)
+from framefree.replica.people_streams import make_person_streams, person_stream
 
 _RECOGNIZERS: dict = {}
 
@@ -107,6 +115,9 @@ def main() -> None:
     ap.add_argument("--per-person", type=int, default=1, help="streams per person")
     ap.add_argument("--method", default="segments", choices=["segments", "paper", "both"])
     ap.add_argument("--set", action="append", default=[], help="recognizer setting KEY=VALUE")
+    ap.add_argument("--style", choices=list(STYLES), help="every person performs in this style "
+                    "(framefree.replica.people.STYLES): hesitant (small, slow, trembling, near-stops) "
+                    "or sloppy (large, fast, inconsistent)")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
@@ -115,11 +126,16 @@ def main() -> None:
         seeds = [int(s) for s in args.people.split(",")]
     overrides = _parse_set(args.set)
     t0 = time.perf_counter()
-    items = make_person_streams(seeds, n_streams_per_person=args.per_person, progress=True)
+    if args.style is None:
+        items = make_person_streams(seeds, n_streams_per_person=args.per_person, progress=True)
+    else:  # the sessions of make_person_streams, performed in the style
+        items = [person_stream(1000 * p + k, styled(person(p), args.style))
+                 for p in seeds for k in range(args.per_person)]
     print(f"{len(items)} streams, {sum(len(i.segments) for i in items)} labelled items, "
           f"{sum(i.traj.duration for i in items) / 60:.1f} min ({time.perf_counter() - t0:.0f} s)")
     methods = ["segments", "paper"] if args.method == "both" else [args.method]
-    out = {"people": args.people, "per_person": args.per_person, "settings": overrides}
+    out = {"people": args.people, "per_person": args.per_person, "style": args.style,
+           "settings": overrides}
     for method in methods:
         rows = Parallel(n_jobs=args.jobs)(
             delayed(_evaluate)(method, overrides if method == "segments" else {}, it) for it in items)

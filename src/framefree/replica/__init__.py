@@ -29,6 +29,7 @@ from .people import (
     person,
 )
 from .people_streams import PersonStream, make_person_streams, person_stream
+from .shapes import DEV_SHAPES, DRAWN_SHAPES, HELDOUT_SHAPES
 from .streams import LivePerson, StreamItem, make_stream, save_stream
 
 __all__ = [
@@ -36,9 +37,12 @@ __all__ = [
     "COMBINATION_FRAMES",
     "DEFAULT_PERSON",
     "DEV_PEOPLE",
+    "DEV_SHAPES",
+    "DRAWN_SHAPES",
     "EXTRA_SHAPES",
     "FRESH_PEOPLE",
     "HELDOUT_PEOPLE",
+    "HELDOUT_SHAPES",
     "NOISE_POS_STD",
     "NOISE_ROT_STD",
     "PERSON_ACTIVITIES",

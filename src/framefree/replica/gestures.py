@@ -44,6 +44,7 @@ from .motion import (
     Path,
     Piece,
     deviated,
+    hesitant_stroke,
     hold,
     make_pose,
     reversed_path,
@@ -52,8 +53,9 @@ from .motion import (
     stroke,
     translation_path,
 )
-from .population import ANTHROPOMETRY
+from .population import ANTHROPOMETRY, HESITATION
 from .recording import measure, random_grip, sample_times
+from .shapes import DRAWN_SHAPES, shape_strokes
 
 if TYPE_CHECKING:
     from .people import Person
@@ -196,7 +198,7 @@ class _Performance:
     def __init__(self, gesture: str, rng: np.random.Generator, speed: float, who: Person) -> None:
         V = who.variation()
         self.rng, self.who, self.V = rng, who, V
-        self.shape = GESTURE_SHAPES.get(gesture) or EXTRA_SHAPES[gesture]
+        self.shape = GESTURE_SHAPES.get(gesture) or EXTRA_SHAPES.get(gesture) or DRAWN_SHAPES[gesture]
         self.scale = who.size * math.exp(_clipped(rng, 0.0, V["size"]))
         self.tempo = math.exp(_clipped(rng, 0.0, V["speed"])) / speed / who.tempo
         # geometry frame of this performance: heading about the vertical, small tilt
@@ -206,7 +208,7 @@ class _Performance:
         self.fwd, self.left, self.up = self.Rg[:, 0], self.Rg[:, 1], self.Rg[:, 2]
         std_p = ANTHROPOMETRY["hand_position"][1] * who.variability
         self.p0 = np.asarray(who.hand_position) + std_p * np.clip(rng.standard_normal(3), -2.5, 2.5)
-        self.size = self.shape["size"] * self.scale
+        self.size = self.shape.get("size", 1.0) * self.scale
 
     def anatomy(self, name: str) -> float:
         """A body dimension or joint excursion of this trial: the person's value ± trial std."""
@@ -236,6 +238,19 @@ class _Performance:
         off_dir = np.cross(self.fwd, self.rng.standard_normal(3))
         off = off_dir / np.linalg.norm(off_dir) * max(0.01, self.anatomy("pronation_axis_offset"))
         return screw_path(start, self.fwd, start[:3, 3] + off, angle, advance)
+
+    def stroke(self, path: Path) -> Piece:
+        """One timed stroke along ``path``: this performance's duration and skew, and a
+        hesitation on the way with the person's probability (no draw for people who never
+        hesitate, so their performances are those drawn before hesitations were modelled)."""
+        duration, skew = self.duration(), self.skew()
+        who = self.who
+        if who.hesitation <= 0 or self.rng.random() >= who.hesitation:
+            return stroke(path, duration, skew)
+        at = self.rng.uniform(*HESITATION["at"])
+        pause = self.rng.uniform(*who.hesitation_pause)
+        residual = self.rng.uniform(*HESITATION["residual"])
+        return hesitant_stroke(path, duration, skew, at, pause, residual)
 
     def end_error(self) -> tuple[np.ndarray, np.ndarray]:
         return self.rng.normal(0.0, self.V["return_pos"], 3), self.rng.normal(0.0, self.V["return_rot"], 3)
@@ -288,6 +303,30 @@ def _once(gesture: str, g: _Performance) -> tuple[np.ndarray, Path]:
     return start, _circle_path(start, center, g.fwd, -2 * math.pi, roll, g.fwd, rng.uniform(0, 2 * math.pi))
 
 
+def _drawn(gesture: str, g: _Performance) -> tuple[np.ndarray, list[Piece]]:
+    """Start pose and strokes of a shape drawn in the air (:mod:`~framefree.replica.shapes`):
+    one stroke per side, each with its own deviation, and a short hold at some corners."""
+    rng = g.rng
+    start = g.hand(PALM_DOWN)
+    right = -g.left
+    pieces: list[Piece] = []
+    pose = start
+    strokes = shape_strokes(gesture)
+    for k, offset in enumerate(strokes):
+        def planar(s: np.ndarray, f=offset) -> np.ndarray:
+            xy = g.scale * (f(s) - f(np.zeros(1)))
+            return xy[:, :1] * right + xy[:, 1:] * g.up
+
+        bp, br = g.bulge()
+        ends = g.end_error() if k == len(strokes) - 1 else (None, None)
+        piece = g.stroke(deviated(translation_path(pose, planar), bp, br, *ends))
+        pieces.append(piece)
+        pose = piece.end
+        if k < len(strokes) - 1 and rng.random() < 0.5:
+            pieces.append(hold(pose, rng.uniform(0.0, 0.08)))
+    return start, pieces
+
+
 #: Gestures made once, without a reverse stroke.
 _ONCE = ("go_right", "figure_eight")
 
@@ -300,7 +339,8 @@ def plan_gesture(
     Parameters
     ----------
     gesture : str
-        One of :data:`~framefree.datasets.GESTURES` or of :data:`EXTRA_SHAPES`.
+        One of :data:`~framefree.datasets.GESTURES`, :data:`EXTRA_SHAPES` or
+        :data:`~framefree.replica.shapes.DRAWN_SHAPES`.
     rng : numpy.random.Generator
     speed : float
         Extra speed factor (2 = twice as fast as this person would normally move).
@@ -312,26 +352,28 @@ def plan_gesture(
     -------
     GesturePlan
     """
-    if gesture not in GESTURE_SHAPES and gesture not in EXTRA_SHAPES:
-        expected = ", ".join([*GESTURES, *EXTRA_SHAPES])
+    if gesture not in GESTURE_SHAPES and gesture not in EXTRA_SHAPES and gesture not in DRAWN_SHAPES:
+        expected = ", ".join([*GESTURES, *EXTRA_SHAPES, *DRAWN_SHAPES])
         raise ValueError(f"unknown gesture {gesture!r}; expected one of {expected}")
     if not speed > 0:
         raise ValueError(f"speed must be positive, got {speed}")
     g = _Performance(gesture, rng, speed, _resolve(person))
+    if gesture in DRAWN_SHAPES:
+        return GesturePlan(gesture, *_drawn(gesture, g))
     if gesture in _ONCE:
         start, path = _once(gesture, g)
         bp, br = g.bulge()
         end_p, end_r = g.end_error()
-        once = stroke(deviated(path, bp, br, end_p, end_r), g.duration(), g.skew())
+        once = g.stroke(deviated(path, bp, br, end_p, end_r))
         return GesturePlan(gesture, start, [once])
     start, fwd_path = _outward(gesture, g)
     bp, br = g.bulge()
     there = deviated(fwd_path, bp, br)
     bp, br = g.bulge()
     back = deviated(reversed_path(there), bp, br, *g.end_error())
-    first = stroke(there, g.duration(), g.skew())
+    first = g.stroke(there)
     pause = hold(first.end, rng.uniform(*g.V["pause"]))
-    return GesturePlan(gesture, start, [first, pause, stroke(back, g.duration(), g.skew())])
+    return GesturePlan(gesture, start, [first, pause, g.stroke(back)])
 
 
 def gesture_motion(plan: GesturePlan, rng: np.random.Generator, person: Person | None = None) -> Motion:

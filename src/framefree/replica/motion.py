@@ -20,6 +20,7 @@ __all__ = [
     "Path",
     "Piece",
     "deviated",
+    "hesitant_stroke",
     "hold",
     "make_pose",
     "minimum_jerk",
@@ -211,6 +212,58 @@ def stroke(path: Path, duration: float, skew: float = 1.0) -> Piece:
     if not duration > 0:
         raise ValueError(f"stroke duration must be positive, got {duration}")
     return Piece(float(duration), lambda t: path(minimum_jerk((np.asarray(t) / duration) ** skew)))
+
+
+def hesitant_stroke(path: Path, duration: float, skew: float, at: float, pause: float,
+                    residual: float = 0.1, ramp: float = 0.12) -> Piece:
+    """A :func:`stroke` that nearly stops on the way: the person hesitates in mid-stroke.
+
+    The stroke's normalized time runs at ``residual`` times its normal rate for ``pause`` seconds
+    starting when it reaches ``at``, with raised-cosine ramps of ``ramp`` seconds into and out
+    of the slow phase, so the hand slows to about ``residual`` of the speed it had there, creeps
+    on, and resumes. Without the slow phase (``pause = 0``) it is the plain stroke.
+
+    Parameters
+    ----------
+    path : Path
+    duration : float
+        Duration [s] of the stroke without the hesitation.
+    skew : float
+        Time-warp exponent, as in :func:`stroke`.
+    at : float
+        Normalized time in (0, 1) of the stroke where the hesitation begins.
+    pause : float
+        Duration [s] of the slow phase.
+    residual : float
+        Rate of progress during the slow phase relative to the normal rate (0: a full stop).
+    ramp : float
+        Duration [s] of each ramp between the normal and the slow rate.
+
+    Returns
+    -------
+    Piece
+        Lasting longer than ``duration`` by about ``(1 - residual) (pause + ramp)`` seconds.
+    """
+    if not duration > 0 or pause < 0 or not 0 < at < 1 or not 0 <= residual <= 1:
+        raise ValueError(f"invalid hesitation: duration {duration}, at {at}, pause {pause}, "
+                         f"residual {residual}")
+    t0 = at * duration
+    t = np.linspace(0.0, duration + pause + 2 * ramp, 4001)
+    u = t - t0  # time since the slow-down began
+    window = np.where((u > 0) & (u < 2 * ramp + pause), 1.0, 0.0)
+    rise = (u > 0) & (u < ramp)
+    window[rise] = 0.5 - 0.5 * np.cos(np.pi * u[rise] / ramp)
+    fall = (u >= ramp + pause) & (u < 2 * ramp + pause)
+    window[fall] = 0.5 + 0.5 * np.cos(np.pi * (u[fall] - ramp - pause) / ramp)
+    rate = (1.0 - (1.0 - residual) * window) / duration
+    tau = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(t))])
+    end = float(np.interp(1.0, tau, t))
+
+    def fn(local: np.ndarray) -> np.ndarray:
+        tt = np.clip(np.interp(np.asarray(local, dtype=np.float64), t, tau), 0.0, 1.0)
+        return path(minimum_jerk(tt ** skew))
+
+    return Piece(end, fn)
 
 
 class Motion:

@@ -43,12 +43,14 @@ __all__ = [
     "HELDOUT_PEOPLE",
     "NOMINAL_STATURE",
     "POPULATION",
+    "STYLES",
     "Person",
     "draw_person",
     "person",
     "person_grip",
     "record",
     "scaled_noise",
+    "styled",
 ]
 
 #: Seeds of the people used for tuning and development.
@@ -91,6 +93,13 @@ POPULATION = {
     "grip_offset_width": (0.01, 0.03),  # [m]
     "variability": (0.6, 1.6),  # scale of the trial-to-trial variation, log-uniform
     "walk_speed": (1.0, 1.5),  # comfortable walking speed [m/s], uniform
+    # hesitations in mid-stroke: share of people who hesitate at all; their probability per
+    # stroke (log-uniform); the slow phase's duration [s] (centre log-uniform, range centre ×
+    # spread); where in the stroke and how slow: population.HESITATION
+    "hesitant": 0.35,
+    "hesitation": (0.08, 0.5),
+    "hesitation_centre": (0.15, 0.45),
+    "hesitation_spread": (0.7, 1.4),
 }
 
 #: Trial-to-trial wobble of a habitual grip: rotation [rad] per axis and offset [m] per axis (std).
@@ -147,6 +156,10 @@ class Person:
         Scale on every trial-to-trial standard deviation (consistency of the person).
     walk_speed : float
         Walking speed [m/s] between gestures.
+    hesitation : float
+        Probability that a stroke of a gesture nearly stops on the way (0: never).
+    hesitation_pause : tuple of float
+        Range [s] of the slow phase of a hesitation (uniform per hesitation).
     """
 
     seed: int | None = None
@@ -169,6 +182,8 @@ class Person:
     grip_rotation: tuple[float, float, float] = (0.0, 0.0, 0.0)
     variability: float = 1.0
     walk_speed: float = 1.0
+    hesitation: float = 0.0
+    hesitation_pause: tuple[float, float] = (0.0, 0.0)
 
     def __post_init__(self) -> None:
         if self.grip not in ("random", "habitual"):
@@ -177,7 +192,9 @@ class Person:
                      "walk_speed"):
             if not getattr(self, name) > 0:
                 raise ValueError(f"Person.{name} must be positive, got {getattr(self, name)}")
-        for name in ("pause", "rest", "grip_offset"):
+        if not 0 <= self.hesitation <= 1:
+            raise ValueError(f"Person.hesitation must be a probability, got {self.hesitation}")
+        for name in ("pause", "rest", "grip_offset", "hesitation_pause"):
             lo, hi = getattr(self, name)
             if not 0 <= lo <= hi:
                 raise ValueError(f"Person.{name} must be a range 0 <= low <= high, got {(lo, hi)}")
@@ -245,7 +262,7 @@ def draw_person(rng: np.random.Generator) -> Person:
     tremor_std, tremor_range = P["tremor"]
     grip = "habitual" if rng.random() < P["habitual_grip"] else "random"
     grip_lo = rng.uniform(*P["grip_offset_low"])
-    return Person(
+    person = Person(
         stature=h,
         size=_log_uniform(rng, *P["size"]),
         tempo=_log_uniform(rng, *P["tempo"]),
@@ -268,6 +285,11 @@ def draw_person(rng: np.random.Generator) -> Person:
         variability=_log_uniform(rng, *P["variability"]),
         walk_speed=rng.uniform(*P["walk_speed"]),
     )
+    # drawn last, so that every other field is the one drawn before hesitations were modelled
+    if rng.random() >= P["hesitant"]:
+        return person
+    return replace(person, hesitation=_log_uniform(rng, *P["hesitation"]),
+                   hesitation_pause=_range(rng, P["hesitation_centre"], P["hesitation_spread"]))
 
 
 def person(seed: int) -> Person:
@@ -285,6 +307,40 @@ def person(seed: int) -> Person:
     if int(seed) < 0:
         raise ValueError(f"person seed must be non-negative, got {seed}")
     return replace(draw_person(np.random.default_rng([int(seed), 0xFE0])), seed=int(seed))
+
+
+#: Kinds of performer at the edges of the population, to probe a recognizer beyond the typical
+#: person: each maps a drawn person to one who keeps their body, grip and habits but moves so
+#: (values relative to the replica's person, who made the models).
+#: *hesitant*: a quarter smaller, 40 % slower (strokes 1.4 times as long), twice the tremor, and
+#: a near-stop of 0.2–0.4 s in a quarter of the strokes; *sloppy*: 30 % larger, 30 % faster, and
+#: 1.5 times less consistent.
+STYLES = {
+    "hesitant": {"size": 0.75, "tempo": 1 / 1.4, "tremor": 2.0, "variability": 1.0,
+                 "hesitation": 0.25, "hesitation_pause": (0.2, 0.4)},
+    "sloppy": {"size": 1.3, "tempo": 1.3, "tremor": 1.0, "variability": 1.5,
+               "hesitation": 0.0, "hesitation_pause": (0.0, 0.0)},
+}
+
+
+def styled(who: Person, style: str) -> Person:
+    """``who`` performing in one of the :data:`STYLES`: size, tempo, tremor, variability and
+    hesitations become the style's; body, posture, grip, pauses and rests stay ``who``'s.
+
+    Parameters
+    ----------
+    who : Person
+    style : str
+        A key of :data:`STYLES`.
+
+    Returns
+    -------
+    Person
+    """
+    if style not in STYLES:
+        raise ValueError(f"unknown style {style!r}; expected one of {', '.join(STYLES)}")
+    k = STYLES[style]
+    return replace(who, **k)
 
 
 def person_grip(who: Person, rng: np.random.Generator) -> np.ndarray:

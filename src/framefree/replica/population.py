@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["ANTHROPOMETRY", "VARIATION"]
+__all__ = ["ANTHROPOMETRY", "HESITATION", "VARIATION"]
 
 #: Body dimensions [m] and joint ranges [rad] (mean, std). Elbow-to-palm distance: forearm
 #: 0.146 H plus half a hand 0.054 H for a body height H ≈ 1.70 m (Drillis & Contini 1966).
@@ -43,4 +43,12 @@ VARIATION = {
     "return_rot": math.radians(3.0),
     "rest": (0.5, 1.0),
     "pause": (0.1, 0.4),
+}
+
+#: A hesitation in mid-stroke (people who hesitate: ``Person.hesitation``): where it begins, as
+#: normalized time of the stroke (uniform), and the speed left during it relative to the stroke's
+#: speed there (uniform): the hand nearly stops, it does not stand still.
+HESITATION = {
+    "at": (0.3, 0.7),
+    "residual": (0.03, 0.2),
 }

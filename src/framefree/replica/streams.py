@@ -50,6 +50,7 @@ from .recording import (
     tracker_poses,
     write_recording,
 )
+from .shapes import DRAWN_SHAPES
 
 __all__ = [
     "ACTIVITIES",
@@ -116,7 +117,7 @@ def _items(
     rng: np.random.Generator,
     gestures: Sequence[str] | None = None,
 ) -> list[StreamItem]:
-    known = {STOP, *GESTURE_SHAPES, *EXTRA_SHAPES}
+    known = {STOP, *GESTURE_SHAPES, *EXTRA_SHAPES, *DRAWN_SHAPES}
     if sequence is not None:
         items = [x if isinstance(x, StreamItem) else StreamItem(str(x)) for x in sequence]
         for it in items:
@@ -157,7 +158,8 @@ def make_stream(
     seed : int
         Everything is deterministic given the seed (and the person).
     sequence : sequence of str or StreamItem, optional
-        Script to perform: gesture names (HPM or :data:`~framefree.replica.EXTRA_SHAPES`) and
+        Script to perform: gesture names (HPM, :data:`~framefree.replica.EXTRA_SHAPES` or
+        :data:`~framefree.replica.shapes.DRAWN_SHAPES`) and
         ``"stop"``, or :class:`StreamItem` entries with requested onsets / gaps / speeds. Default:
         ``n_gestures`` gestures in random order (each gesture equally often) with ``n_stops`` stop
         signals at random positions.

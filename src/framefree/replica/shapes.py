@@ -1,0 +1,90 @@
+"""Shapes a person draws in the air with the hand: letters, zigzags, triangles, waves, spirals.
+
+None of them is an HPM gesture. They are a user's own gestures to enroll, or, left out of a
+vocabulary, the motions that must stay silent: a recognizer that fires on a triangle because a
+zigzag was enrolled has thresholds that depend on the company a gesture keeps. Some shapes are
+kept out of every choice of setting (:data:`HELDOUT_SHAPES`), so that rejection is measured on
+shapes nothing was tuned on.
+
+Each shape is drawn in the frontal plane of the performance (``right`` to the user's right, ``up``
+up), with the palm down and the hand not turning. A polyline is drawn stroke by stroke: each side
+is a minimum-jerk stroke, so the hand slows down at every corner, as people do (the speed of
+drawing falls where the path bends: Lacquaniti, Terzuolo & Viviani, Acta Psychol 54:115, 1983),
+with a short hold of up to 80 ms at some corners. Curves (*wave*, *spiral*) are one stroke.
+
+==========  ======================================================================  ========
+name        path (nominal size)                                                      closes
+==========  ======================================================================  ========
+zigzag      a Z: right 24 cm, diagonal back down-left, right again (18 cm tall)      no
+triangle    right 24 cm, up-left to the apex 20 cm above the middle, back down       yes
+letter_l    down 22 cm, right 14 cm                                                  no
+wave        to the right 30 cm while waving up and down ± 5 cm, two periods          no
+square      right, down, left, up, 18 cm sides                                       yes
+letter_v    down-right to the bottom 20 cm below, up-right to the top (24 cm wide)   no
+spiral      one and a half turns inwards, radius 12 cm down to 3.6 cm                no
+==========  ======================================================================  ========
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Callable
+
+import numpy as np
+
+__all__ = ["DEV_SHAPES", "DRAWN_SHAPES", "HELDOUT_SHAPES", "shape_strokes"]
+
+#: A polyline's corners (k, 2) in (right, up) coordinates [m] of the nominal shape, or a curve
+#: ``s (n,) -> (n, 2)`` with ``s`` in [0, 1]; ``duration`` [s] per side, or of the curve.
+DRAWN_SHAPES: dict[str, dict] = {
+    "zigzag": {"corners": [(0, 0), (0.24, 0), (0, -0.18), (0.24, -0.18)], "duration": 0.6},
+    "triangle": {"corners": [(0, 0), (0.24, 0), (0.12, 0.20), (0, 0)], "duration": 0.6},
+    "letter_l": {"corners": [(0, 0), (0, -0.22), (0.14, -0.22)], "duration": 0.6},
+    "wave": {"curve": "wave", "duration": 1.6},
+    "square": {"corners": [(0, 0), (0.18, 0), (0.18, -0.18), (0, -0.18), (0, 0)], "duration": 0.55},
+    "letter_v": {"corners": [(0, 0), (0.12, -0.20), (0.24, 0)], "duration": 0.6},
+    "spiral": {"curve": "spiral", "duration": 2.2},
+}
+
+#: Shapes for development: to enroll as a new gesture and to tune rejection on.
+DEV_SHAPES = ("zigzag", "triangle", "letter_l", "wave")
+#: Shapes kept out of every choice: only ever performed as motions nobody enrolled.
+HELDOUT_SHAPES = ("square", "letter_v", "spiral")
+
+
+def _wave(s: np.ndarray) -> np.ndarray:
+    return np.stack([0.30 * s, 0.05 * np.sin(4 * math.pi * s)], axis=1)
+
+
+def _spiral(s: np.ndarray) -> np.ndarray:
+    r = 0.12 * (1 - 0.7 * s)
+    a = 3 * math.pi * s
+    return np.stack([r * np.cos(a) - 0.12, r * np.sin(a)], axis=1)
+
+
+_CURVES: dict[str, Callable[[np.ndarray], np.ndarray]] = {"wave": _wave, "spiral": _spiral}
+
+
+def shape_strokes(name: str) -> list[Callable[[np.ndarray], np.ndarray]]:
+    """The strokes of a drawn shape as planar offsets from its start.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`DRAWN_SHAPES`.
+
+    Returns
+    -------
+    list of callable
+        One function per stroke, mapping progress ``s`` (n,) in [0, 1] to offsets (n, 2) [m] in
+        (right, up) coordinates of the nominal shape, measured from the shape's first point.
+    """
+    spec = DRAWN_SHAPES[name]
+    if "curve" in spec:
+        curve = _CURVES[spec["curve"]]
+        origin = curve(np.zeros(1))[0]
+        return [lambda s, c=curve, o=origin: c(np.asarray(s, dtype=np.float64)) - o]
+    corners = np.asarray(spec["corners"], dtype=np.float64)
+    return [lambda s, a=a, b=b: a + np.asarray(s, dtype=np.float64)[:, None] * (b - a)
+            for a, b in itertools.pairwise(corners)]
