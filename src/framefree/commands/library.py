@@ -43,25 +43,38 @@ def _pose_source(spec: str, timeout: float):
               help="Stop after this many seconds without a pose (live sources).")
 @click.option("--min-rest", type=float, default=None, help="Shortest rest between takes [s] (0.9).")
 @click.option("--margin", type=float, default=None, help="Rest kept before and after each take [s] (0.75).")
+@click.option("--keep-all", is_flag=True,
+              help="Keep every move as a take: also the moves back to the start between performances "
+              "of an open stroke and small settling moves (left out by default).")
 def record_cmd(source: str, gesture: str, library: str, context: str, max_takes: int | None,
-               timeout: float, min_rest: float | None, margin: float | None):
+               timeout: float, min_rest: float | None, margin: float | None, keep_all: bool):
     """Record takes of a gesture: perform it, rest a second, perform it again, ...
 
     \b
     One long recording is cut into takes at the rests (frame-free motion speed), each trimmed to
     its motion with a short rest before and after, and written in the dataset layout.
+    For a gesture that ends away from its start (a swipe, a Z), the move back to the start between
+    performances is recognized and left out, with a line saying so; so are small settling moves.
     Stop with Ctrl-C, --takes N, or by ending the stream.
     """
     from ..library.takes import TakeRecorder, TakeSettings, write_take
 
     changes = {k: v for k, v in (("min_rest", min_rest), ("margin", margin)) if v is not None}
-    recorder = TakeRecorder(TakeSettings(**changes))
+    recorder = TakeRecorder(TakeSettings(**changes), keep_all=keep_all)
     src = _pose_source(source, timeout)
     click.echo(f"recording {gesture!r} from {source}: perform it, rest a second or two, perform it again "
                "... (Ctrl-C to stop)", err=True)
     written: list[Path] = []
+    noted: list = []
 
     def save(found) -> None:
+        while len(recorder.left_out) > len(noted):
+            span, reason = recorder.left_out[len(noted)]
+            noted.append(span)
+            why = ("went back to where the last take began (the way back of an open stroke)"
+                   if reason == "way back" else "is much smaller than the takes (settling the hand)")
+            click.secho(f"the move at {span.onset:.1f}-{span.end:.1f} s {why}: not kept "
+                        "(--keep-all keeps it)", fg="yellow", err=True)
         for span, take in found:
             path = write_take(take, library, gesture, context)
             written.append(path)
@@ -83,7 +96,8 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
         save(recorder.finish()[: None if max_takes is None else max_takes - len(written)])
     folder = Path(library) / gesture / context
     total = len(list(folder.glob("*.csv"))) if folder.is_dir() else 0
-    click.echo(f"{len(written)} takes of {gesture} written to {folder} ({total} there now). "
+    back = f"; {len(noted)} moves between takes left out" if noted else ""
+    click.echo(f"{len(written)} takes of {gesture} written to {folder} ({total} there now{back}). "
                f"Next: framefree check {library}", err=True)
     if not written:
         raise click.ClickException("no take found: perform the gesture between rests of about a second")

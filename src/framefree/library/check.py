@@ -28,6 +28,10 @@ recognizes the take iff ``min_h other_i(h) > same_i``.
   there are one stroke in two directions (*swipe up*, *swipe left*): more than full invariance
   can tell apart (docs/real-people.md).
 
+* **unlike**: whether a gesture's takes fall into two groups far apart (:attr:`CheckSettings.unlike_ratio`),
+  or one take stands apart from the rest: a take that is not the gesture (the move back to the
+  start of an open stroke, a false start).
+
 A margin between gestures below :attr:`CheckSettings.fail_margin`, or more than half of a
 gesture's takes recognized as another gesture, is a *problem*: the vocabulary should not go live.
 A margin below :attr:`CheckSettings.warn_margin`, up to half of the takes recognized as another
@@ -64,6 +68,10 @@ class CheckSettings:
     ----------
     warn_margin, fail_margin : float
         Margins below these are a warning / a problem (ratios, see the module docstring).
+    unlike_ratio : float
+        A gesture's takes split into two groups (or one take and the rest) that lie this many
+        times farther apart than the takes within each group are flagged: some of them are not
+        the gesture (a move back to the start, a false start, another gesture).
     perturbations : int
         Perturbed copies (random frames, grip, speed and size) per take.
     speed_range : (float, float)
@@ -82,6 +90,7 @@ class CheckSettings:
 
     warn_margin: float = 1.5
     fail_margin: float = 1.15
+    unlike_ratio: float = 3.0
     perturbations: int = 4
     speed_range: tuple[float, float] = (0.5, 2.0)
     size_range: tuple[float, float] = (1 / 1.3, 1.3)
@@ -289,8 +298,52 @@ def check_takes(
         )
     report = CheckReport(list(takes.names), list(takes.labels), D, list(predicted),
                          [str(x) for x in per_take], checks)
-    report.findings = _findings(report, s, config) + _direction_findings(takes, report, s)
+    report.findings = (_findings(report, s, config) + _unlike_findings(report, s)
+                       + _direction_findings(takes, report, s))
     return report
+
+
+def _two_groups(D: np.ndarray) -> tuple[np.ndarray, float]:
+    """The best split of takes into two groups (2-medoids, exhaustive) and how far apart the groups
+    lie: the median distance between them (for a lone take, the distance to its nearest sibling)
+    over the larger of the groups' median inner distances."""
+    n = D.shape[0]
+    best, cost = np.zeros(n, dtype=bool), math.inf
+    for a in range(n):
+        for b in range(a + 1, n):
+            group = D[:, b] < D[:, a]
+            c = float(np.minimum(D[:, a], D[:, b]).sum())
+            if c < cost and 0 < group.sum() < n:
+                best, cost = group, c
+    inner = [float(np.median(D[np.ix_(g, g)][~np.eye(g.sum(), dtype=bool)]))
+             for g in (best, ~best) if g.sum() > 1]
+    cross = D[np.ix_(best, ~best)]
+    # a lone take: its nearest sibling (one far take among many is common luck)
+    between = float(cross.min() if min(best.sum(), (~best).sum()) == 1 else np.median(cross))
+    return best, between / max(max(inner, default=0.0), 1e-12)
+
+
+def _unlike_findings(r: CheckReport, s: CheckSettings) -> list[Finding]:
+    """Takes unlike their siblings: a gesture whose takes fall into two groups far apart."""
+    out: list[Finding] = []
+    labels, names = np.array(r.labels), np.array(r.names)
+    D = 0.5 * (r.distances + r.distances.T)
+    for g in r.gestures:
+        idx = np.flatnonzero(labels == g)
+        if idx.size < 3:
+            continue
+        group, ratio = _two_groups(D[np.ix_(idx, idx)])
+        if ratio < s.unlike_ratio:
+            continue
+        small = group if group.sum() <= (~group).sum() else ~group
+        odd = ", ".join(names[idx[small]])
+        rest = ", ".join(names[idx[~small]])
+        removal = " ".join(f"--remove {name}" for name in names[idx[small]])
+        out.append(Finding("warning", g, f"the takes of {g} form two groups {ratio:.1f}x apart: "
+                                         f"{odd} unlike {rest}. If {odd} are not {g} (a move back to "
+                                         f"the start, a false start), remove them (framefree enroll "
+                                         f"{removal}) or re-record"))
+    return out
 
 
 def _direction_findings(takes: TakeSet, r: CheckReport, s: CheckSettings) -> list[Finding]:

@@ -37,6 +37,7 @@ __all__ = [
     "TakeSpan",
     "cut_take",
     "find_takes",
+    "is_way_back",
     "join_recordings",
     "motion_speed",
     "rest_level",
@@ -321,6 +322,45 @@ def join_recordings(trajectories: Sequence[Trajectory], source: str = "joined re
     return Trajectory.from_poses(t, T, source=source)
 
 
+def _travel(take: Trajectory) -> tuple[float, float]:
+    """Distance [m] between the take's first and last position, and its path length [m]."""
+    return (float(np.linalg.norm(take.p[-1] - take.p[0])),
+            float(np.linalg.norm(np.diff(take.p, axis=0), axis=1).sum()))
+
+
+def is_way_back(previous: Trajectory, take: Trajectory, tolerance: float = 0.5,
+                open_ratio: float = 0.15) -> bool:
+    """True if ``take`` is the hand going back to where ``previous`` began.
+
+    When a gesture ends away from where it starts (an *open* stroke: a swipe, a Z, an L), a person
+    recording it several times moves the hand back to the start between performances, and that
+    move is cut as a take of its own. It starts near where ``previous`` ended and ends near where
+    ``previous`` began, each within ``tolerance`` × the distance ``previous`` travelled; and
+    ``previous`` is open: that distance is at least ``open_ratio`` × its path length (a gesture
+    that comes back to its start has no way back). Positions are the tracker's, so the test does
+    not depend on the world frame; a grip offset of a few centimetres is small against the
+    distance an open stroke travels.
+
+    Parameters
+    ----------
+    previous : Trajectory
+        The last take kept (not itself a way back).
+    take : Trajectory
+        The take that followed it.
+    tolerance, open_ratio : float
+
+    Returns
+    -------
+    bool
+    """
+    away, path = _travel(previous)
+    if path <= 0 or away < open_ratio * path:
+        return False
+    starts_at_end = np.linalg.norm(take.p[0] - previous.p[-1]) <= tolerance * away
+    ends_at_start = np.linalg.norm(take.p[-1] - previous.p[0]) <= tolerance * away
+    return bool(starts_at_end and ends_at_start)
+
+
 class TakeRecorder:
     """Cuts takes out of a live pose stream as soon as the rest after them is long enough.
 
@@ -328,17 +368,42 @@ class TakeRecorder:
     ``min_rest`` seconds of rest) and returns the new ones. The rest level is re-derived from
     everything recorded so far, so the first poll should come after a first performance.
 
+    Two kinds of motion between performances are not returned but listed in :attr:`left_out`
+    with the reason: the hand going back to where the previous take began (:func:`is_way_back`:
+    the return between performances of an open stroke), and a move whose screw path is less than
+    ``min_relative_path`` times the largest take's so far (settling the hand, not a performance).
+
     Parameters
     ----------
     settings : TakeSettings, optional
         Defaults to ``TakeSettings()``.
+    keep_all : bool
+        Return every take, leaving nothing out.
+    min_relative_path : float
+        Smallest screw path of a take relative to the largest kept before it.
     """
 
-    def __init__(self, settings: TakeSettings | None = None) -> None:
+    def __init__(self, settings: TakeSettings | None = None, keep_all: bool = False,
+                 min_relative_path: float = 0.25) -> None:
         self.settings = settings or TakeSettings()
+        self.keep_all = keep_all
+        self.min_relative_path = float(min_relative_path)
         self._rows: list[np.ndarray] = []
         self._done_until = -math.inf
+        self._last_kept: Trajectory | None = None
+        self._largest = 0.0
         self.spans: list[TakeSpan] = []
+        #: (span, reason) of every take left out: ``"way back"`` or ``"small"``
+        self.left_out: list[tuple[TakeSpan, str]] = []
+
+    def _reason_to_leave_out(self, span: TakeSpan, take: Trajectory) -> str | None:
+        if self.keep_all:
+            return None
+        if span.path < self.min_relative_path * self._largest:
+            return "small"
+        if self._last_kept is not None and is_way_back(self._last_kept, take):
+            return "way back"
+        return None
 
     def push(self, t: float, p: np.ndarray, q: np.ndarray) -> None:
         """Buffer one pose sample (time [s], position (3,) [m], quaternion (4,) w, x, y, z)."""
@@ -366,8 +431,15 @@ class TakeRecorder:
             if not final and now - sp.end < self.settings.min_rest:
                 break
             self._done_until = sp.end
+            take = cut_take(traj, sp, f"take {len(self.spans) + 1}")
+            reason = self._reason_to_leave_out(sp, take)
+            if reason is not None:
+                self.left_out.append((sp, reason))
+                continue
+            self._last_kept = take
+            self._largest = max(self._largest, sp.path)
             self.spans.append(sp)
-            yield sp, cut_take(traj, sp, f"take {len(self.spans)}")
+            yield sp, take
 
     def poll(self) -> list[tuple[TakeSpan, Trajectory]]:
         """Takes completed since the last call: (span, take) pairs."""

@@ -53,8 +53,9 @@ class RecognizerConfig:
         A speed minimum below this fraction of the stroke's peak splits two strokes (0.5).
     max_units, max_duration, max_pause, pause_ratio : int, float, float, float or None
         Candidate limits: units per candidate, duration [s], longest rest inside [s], longest rest
-        inside relative to the mean duration of the two units around it. ``None``: from the
-        models — one unit more than the most units of any model recording; ``span_factor`` × the
+        inside relative to the mean duration of the candidate's units. ``None``: from the
+        models — twice the most units of any model recording plus one (a hesitation may cut each
+        stroke in two); ``span_factor`` × the
         longest model gesture; ``span_factor`` × the longest rest inside a model gesture;
         ``pause_factor`` × the largest such rest-to-stroke ratio of a model gesture.
     span_factor : float
@@ -105,6 +106,13 @@ class RecognizerConfig:
         say little about how far another person stops from the start. False (40 development
         people: a figure eight added to the HPM seven 97.4 → 99.4 %, but the seven's false
         positives 7 → 13 and F1 0.975 → 0.971; docs/library.md, "An eighth gesture, measured").
+    return_error : float
+        How far [m of screw path, with ``L``] from where it began a person may end a gesture that
+        returns, whatever the demonstrations did: a candidate that ends this close to its start
+        passes the closure limit (0.05 m, a property of people, not of the models: the replica's
+        least consistent people stop up to about 4.5 cm and 13° from the start, 95 %; five precise
+        demonstrations of a figure eight or a small circle otherwise give a limit that other
+        people's smaller or sloppier performances miss). 0 turns it off.
     size : bool
         Accept a candidate only within its gesture's size limits (True).
     size_factor : float
@@ -168,6 +176,7 @@ class RecognizerConfig:
     closure: bool = True
     closure_exponent: float = 0.65
     closure_pooled: bool = False
+    return_error: float = 0.05
     size: bool = True
     size_factor: float = 1.5
     stop_threshold: float | None = None
@@ -195,6 +204,8 @@ class RecognizerConfig:
         for name in ("presmooth", "speed_lag"):
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be at least 1, got {getattr(self, name)}")
+        if not (self.return_error >= 0 and self.return_error < float("inf")):
+            raise ValueError(f"return_error must be a finite number >= 0, got {self.return_error}")
         if not (self.axis_prior >= 0 and self.axis_prior < float("inf")):
             raise ValueError(f"axis_prior must be a finite number >= 0, got {self.axis_prior}")
         if self.window_spacing is not None and not self.window_spacing >= 1:

@@ -134,7 +134,8 @@ def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: Rec
         sizes = np.array([c.size_limits.get(g, (0.0, np.inf)) for g in labels])
     return Spotter(classifier, model_thresholds, c.max_units, c.max_duration, c.max_pause,
                    c.margin, c.confirm, c.max_wait, closures, c.L, sizes,
-                   math.inf if c.pause_ratio is None else c.pause_ratio, c.min_pause)
+                   math.inf if c.pause_ratio is None else c.pause_ratio, c.min_pause,
+                   c.return_error if c.closure else 0.0)
 
 
 class Recognizer(StreamingRecognizer):

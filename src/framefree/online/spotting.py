@@ -152,23 +152,27 @@ def candidate_spans(
     """The candidates ending with the last unit: ``(first unit, number of units)`` pairs.
 
     A candidate has at most ``max_units`` units, lasts at most ``max_duration`` seconds and starts
-    after running index ``after``. A rest between two of its units may last at most
-    ``pause_ratio`` × the mean duration of those two units (a slow person pauses longer, in
-    proportion), but never less than ``min_pause`` nor more than ``max_pause`` seconds.
+    after running index ``after``. Its longest rest may last at most ``pause_ratio`` × the
+    duration of a stroke (a slow person pauses longer, in proportion), but never less than
+    ``min_pause`` nor more than ``max_pause`` seconds. A stroke's duration is the candidate's
+    span without that rest, shared by at most two strokes (out and back): for two units, the mean
+    of the two. A hesitation cuts a stroke into pieces with short rests between them; measured
+    on the pieces, a stroke would look short and leave room for no reversal pause at all.
     """
     out: list[tuple[Unit, int]] = []
     if not units:
         return out
     last = units[-1]
+    longest_rest = 0.0
     for n in range(1, min(max_units, len(units)) + 1):
         first = units[-n]
-        if first.start <= after or last.end_t - first.start_t > max_duration:
+        span = last.end_t - first.start_t
+        if first.start <= after or span > max_duration:
             break
         if n > 1:
-            nxt = units[-n + 1]
-            strokes = 0.5 * (first.end_t - first.start_t + nxt.end_t - nxt.start_t)
-            allowed = min(max_pause, max(min_pause, pause_ratio * strokes))
-            if nxt.start_t - first.end_t > allowed:
+            longest_rest = max(longest_rest, units[-n + 1].start_t - first.end_t)
+            stroke = (span - longest_rest) / min(n, 2)
+            if longest_rest > min(max_pause, max(min_pause, pause_ratio * stroke)):
                 break
         out.append((first, n))
     return out
@@ -206,6 +210,10 @@ class Spotter:
     size_limits : ndarray, shape (M, 2), optional
         Smallest and largest size [m] a candidate may have to be accepted as each model's gesture
         (default: no limit).
+    return_error : float
+        How far [m of screw path] from its start a person may end a gesture that returns, whatever
+        the demonstrations did: a candidate whose last pose is this close to its first passes
+        the closure limit (default 0: the closure limits alone decide).
     """
 
     def __init__(
@@ -223,8 +231,10 @@ class Spotter:
         size_limits: np.ndarray | None = None,
         pause_ratio: float = math.inf,
         min_pause: float = 0.0,
+        return_error: float = 0.0,
     ) -> None:
         self.classifier = classifier
+        self.return_error = float(return_error)
         self.model_thresholds = np.asarray(model_thresholds, dtype=np.float64)
         self.max_units = int(max_units)
         self.max_duration = float(max_duration)
@@ -277,11 +287,19 @@ class Spotter:
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
             ratio = float(d[j] / self.model_thresholds[j])
-            lo, hi = self.size_limits[j]
-            ok = ratio < 1.0 and c <= self.closure_limits[j] and lo <= size <= hi
+            ok = ratio < 1.0 and bool(self.admissible(j, np.array([c]), np.array([size]))[0])
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
                                  ratio, n, c, size, ok))
         return out
+
+    def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+        """Which segments (closures (n,), sizes (n,) [m]) may be model ``j``'s gesture: within its
+        size range, and within its closure limit or ending within :attr:`return_error` of their
+        start (closure × size)."""
+        closures, sizes = np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float)
+        lo, hi = self.size_limits[j]
+        closes = (closures <= self.closure_limits[j]) | (closures * sizes <= self.return_error)
+        return closes & (sizes >= lo) & (sizes <= hi)
 
     def on_unit(self, unit: Unit, buffer: PoseBuffer) -> Candidate | None:
         """A unit ended: update the pending candidate; return a candidate to fire now, if any."""

@@ -160,7 +160,8 @@ def candidate_limits(
     """Candidate limits from the model recordings: ``(max_units, max_duration, max_pause,
     pause_ratio)``.
 
-    One unit more than the most units of any recording; ``span_factor`` × the longest gesture (first
+    Twice the most units of any recording plus one (a hesitation may cut every stroke in two, and
+    one unit more); ``span_factor`` × the longest gesture (first
     unit's start to last unit's end); ``span_factor`` × the longest rest between two units of one
     recording [s]; ``pause_factor`` × the largest ratio of such a rest to the mean duration of the
     two units around it.
@@ -178,7 +179,7 @@ def candidate_limits(
             ratio = max(ratio, gap / (0.5 * (a.end_t - a.start_t + b.end_t - b.start_t)))
     if longest == 0.0:
         raise ValueError("no movement found in the model recordings")
-    return most + 1, span_factor * longest, span_factor * pause, pause_factor * ratio
+    return 2 * most + 1, span_factor * longest, span_factor * pause, pause_factor * ratio
 
 
 def closure_limit(largest: float, exponent: float = 0.5) -> float:
@@ -247,11 +248,7 @@ def calibrate_segment_thresholds(
     """
     labels_arr = np.asarray(labels)
     gestures = list(dict.fromkeys(labels))
-    lim_c = spotter.closure_limits
-    lim_s = spotter.size_limits
-
-    def admissible(j: int, c: np.ndarray, size: np.ndarray) -> np.ndarray:
-        return (c <= lim_c[j]) & (size >= lim_s[j, 0]) & (size <= lim_s[j, 1])
+    admissible = spotter.admissible
 
     first = {g: int(np.flatnonzero(labels_arr == g)[0]) for g in gestures}
     positives: dict[str, list[float]] = {g: [] for g in gestures}
