@@ -3,12 +3,17 @@
 The path a user takes with ``framefree record / enroll``, in Python:
 
 1. the replica's person (who recorded the HPM seven) performs the new gesture ``--takes`` times in
-   one recording, resting between performances; :func:`framefree.library.split_takes` cuts it;
+   one recording, resting between performances and moving the hand back to the start
+   (:func:`framefree.replica.people_streams.take_session`); :class:`framefree.library.TakeRecorder`
+   cuts it as ``framefree record`` does, leaving out the ways back (``--keep-all`` keeps them);
 2. the HPM seven (replica, *original_1*) plus these takes are enrolled once
    (:func:`framefree.library.enroll`), saved and loaded back (no recalibration);
 3. held-out simulated people (:data:`framefree.replica.HELDOUT_PEOPLE`, never used to tune
-   anything) perform sessions that include the new gesture; every stream is run through the
-   loaded recognizer (:func:`framefree.online.evaluation.run_stream`);
+   anything) perform sessions that include the new gesture and shapes nobody enrolled
+   (``--distractors``: by default the development shapes, :data:`framefree.replica.DEV_SHAPES`;
+   ``--distractors heldout`` the shapes kept out of every choice); those are not labelled, so any
+   event during them is a false positive; every stream is run through the loaded recognizer
+   (:func:`framefree.online.evaluation.run_stream`);
 4. per-gesture precision, recall and F1 are printed and written as JSON, with the same for the
    seven-gesture library on the same streams (``--no-baseline`` skips it), to see whether the
    seven keep their F1.
@@ -16,6 +21,8 @@ The path a user takes with ``framefree record / enroll``, in Python:
 Run::
 
     python benchmarks/eighth_gesture.py --gesture figure_eight --people 3 --json out.json
+    python benchmarks/eighth_gesture.py --gesture zigzag --people 2 --streams-per-person 4 \
+        --people-group dev
 """
 
 from __future__ import annotations
@@ -27,34 +34,56 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from framefree.core.trajectory import Trajectory
 from framefree.datasets import GESTURES
-from framefree.library import (
-    TakeSet,
-    enroll,
-    join_recordings,
-    load_recognizer,
-    read_takes,
-    split_takes,
-)
+from framefree.library import TakeRecorder, TakeSet, enroll, load_recognizer, read_takes
 from framefree.online.evaluation import match_events, run_stream
 from framefree.replica import (
+    DEFAULT_PERSON,
     DEV_PEOPLE,
+    DEV_SHAPES,
     FRESH_PEOPLE,
     HELDOUT_PEOPLE,
+    HELDOUT_SHAPES,
     make_person_streams,
     replica_path,
-    synthesize_gesture,
 )
+from framefree.replica.people_streams import take_session
 
 
-def demonstration(gesture: str, takes: int, seed: int) -> Trajectory:
-    """One recording of ``takes`` performances (with the replica person's rests between them)."""
-    rng = np.random.default_rng([seed, 8])
-    return join_recordings([synthesize_gesture(gesture, rng) for _ in range(takes)],
-                           source=f"{gesture} demonstration")
+def recorded_takes(gesture: str, takes: int, seed: int, keep_all: bool = False) -> list[Trajectory]:
+    """The replica's person records ``takes`` performances in one go; the takes ``record`` keeps."""
+    session = take_session(gesture, DEFAULT_PERSON, takes, seed=seed)
+    recorder = TakeRecorder(keep_all=keep_all)
+    for t, p, q in zip(session.traj.t, session.traj.p, session.traj.q, strict=True):
+        recorder.push(t, p, q)
+    return [take for _, take in recorder.finish()]
+
+
+def _distractors(name: str, gesture: str) -> list[str]:
+    if name in ("dev", "heldout"):
+        family = DEV_SHAPES if name == "dev" else HELDOUT_SHAPES
+        return [s for s in family if s != gesture]
+    return [s for s in name.split(",") if s and s != gesture]
+
+
+def _unlabelled(streams: Sequence[Any], shapes: Sequence[str]) -> list[Any]:
+    """The streams with the distractor shapes' segments dropped (events there count as false
+    positives), and their spans kept to say what each false positive was made during."""
+    return [s._replace(segments=[g for g in s.segments if g.label not in shapes]) for s in streams]
+
+
+def _during(streams: Sequence[Any], results: Sequence[Any], shapes: Sequence[str]) -> dict[str, int]:
+    """False positives per distractor shape they fired during (0.5 s tolerance after it)."""
+    out: dict[str, int] = {}
+    for s, r in zip(streams, results, strict=True):
+        spans = [(g.label, g.start_t, g.end_t + 0.5) for g in s.segments if g.label in shapes]
+        for d in r.details:
+            if d["verdict"] != "tp":
+                hit = [lab for lab, a, b in spans if a <= d["time"] <= b]
+                key = f"{d['label']} during {hit[0]}" if hit else f"{d['label']} elsewhere"
+                out[key] = out.get(key, 0) + 1
+    return out
 
 
 def per_gesture(results: Sequence[Any], labels: Sequence[str],
@@ -81,7 +110,7 @@ def per_gesture(results: Sequence[Any], labels: Sequence[str],
 
 
 def evaluate(library: Path, streams: Sequence[Any], labels: Sequence[str],
-             new_gesture: str | None = None) -> dict[str, Any]:
+             new_gesture: str | None = None, distractors: Sequence[str] = ()) -> dict[str, Any]:
     """Run every stream through the library's recognizer; per-gesture and pooled metrics.
 
     With ``new_gesture`` (a library without it), also ``per_gesture_without_new``: the metrics when
@@ -91,7 +120,7 @@ def evaluate(library: Path, streams: Sequence[Any], labels: Sequence[str],
     rec = load_recognizer(library)
     rec.warmup()
     results = []
-    for s in streams:
+    for s in _unlabelled(streams, distractors):
         events, _ = run_stream(rec, s.traj)
         results.append(match_events(events, s.segments, s.traj.duration))
     pooled = per_gesture(results, labels)
@@ -104,6 +133,7 @@ def evaluate(library: Path, streams: Sequence[Any], labels: Sequence[str],
     fp = sum(r.fp for r in results)
     fn = sum(v["fn"] for v in pooled.values())
     p, r = tp / max(tp + fp, 1), tp / max(tp + fn, 1)
+    extra["false_positives_during"] = _during(streams, results, distractors)
     return {"per_gesture": pooled, **extra,
             "total": {"tp": tp, "fp": fp, "fn": fn, "precision": p, "recall": r,
                       "f1": 2 * p * r / (p + r) if p + r else 0.0}}
@@ -113,6 +143,11 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--gesture", default="figure_eight", help="the new gesture (figure_eight, push_twist)")
     ap.add_argument("--takes", type=int, default=5, help="demonstrations of the new gesture")
+    ap.add_argument("--keep-all", action="store_true",
+                    help="enroll every move the recorder cut, the ways back included")
+    ap.add_argument("--distractors", default="dev",
+                    help="shapes performed but not enrolled: dev (DEV_SHAPES), heldout (HELDOUT_SHAPES), "
+                    "a comma-separated list, or '' for none")
     ap.add_argument("--demo-seed", type=int, default=0, help="seed of the demonstration recording")
     ap.add_argument("--people", type=int, default=3, help="number of held-out people")
     ap.add_argument("--first-person", type=int, default=0, help="index of the first one in the group")
@@ -128,9 +163,10 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
 
     work = Path(args.work)
     t0 = time.perf_counter()
-    takes = split_takes(demonstration(args.gesture, args.takes, args.demo_seed))
+    takes = recorded_takes(args.gesture, args.takes, args.demo_seed, args.keep_all)
     if len(takes) != args.takes:
-        print(f"warning: the demonstration was cut into {len(takes)} takes, not {args.takes}")
+        print(f"note: the recording was cut into {len(takes)} takes for {args.takes} performances")
+    shapes = _distractors(args.distractors, args.gesture)
     hpm = read_takes(replica_path(), "original_1")
     new = TakeSet(tuple(takes), (args.gesture,) * len(takes),
                   tuple(f"{args.gesture}/own/trial_{k + 1}" for k in range(len(takes))))
@@ -144,17 +180,19 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     people = list(group)[args.first_person: args.first_person + args.people]
     labels = [*GESTURES, args.gesture]
     streams = make_person_streams(people, args.streams_per_person, n_gestures=args.n_gestures,
-                                  gestures=labels, progress=True)
+                                  gestures=[*labels, *shapes], progress=True)
     out: dict[str, Any] = {
         "gesture": args.gesture, "takes": len(takes), "people": people,
         "people_group": args.people_group,
         "streams": [(s.person_seed, s.stream_seed) for s in streams],
         "enroll_s": t_enroll, "thresholds": lib8.gesture_thresholds,
-        "with_new_gesture": evaluate(path8, streams, [*labels, "stop"]),
+        "distractors": shapes,
+        "with_new_gesture": evaluate(path8, streams, [*labels, "stop"], distractors=shapes),
     }
     if not args.no_baseline:
         path7 = enroll(hpm, built_from=[str(replica_path())], **settings).save(work / "hpm.npz")
-        out["seven_only"] = evaluate(path7, streams, [*labels, "stop"], new_gesture=args.gesture)
+        out["seven_only"] = evaluate(path7, streams, [*labels, "stop"], new_gesture=args.gesture,
+                                     distractors=shapes)
     _print(out)
     if args.json:
         Path(args.json).parent.mkdir(parents=True, exist_ok=True)
@@ -178,6 +216,7 @@ def _print(out: dict[str, Any]) -> None:
     tot = out["with_new_gesture"]["total"]
     base = f"{100 * out['seven_only']['total']['f1']:15.1f}%" if both else ""
     print(f"{'all':<16}{100 * tot['f1']:15.1f}%{base}")
+    print("false positives:", out["with_new_gesture"]["false_positives_during"])
 
 
 if __name__ == "__main__":

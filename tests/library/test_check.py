@@ -182,3 +182,25 @@ def test_one_stroke_in_two_directions_needs_the_vertical(hpm_takes: TakeSet) -> 
 
 def test_hpm_seven_need_no_vertical(hpm_report: CheckReport) -> None:
     assert not [f for f in hpm_report.findings if "direction" in f.message]
+
+
+def test_takes_that_are_the_way_back_are_flagged(hpm_takes: TakeSet, hpm_report: CheckReport) -> None:
+    """A zigzag recorded with its ways back kept (``record --keep-all``): its takes fall into two
+    groups, and check names the ways back; the HPM seven's takes form one group each."""
+    from framefree.library import TakeRecorder
+    from framefree.replica import person
+    from framefree.replica.people_streams import take_session
+
+    session = take_session("zigzag", person(3), n_takes=4, seed=3)
+    rec = TakeRecorder(keep_all=True)
+    for t, p, q in zip(session.traj.t, session.traj.p, session.traj.q, strict=True):
+        rec.push(t, p, q)
+    takes = [tk for _, tk in rec.finish()]
+    assert len(takes) == 7
+    names = tuple(f"zigzag/own/trial_{k + 1}" for k in range(len(takes)))
+    report = check_takes(hpm_takes + TakeSet(tuple(takes), ("zigzag",) * len(takes), names))
+    found = [f.message for f in report.findings if f.gesture == "zigzag" and "two groups" in f.message]
+    assert len(found) == 1
+    ways_back = ", ".join(names[k] for k in (1, 3, 5))
+    assert f"{ways_back} unlike" in found[0] and "--remove zigzag/own/trial_2" in found[0]
+    assert not [f for f in hpm_report.findings if "two groups" in f.message]

@@ -221,3 +221,17 @@ def test_classify_stops_on_millimetres(tmp_path) -> None:
     assert res.exit_code == 2 and "--units mm" in res.output and "--force" in res.output
     res = CliRunner().invoke(cli, ["classify", "-m", str(root), str(mm), "--units", "mm"])
     assert res.exit_code == 0 and "go_up" in res.output
+
+
+def test_record_leaves_out_the_way_back_of_an_open_stroke(tmp_path) -> None:
+    from framefree.replica import person
+    from framefree.replica.people_streams import take_session
+
+    session = take_session("letter_v", person(4), n_takes=3, seed=4)
+    session.traj.to_csv(tmp_path / "v.csv")
+    res = CliRunner().invoke(cli, ["record", "--source", str(tmp_path / "v.csv"), "--gesture", "v",
+                                   "--library", str(tmp_path / "lib")])
+    assert res.exit_code == 0, res.output
+    assert res.output.count("went back to where the last take began") == 2
+    assert "3 takes of v written" in res.output and "2 moves between takes left out" in res.output
+    assert len(list((tmp_path / "lib" / "v" / "own").glob("*.csv"))) == 3

@@ -174,3 +174,26 @@ def test_join_recordings_is_continuous_and_keeps_each_shape() -> None:
                                np.linalg.norm(b.p[1:] - b.p[0], axis=1), rtol=1e-9, atol=1e-12)
     with pytest.raises(ValueError):
         join_recordings([])
+
+
+@pytest.mark.parametrize(("shape", "seed"), [("zigzag", 0), ("letter_v", 1), ("go_left", 2), ("triangle", 3)])
+def test_recorder_leaves_out_the_ways_back_between_takes(shape: str, seed: int) -> None:
+    """Five performances in one recording give five takes: the moves back to the start of an open
+    stroke (and small settling moves) are listed as left out, not written."""
+    from framefree.replica import person
+    from framefree.replica.people_streams import take_session
+
+    session = take_session(shape, person(seed), n_takes=5, seed=seed)
+    kept = TakeRecorder()
+    every = TakeRecorder(keep_all=True)
+    for t, p, q in zip(session.traj.t, session.traj.p, session.traj.q, strict=True):
+        kept.push(t, p, q)
+        every.push(t, p, q)
+    takes = kept.finish()
+    assert len(takes) == 5
+    assert len(every.finish()) == 5 + len(kept.left_out)
+    if shape in ("zigzag", "letter_v"):
+        assert [why for _, why in kept.left_out].count("way back") == 4
+    # each kept take covers one labelled performance
+    for (span, _), seg in zip(takes, session.segments, strict=True):
+        assert span.onset < seg.end_t and span.end > seg.start_t

@@ -197,3 +197,57 @@ def test_a_candidates_closure_is_measured_on_the_whole_candidate(recognizer, hel
     run_stream(recognizer, heldout_stream.traj)
     assert len(checked) > 20
     np.testing.assert_allclose(*np.array(checked).T, rtol=0, atol=1e-12)
+
+
+def test_a_hesitant_person_keeps_the_gestures_whole(recognizer):
+    """A person who nearly stops in mid-stroke: the stroke falls into pieces, and the whole
+    gesture is still one candidate (the gestures are the models' out-and-back seven)."""
+    from dataclasses import replace
+
+    from framefree.replica import make_stream
+
+    who = replace(person(HELDOUT_PEOPLE[3]), hesitation=1.0, hesitation_pause=(0.25, 0.4))
+    traj, segments = make_stream(11, person=who, n_gestures=10, n_stops=0)
+    events, _ = run_stream(recognizer, traj)
+    assert recognizer.config.max_units == 5  # two units per model gesture, each may be cut once
+    assert match_events(events, segments, traj.duration).f1 >= 0.9
+
+
+def test_pause_rule_of_two_units_is_the_mean_of_the_two_strokes():
+    """The reversal pause of two units is judged against the mean of the two (as always); with
+    pieces of hesitant strokes, against the candidate's span without the rest, over two strokes."""
+    from framefree.online.segmentation import Unit
+
+    def unit(a: float, b: float) -> Unit:
+        return Unit(int(a * 50), int(b * 50), a, b, 1.0, True)
+
+    two = [unit(0.0, 1.0), unit(1.5, 2.5)]  # strokes of 1 s, rest 0.5 s
+    spans = spotting.candidate_spans(two, 5, 10.0, 5.0, pause_ratio=0.6, min_pause=0.0)
+    assert [n for _, n in spans] == [1, 2]
+    assert [n for _, n in spotting.candidate_spans(two, 5, 10.0, 5.0, pause_ratio=0.4)] == [1]
+    # the same gesture with each stroke cut in two by a 0.1 s near-stop
+    pieces = [unit(0.0, 0.45), unit(0.55, 1.0), unit(1.5, 1.95), unit(2.05, 2.5)]
+    spans = spotting.candidate_spans(pieces, 5, 10.0, 5.0, pause_ratio=0.6, min_pause=0.0)
+    assert max(n for _, n in spans) == 4
+
+
+def test_open_and_returning_limits(recognizer):
+    """A candidate must not close more than an open stroke's demonstrations (opening limit) and may
+    pass the closure limit by ending within a person's return error of its start."""
+    from framefree.online.thresholds import opening_limit
+
+    assert opening_limit(0.3, 0.65) == pytest.approx(0.3 ** (1 / 0.65))
+    assert opening_limit(0.01, 0.65) < 0.001
+    sp = recognizer.spotter
+    j = 0
+    lo, hi = sp.size_limits[j]
+    size = np.array([(lo + hi) / 2] * 3)
+    limit = sp.closure_limits[j]
+    closures = np.array([limit * 0.5, limit * 1.5, sp.return_error / size[0] * 0.9])
+    ok = sp.admissible(j, closures, size)
+    assert ok[0] and ok[2]
+    assert ok[1] == (limit * 1.5 * size[0] <= sp.return_error)
+    n = len(sp.model_thresholds)
+    sp_open = spotting.Spotter(sp.classifier, sp.model_thresholds, closure_limits=np.ones(n),
+                               opening_limits=np.full(n, 0.2))
+    assert list(sp_open.admissible(j, np.array([0.05, 0.5]), np.ones(2))) == [False, True]

@@ -138,6 +138,10 @@ class RecognizerConfig:
     closure_limits : dict of str to float or None
         Largest closure accepted per gesture; ``None``: from the models
         (:func:`~framefree.online.thresholds.closure_limit`).
+    opening_limits : dict of str to float or None
+        Smallest closure accepted per gesture (an open stroke must not come back to its start);
+        ``None``: from the models (:func:`~framefree.online.thresholds.opening_limit`); a library
+        saved before this field existed has none.
     size_limits : dict of str to (float, float) or None
         Smallest and largest size [m of screw path] accepted per gesture; ``None``: from the models
         (:func:`~framefree.online.thresholds.size_limits`).
@@ -192,6 +196,7 @@ class RecognizerConfig:
     rest_speed: float | None = None
     move_speed: float | None = None
     closure_limits: dict[str, float] | None = None
+    opening_limits: dict[str, float] | None = None
     size_limits: dict[str, tuple[float, float]] | None = None
     max_bridge: float = 0.5
 
@@ -222,9 +227,9 @@ class RecognizerConfig:
             raise ValueError(f"max_units must be at least 1, got {self.max_units}")
         if self.confirm < 0 or self.margin < 0:
             raise ValueError("confirm and margin must not be negative")
-        if self.closure_limits is not None:
-            object.__setattr__(self, "closure_limits",
-                               {str(g): float(v) for g, v in self.closure_limits.items()})
+        for name in ("closure_limits", "opening_limits"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, {str(g): float(v) for g, v in getattr(self, name).items()})
         if self.size_limits is not None:
             object.__setattr__(self, "size_limits", {str(g): (float(v[0]), float(v[1]))
                                                      for g, v in self.size_limits.items()})

@@ -47,6 +47,7 @@ from .thresholds import (
     candidate_limits,
     closure_limit,
     gesture_geometry,
+    opening_limit,
     pooled_closures,
     size_limits,
 )
@@ -99,13 +100,17 @@ def resolve_config(
         c = c.replace(max_units=c.max_units or units, max_duration=c.max_duration or duration,
                       max_pause=c.max_pause or pause,
                       pause_ratio=ratio if c.pause_ratio is None else c.pause_ratio)
-    if c.closure_limits is None or c.size_limits is None:
+    if c.closure_limits is None or c.size_limits is None or c.opening_limits is None:
         closed, sizes = gesture_geometry(trajectories, labels, classifier, levels, c.L, c.margin,
                                          c.dt)
         if c.closure_limits is None:
-            largest = pooled_closures(closed) if c.closure_pooled else closed
+            largest = {g: hi for g, (_, hi) in closed.items()}
+            largest = pooled_closures(largest) if c.closure_pooled else largest
             c = c.replace(closure_limits={g: closure_limit(largest.get(g, 1.0), c.closure_exponent)
                                           for g in gestures})
+        if c.opening_limits is None:
+            c = c.replace(opening_limits={g: opening_limit(closed.get(g, (0.0, 0.0))[0],
+                                                           c.closure_exponent) for g in gestures})
         if c.size_limits is None:
             c = c.replace(size_limits={g: size_limits(*sizes.get(g, (0.0, np.inf)), c.size_factor)
                                        for g in gestures})
@@ -127,15 +132,17 @@ def resolve_config(
 
 def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: RecognizerConfig,
              labels: list[str]) -> Spotter:
-    closures = sizes = None
+    closures = openings = sizes = None
     if c.closure and c.closure_limits is not None:
         closures = np.array([c.closure_limits.get(g, 1.0) for g in labels])
+    if c.closure and c.opening_limits is not None:
+        openings = np.array([c.opening_limits.get(g, 0.0) for g in labels])
     if c.size and c.size_limits is not None:
         sizes = np.array([c.size_limits.get(g, (0.0, np.inf)) for g in labels])
     return Spotter(classifier, model_thresholds, c.max_units, c.max_duration, c.max_pause,
                    c.margin, c.confirm, c.max_wait, closures, c.L, sizes,
                    math.inf if c.pause_ratio is None else c.pause_ratio, c.min_pause,
-                   c.return_error if c.closure else 0.0)
+                   c.return_error if c.closure else 0.0, openings)
 
 
 class Recognizer(StreamingRecognizer):

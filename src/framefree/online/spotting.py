@@ -172,8 +172,10 @@ def candidate_spans(
         if n > 1:
             longest_rest = max(longest_rest, units[-n + 1].start_t - first.end_t)
             stroke = (span - longest_rest) / min(n, 2)
-            if longest_rest > min(max_pause, max(min_pause, pause_ratio * stroke)):
+            if longest_rest > max_pause:
                 break
+            if longest_rest > max(min_pause, pause_ratio * stroke):
+                continue  # a longer candidate, with more of the strokes, may allow this rest
         out.append((first, n))
     return out
 
@@ -214,6 +216,9 @@ class Spotter:
         How far [m of screw path] from its start a person may end a gesture that returns, whatever
         the demonstrations did: a candidate whose last pose is this close to its first passes
         the closure limit (default 0: the closure limits alone decide).
+    opening_limits : ndarray, shape (M,), optional
+        Smallest closure a candidate may have to be accepted as each model's gesture: an open
+        stroke's candidate must not come back to its start (default: no limit).
     """
 
     def __init__(
@@ -232,9 +237,12 @@ class Spotter:
         pause_ratio: float = math.inf,
         min_pause: float = 0.0,
         return_error: float = 0.0,
+        opening_limits: np.ndarray | None = None,
     ) -> None:
         self.classifier = classifier
         self.return_error = float(return_error)
+        self.opening_limits = (np.zeros(len(classifier.models)) if opening_limits is None
+                               else np.asarray(opening_limits, dtype=np.float64))
         self.model_thresholds = np.asarray(model_thresholds, dtype=np.float64)
         self.max_units = int(max_units)
         self.max_duration = float(max_duration)
@@ -294,12 +302,13 @@ class Spotter:
 
     def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray) -> np.ndarray:
         """Which segments (closures (n,), sizes (n,) [m]) may be model ``j``'s gesture: within its
-        size range, and within its closure limit or ending within :attr:`return_error` of their
-        start (closure × size)."""
+        size range, no more closed than its opening limit, and within its closure limit or ending
+        within :attr:`return_error` of their start (closure × size)."""
         closures, sizes = np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float)
         lo, hi = self.size_limits[j]
         closes = (closures <= self.closure_limits[j]) | (closures * sizes <= self.return_error)
-        return closes & (sizes >= lo) & (sizes <= hi)
+        opens = closures >= self.opening_limits[j]
+        return closes & opens & (sizes >= lo) & (sizes <= hi)
 
     def on_unit(self, unit: Unit, buffer: PoseBuffer) -> Candidate | None:
         """A unit ended: update the pending candidate; return a candidate to fire now, if any."""

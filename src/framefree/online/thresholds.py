@@ -45,6 +45,7 @@ __all__ = [
     "candidate_limits",
     "closure_limit",
     "gesture_geometry",
+    "opening_limit",
     "pooled_closures",
     "segment_distances",
     "size_limits",
@@ -128,18 +129,20 @@ def segment_distances(
 def gesture_geometry(
     trajectories: Sequence[Trajectory], labels: Sequence[str], classifier: SegmentClassifier,
     levels: SpeedLevels, L: float, margin: int = 5, dt: float = 0.02,
-) -> tuple[dict[str, float], dict[str, tuple[float, float]]]:
-    """Largest closure and size range [m] of each gesture's recordings, measured on the whole
+) -> tuple[dict[str, tuple[float, float]], dict[str, tuple[float, float]]]:
+    """Closure range and size range [m] of each gesture's recordings, measured on the whole
     gesture (first unit's start to last unit's end; the size with ``margin`` samples around it, as
-    a live candidate is cut)."""
-    closures: dict[str, float] = {}
+    a live candidate is cut): ``({g: (smallest, largest closure)}, {g: (smallest, largest size)})``."""
+    closures: dict[str, tuple[float, float]] = {}
     sizes: dict[str, tuple[float, float]] = {}
     for tr, g in zip(trajectories, labels, strict=True):
         seg, units = _units(tr, levels, L, dt)
         if not units:
             continue
         _, P = seg.buffer.slice(units[0].start, units[-1].end)
-        closures[g] = max(closures.get(g, 0.0), closure(P, L))
+        c = closure(P, L)
+        lo, hi = closures.get(g, (np.inf, 0.0))
+        closures[g] = (min(lo, c), max(hi, c))
         t, P = seg.buffer.slice(units[0].start - margin, units[-1].end + margin)
         _, size = classifier.distances(t, P)
         lo, hi = sizes.get(g, (np.inf, 0.0))
@@ -186,6 +189,14 @@ def closure_limit(largest: float, exponent: float = 0.5) -> float:
     """Closure limit of a gesture whose demonstrations close up to ``largest``: ``largest **
     exponent`` — with 0.5 the geometric midpoint between them and a one-way motion (closure 1)."""
     return float(max(largest, 1e-6) ** exponent)
+
+
+def opening_limit(smallest: float, exponent: float = 0.5) -> float:
+    """Smallest closure accepted for a gesture whose demonstrations close at least ``smallest``:
+    ``smallest ** (1 / exponent)``, the mirror of :func:`closure_limit` — on a log scale as far
+    below the demonstrations as the closure limit lies above them. Negligible for a gesture that
+    returns; for an open stroke (a Z, an L) it keeps out shapes that come back to their start."""
+    return float(min(max(smallest, 0.0), 1.0) ** (1.0 / exponent))
 
 
 def pooled_closures(largest: dict[str, float]) -> dict[str, float]:

@@ -1,0 +1,97 @@
+"""Hesitant people, performer styles and shapes drawn in the air: they move as documented."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from framefree.replica import DEV_SHAPES, DRAWN_SHAPES, HELDOUT_SHAPES, person, plan_gesture
+from framefree.replica.motion import Motion, hesitant_stroke, stroke, translation_path
+from framefree.replica.people import POPULATION, STYLES, styled
+from framefree.replica.people_streams import take_session
+
+LINE = translation_path(np.eye(4), lambda s: s[:, None] * np.array([0.3, 0.0, 0.0]))
+
+
+def _speed(piece, dt: float = 0.005) -> tuple[np.ndarray, np.ndarray]:
+    t = np.arange(0.0, piece.duration, dt)
+    p = piece.fn(t)[:, :3, 3]
+    return t[:-1], np.linalg.norm(np.diff(p, axis=0), axis=1) / dt
+
+
+@settings(max_examples=30, deadline=None)
+@given(at=st.floats(0.3, 0.7), pause=st.floats(0.1, 0.6), residual=st.floats(0.03, 0.2))
+def test_a_hesitation_nearly_stops_the_hand_and_keeps_the_path(at, pause, residual) -> None:
+    plain, hesitant = stroke(LINE, 1.0), hesitant_stroke(LINE, 1.0, 1.0, at, pause, residual)
+    assert hesitant.duration > plain.duration
+    np.testing.assert_allclose(hesitant.end, plain.end, atol=1e-9)
+    np.testing.assert_allclose(hesitant.start, plain.start, atol=1e-12)
+    t, v = _speed(hesitant)
+    # in the middle of the slow phase the hand moves at about `residual` of the plain speed there
+    mid = at * 1.0 + 0.12 + pause / 2
+    _, v_plain = _speed(plain)
+    assert v[np.searchsorted(t, mid)] <= 1.05 * residual * v_plain.max()
+    assert v[np.searchsorted(t, mid)] > 0  # nearly stops: it does not stand still
+
+
+def test_people_who_never_hesitate_perform_as_before_hesitations_existed() -> None:
+    p = person(0)
+    calm = replace(p, hesitation=0.0, hesitation_pause=(0.0, 0.0))
+    a = plan_gesture("go_left", np.random.default_rng(3), person=calm)
+    b = plan_gesture("go_left", np.random.default_rng(3), person=replace(calm, seed=None))
+    assert [s.duration for s in a.strokes] == [s.duration for s in b.strokes]
+
+
+def test_some_people_hesitate_and_their_strokes_last_longer() -> None:
+    hesitant = [person(s) for s in range(40) if person(s).hesitation > 0]
+    share = len(hesitant) / 40
+    assert 0.15 < share < 0.6  # POPULATION["hesitant"] = 0.35
+    lo, hi = POPULATION["hesitation"]
+    assert all(lo <= p.hesitation <= hi for p in hesitant)
+    always = replace(hesitant[0], hesitation=1.0)
+    never = replace(hesitant[0], hesitation=0.0)
+    slow = plan_gesture("go_down", np.random.default_rng(1), person=always).duration
+    assert slow > plan_gesture("go_down", np.random.default_rng(1), person=never).duration
+
+
+def test_styles_keep_the_body_and_change_the_movement() -> None:
+    p = person(5)
+    for name, style in STYLES.items():
+        q = styled(p, name)
+        assert (q.stature, q.grip_rotation, q.pause) == (p.stature, p.grip_rotation, p.pause)
+        assert all(getattr(q, k) == v for k, v in style.items())
+    with pytest.raises(ValueError, match="unknown style"):
+        styled(p, "nervous")
+
+
+def _closure(name: str, seed: int) -> float:
+    plan = plan_gesture(name, np.random.default_rng(seed), person=person(seed))
+    m = Motion(plan.strokes)
+    P = m.at(np.arange(0.0, m.duration, 0.01))[:, :3, 3]
+    return float(np.linalg.norm(P[-1] - P[0]) / np.linalg.norm(np.diff(P, axis=0), axis=1).sum())
+
+
+@pytest.mark.parametrize("name", list(DRAWN_SHAPES))
+def test_drawn_shapes_close_or_stay_open_as_documented(name: str) -> None:
+    closes = name in ("triangle", "square")
+    for seed in range(3):
+        c = _closure(name, seed)
+        assert (c < 0.1) if closes else (c > 0.15), (name, seed, c)
+
+
+def test_shape_families_are_disjoint() -> None:
+    assert not set(DEV_SHAPES) & set(HELDOUT_SHAPES)
+    assert set(DEV_SHAPES) | set(HELDOUT_SHAPES) == set(DRAWN_SHAPES)
+
+
+def test_a_take_session_has_every_performance_and_the_ways_back() -> None:
+    session = take_session("zigzag", person(2), n_takes=4, seed=1)
+    assert [s.label for s in session.segments] == ["zigzag"] * 4
+    kinds = [a.kind for a in session.activities]
+    assert kinds.count("way back") == 3 and kinds.count("gesture") == 4
+    with pytest.raises(ValueError, match="unknown gesture"):
+        take_session("moonwalk", person(2))
