@@ -15,6 +15,7 @@ from framefree.library import (
     GestureLibrary,
     LibraryError,
     TakeSet,
+    check_takes,
     enroll,
     load_library,
     load_recognizer,
@@ -143,10 +144,17 @@ def test_remove_gesture_and_take(hpm_takes: TakeSet) -> None:
         hpm_takes.without(["wave"])
 
 
-def test_enroll_needs_two_takes_per_gesture(hpm_takes: TakeSet) -> None:
+def test_one_take_is_enrolled_on_larger_and_smaller_copies(hpm_takes: TakeSet) -> None:
+    """A gesture of one take has no leave-one-out distance; copies of it 1.3 times smaller and
+    larger stand in for other performances, and its threshold is finite."""
     one = hpm_takes.without([f"go_up/trial_{k}" for k in range(2, 6)])
-    with pytest.raises(LibraryError, match="go_up"):
-        enroll(one)
+    lib = enroll(one)
+    assert 0 < lib.gesture_thresholds["go_up"] < np.inf
+    assert set(lib.calibration["positives_max"]) == set(one.gestures)
+    rec = Recognizer.from_trajectories(list(one.takes), list(one.labels))
+    assert len(rec.calibration.positives["go_up"]) == 2  # the smaller and the larger copy
+    report = check_takes(one)
+    assert any("go_up has only 1 takes" in f.message for f in report.findings)
 
 
 def test_read_takes_prefers_own_and_explains_layout_errors(tmp_path: Path, hpm_takes: TakeSet) -> None:

@@ -219,6 +219,12 @@ def _quantile(values: list[float], q: float) -> float:
     return float(np.quantile(values, q, method=method))
 
 
+#: Size factor of the copies that stand in for other performances of a gesture demonstrated only
+#: once: its hand path scaled by 1/1.3 and 1.3 (the wrist turning as far), the spread of gesture
+#: size between people (docs/dataset.md, *People*) that ``framefree check`` also probes.
+ONE_TAKE_SIZE = 1.3
+
+
 def calibrate_segment_thresholds(
     trajectories: Sequence[Trajectory],
     labels: Sequence[str],
@@ -233,6 +239,10 @@ def calibrate_segment_thresholds(
     rivals: bool = True,
 ) -> SegmentThresholds:
     """τ_g for every gesture (see the module docstring).
+
+    A gesture with a single demonstration has no leave-one-out distance: its ``P_g`` is the
+    larger distance of two copies of it, its hand path scaled by ``1/ONE_TAKE_SIZE`` and
+    ``ONE_TAKE_SIZE``, to the demonstration itself.
 
     Parameters
     ----------
@@ -266,10 +276,16 @@ def calibrate_segment_thresholds(
     for r, tr in enumerate(trajectories):
         same = labels_arr == labels[r]
         same[r] = False
-        D, c, size = segment_distances(tr, classifier, levels, spotter, L)
-        ok = admissible(r, c, size)
-        score = float(D[ok][:, same].min()) if ok.any() and same.any() else np.inf
-        positives[labels[r]].append(score)
+        if not same.any():  # a single demonstration: another person's, larger and smaller
+            same[r] = True
+            copies = [tr.path_scaled(k) for k in (1 / ONE_TAKE_SIZE, ONE_TAKE_SIZE)]
+        else:
+            copies = [tr]
+        for copy in copies:
+            D, c, size = segment_distances(copy, classifier, levels, spotter, L)
+            ok = admissible(r, c, size)
+            score = float(D[ok][:, same].min()) if ok.any() else np.inf
+            positives[labels[r]].append(score)
     episodes: dict[str, list[float]] = {g: [] for g in gestures}
     for _, neg in non_gesture_motions(trajectories, labels, L, kinds=("rest", "moves"), seed=seed):
         D, c, size = segment_distances(neg, classifier, levels, spotter, L)
