@@ -186,7 +186,7 @@ def test_deterministic_from_seed() -> None:
 
 def test_unknown_gesture() -> None:
     with pytest.raises(ValueError, match="unknown gesture"):
-        synthesize_gesture("wave", np.random.default_rng(0))
+        synthesize_gesture("moonwalk", np.random.default_rng(0))
 
 
 def test_minimum_jerk_profile() -> None:
