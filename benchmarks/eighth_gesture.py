@@ -68,8 +68,8 @@ def _distractors(name: str, gesture: str) -> list[str]:
 
 
 def _unlabelled(streams: Sequence[Any], shapes: Sequence[str]) -> list[Any]:
-    """The streams with the distractor shapes' segments dropped (events there count as false
-    positives), and their spans kept to say what each false positive was made during."""
+    """The streams with the distractor shapes' segments dropped: events during them count as
+    false positives (:func:`_during` says which)."""
     return [s._replace(segments=[g for g in s.segments if g.label not in shapes]) for s in streams]
 
 

@@ -7,41 +7,24 @@ temporary folder; every ZeroMQ command stops by itself (end message or timeout).
 from __future__ import annotations
 
 import json
-import socket
 import threading
 import time
 from pathlib import Path
 
-import numpy as np
 import pytest
 from click.testing import CliRunner
 
+from cli_helpers import free_port, tiny_dataset
 from framefree.cli import cli
-from framefree.replica import make_stream, save_stream, synthesize_gesture
 
 GESTURES = ("go_left", "open_gripper")
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 @pytest.fixture(scope="module")
 def tiny(tmp_path_factory) -> tuple[Path, Path]:
     """``(dataset folder, stream CSV)``: 3 recordings per gesture, a stream of both gestures."""
     root = tmp_path_factory.mktemp("tiny")
-    rng = np.random.default_rng(7)
-    for g in GESTURES:
-        d = root / g / "original_1"
-        d.mkdir(parents=True)
-        for k in range(3):
-            synthesize_gesture(g, rng).to_csv(d / f"trial_{k + 1}.csv")
-    traj, segs = make_stream(101, sequence=list(GESTURES))
-    (root / "streams").mkdir()
-    stream = save_stream(root / "streams" / "stream.csv", traj, segs)
-    return root, stream
+    return root, tiny_dataset(root, GESTURES, GESTURES)
 
 
 def test_evaluate_stream(tiny, tmp_path):
@@ -70,7 +53,7 @@ def test_live_from_csv_file(tiny):
 def test_stream_and_live_over_zmq(tiny):
     """``stream`` publishes on 127.0.0.1 while ``live`` subscribes; both end by themselves."""
     root, stream = tiny
-    port = _free_port()
+    port = free_port()
     out: dict[str, object] = {}
 
     def publish():

@@ -39,11 +39,19 @@ def test_a_hesitation_nearly_stops_the_hand_and_keeps_the_path(at, pause, residu
 
 
 def test_people_who_never_hesitate_perform_as_before_hesitations_existed() -> None:
-    p = person(0)
-    calm = replace(p, hesitation=0.0, hesitation_pause=(0.0, 0.0))
-    a = plan_gesture("go_left", np.random.default_rng(3), person=calm)
-    b = plan_gesture("go_left", np.random.default_rng(3), person=replace(calm, seed=None))
-    assert [s.duration for s in a.strokes] == [s.duration for s in b.strokes]
+    """Golden values computed with the replica before hesitations were modelled (commit 10d8cec):
+    a person who never hesitates draws the same performance, and a hesitant person's other
+    fields are those drawn then."""
+    calm = person(1)
+    assert calm.hesitation == 0.0
+    plan = plan_gesture("go_left", np.random.default_rng(3), person=calm)
+    assert [s.duration for s in plan.strokes] == pytest.approx(
+        [0.4952467167821591, 0.054876538650618076, 0.5771172488396916], rel=1e-12)
+    assert plan.strokes[-1].end[0, 3] == pytest.approx(0.26042032234102996, rel=1e-12)
+    hesitant = person(3)
+    assert hesitant.hesitation > 0
+    assert (hesitant.size, hesitant.tempo, hesitant.variability) == pytest.approx(
+        (1.2274027520114408, 1.3888243845033388, 0.8539521314299866), rel=1e-12)
 
 
 def test_some_people_hesitate_and_their_strokes_last_longer() -> None:

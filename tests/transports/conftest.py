@@ -2,14 +2,11 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
 from pathlib import Path
 
-import numpy as np
 import pytest
 
-from framefree import Trajectory
-from framefree.replica import make_stream, save_stream, synthesize_gesture
+from cli_helpers import tiny_dataset
 
 GESTURES = ("go_left", "open_gripper")
 
@@ -25,18 +22,7 @@ def tiny(tmp_path_factory) -> tuple[Path, Path]:
     """``(dataset folder, stream CSV)``: 3 recordings per gesture and a replica session that
     performs both gestures (with labels beside it)."""
     root = tmp_path_factory.mktemp("tiny")
-    rng = np.random.default_rng(7)
-    for g in GESTURES:
-        d = root / g / "original_1"
-        d.mkdir(parents=True)
-        for k in range(3):
-            synthesize_gesture(g, rng).to_csv(d / f"trial_{k + 1}.csv")
-    traj, segs = make_stream(101, sequence=[*GESTURES, *GESTURES])
-    traj = Trajectory(np.rint((traj.t + T0) * 1e9) / 1e9, traj.p, traj.q, source="replica")
-    segs = [replace(s, start_t=s.start_t + T0, end_t=s.end_t + T0) for s in segs]
-    (root / "streams").mkdir()
-    stream = save_stream(root / "streams" / "stream.csv", traj, segs)
-    return root, stream
+    return root, tiny_dataset(root, GESTURES, [*GESTURES, *GESTURES], t0=T0)
 
 
 def _counters() -> dict[str, int]:

@@ -40,7 +40,25 @@ import numpy as np
 
 from ..core import se3
 
-__all__ = ["GATE_STAT_KEYS", "Accepted", "Sample", "SampleGate"]
+__all__ = ["GATE_STAT_KEYS", "Accepted", "Sample", "SampleGate", "well_formed"]
+
+
+def well_formed(t: float, p: Sequence[float] | np.ndarray, q: Sequence[float] | np.ndarray,
+                stats: dict[str, int]) -> tuple[float, np.ndarray, np.ndarray] | None:
+    """One pose sample as ``(t [s], p (3,) [m], q (4,) unit quaternion w, x, y, z)``, copied from
+    the caller's arrays; ``None`` for a sample with a NaN or infinite value (counted in
+    ``stats["nan"]``) or a zero quaternion (``stats["bad_quaternion"]``)."""
+    t = float(t)
+    p = np.array(p, dtype=np.float64).reshape(3)
+    q = np.array(q, dtype=np.float64).reshape(4)
+    if not (math.isfinite(t) and np.isfinite(p).all() and np.isfinite(q).all()):
+        stats["nan"] += 1
+        return None
+    nq = math.sqrt(float(q @ q))
+    if not nq > 1e-9 or not math.isfinite(nq):
+        stats["bad_quaternion"] += 1
+        return None
+    return t, p, q / nq
 
 #: A pose sample: time [s], position (3,) [m], unit quaternion (4,) ``(w, x, y, z)``.
 Sample = tuple[float, np.ndarray, np.ndarray]
@@ -266,17 +284,11 @@ class SampleGate:
         self, t: float, p: Sequence[float] | np.ndarray, q: Sequence[float] | np.ndarray
     ) -> _Held | None:
         st = self.stats
-        t = float(t)
-        p = np.array(p, dtype=np.float64).reshape(3)
-        q = np.array(q, dtype=np.float64).reshape(4)
-        if not (math.isfinite(t) and np.isfinite(p).all() and np.isfinite(q).all()):
-            st["nan"] += 1
+        sample = well_formed(t, p, q, st)
+        if sample is None:
             return None
-        nq = math.sqrt(float(q @ q))
-        if not nq > 1e-9 or not math.isfinite(nq):
-            st["bad_quaternion"] += 1
-            return None
-        s = _Held(t, p, q / nq)
+        t = sample[0]
+        s = _Held(*sample)
         prev = self._held[-1] if self._held else self._last
         if prev is not None:
             dt = t - prev.t

@@ -18,7 +18,6 @@ from tqdm.auto import tqdm
 
 from ..core import se3
 from ..core.trajectory import Trajectory
-from ..datasets.layout import GESTURES
 from ..datasets.stream_files import Segment
 from . import people
 from .activities import Activity, Session, reposition
@@ -152,8 +151,6 @@ def take_session(
     PersonStream
         The recording, one segment per performance, and the log.
     """
-    if gesture not in GESTURES:
-        plan_gesture(gesture, np.random.default_rng(0), person=who)  # unknown names fail here
     rng = np.random.default_rng([int(seed), 0x7A4E])
     plan = plan_gesture(gesture, rng, person=who)
     home = plan.start

@@ -31,6 +31,7 @@ import numpy as np
 
 from ...core import se3
 from ...core.trajectory import Trajectory
+from ..acceptance import well_formed
 from ..events import STOP, Event
 from ..streaming import StreamingRecognizer
 from .calibration import Calibration, calibrate_threshold
@@ -277,17 +278,10 @@ class PaperRecognizer(StreamingRecognizer):
         """Validate a sample (finite, non-zero quaternion, time moving on, no jump) and make its
         quaternion sign continuous; None when it is skipped (counted in :attr:`stats`)."""
         st, c = self.stats, self.config
-        t = float(t)
-        p = np.asarray(p, dtype=np.float64).reshape(3)
-        q = np.asarray(q, dtype=np.float64).reshape(4)
-        if not (math.isfinite(t) and np.isfinite(p).all() and np.isfinite(q).all()):
-            st["nan"] += 1
+        sample = well_formed(t, p, q, st)
+        if sample is None:
             return None
-        nq = math.sqrt(float(q @ q))
-        if nq < 1e-9:
-            st["bad_quaternion"] += 1
-            return None
-        q = q / nq
+        t, p, q = sample
         if self._t is not None:
             dt = t - self._t
             if dt <= 0.0:
