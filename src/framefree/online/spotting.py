@@ -83,6 +83,11 @@ class SegmentClassifier:
             return np.full(len(self.models), math.inf), 0.0
         return self.descriptor.distance_matrix([out[0]], self.models)[0], out[1]
 
+    @property
+    def pruning(self) -> bool:
+        """Whether :meth:`search_described` prunes (:attr:`prune` set and the distance allows it)."""
+        return self.prune and self.bank is not None
+
     def search(self, times: np.ndarray, poses: np.ndarray, accept_below: np.ndarray | None = None
                ) -> tuple[np.ndarray, float]:
         """Like :meth:`distances`, pruned when :attr:`prune` is set: every value is a model's exact
@@ -90,15 +95,24 @@ class SegmentClassifier:
         the nearest model is below its threshold is exact, and when it is, so are the nearest
         model and its distance (:func:`~framefree.core.pruning.pruned_nearest`); without it, the
         nearest model and its distance always are."""
-        if not (self.prune and self.bank is not None):
+        if not self.pruning:
             return self.distances(times, poses)
         out = self.describe(times, poses)
         if out is None:
             return np.full(len(self.models), math.inf), 0.0
-        found = pruned_nearest(out[0], self.bank, accept_below=accept_below)
+        return self.search_described(out[0], accept_below), out[1]
+
+    def search_described(self, descriptor: np.ndarray, accept_below: np.ndarray | None = None
+                         ) -> np.ndarray:
+        """The pruned search of :meth:`search` for a descriptor (n, F) already computed. When
+        ``accept_below`` accepts nothing (all zero), nothing is searched: every value is ``inf``."""
+        if accept_below is not None and not np.any(accept_below > 0.0):
+            self.cells[1] += self.bank.dtw_cells * descriptor.shape[0]
+            return np.full(len(self.models), math.inf)
+        found = pruned_nearest(descriptor, self.bank, accept_below=accept_below)
         self.cells[0] += found.cells
         self.cells[1] += found.full_cells
-        return found.values, out[1]
+        return found.values
 
 
 @dataclass(frozen=True)
@@ -287,10 +301,10 @@ class Spotter:
                                         self.max_pause, after, self.pause_ratio, self.min_pause):
             lo_index = max(first.start - self.margin, buffer.oldest)
             times, poses = buffer.slice(lo_index, last.end + self.margin)
-            d, size = self.classifier.search(times, poses, self.model_thresholds)
             # the margin after the unit may not be in the buffer yet: cut the unit out exactly
             inner = first.start - lo_index
             c = closure(poses[inner:inner + last.end - first.start + 1], self.L)
+            d, size = self._classify(times, poses, c)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
@@ -299,6 +313,29 @@ class Spotter:
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
                                  ratio, n, c, size, ok))
         return out
+
+    def _classify(self, times: np.ndarray, poses: np.ndarray, closure_: float
+                  ) -> tuple[np.ndarray, float]:
+        """Distances (M,) of a candidate to the models and its size [m]. Pruned, only models
+        whose gesture admits the candidate's closure and size can accept it, so the others get
+        threshold 0, and a candidate that no gesture admits is not searched at all (distances
+        ``inf``). Either way the decision is the full search's."""
+        clf = self.classifier
+        if not clf.pruning:
+            return clf.distances(times, poses)
+        out = clf.describe(times, poses)
+        if out is None:
+            return np.full(len(clf.models), math.inf), 0.0
+        descriptor, size = out
+        admits = self.admitting_models(closure_, size)
+        return clf.search_described(descriptor, np.where(admits, self.model_thresholds, 0.0)), size
+
+    def admitting_models(self, closure_: float, size: float) -> np.ndarray:
+        """Which models' gestures admit a segment of this closure and size [m] (M,) bool: the
+        rule of :meth:`admissible`, for every model at once."""
+        lo, hi = self.size_limits[:, 0], self.size_limits[:, 1]
+        closes = (closure_ <= self.closure_limits) | (closure_ * size <= self.return_error)
+        return closes & (closure_ >= self.opening_limits) & (size >= lo) & (size <= hi)
 
     def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray) -> np.ndarray:
         """Which segments (closures (n,), sizes (n,) [m]) may be model ``j``'s gesture: within its
