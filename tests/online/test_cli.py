@@ -50,6 +50,24 @@ def test_live_from_csv_file(tiny):
     assert "poses" in res.output
 
 
+def test_live_classifies_in_background_by_default_with_the_inline_events(tiny):
+    root, stream = tiny
+    outputs = {}
+    for how in ("background", "inline"):
+        res = CliRunner().invoke(cli, ["live", "--models", str(root), "--source", str(stream),
+                                       "--speed", "0", "--no-view", "--classify", how])
+        assert res.exit_code == 0, res.output
+        outputs[how] = sorted(line for line in res.output.splitlines() if " s  " in line)
+    default = CliRunner().invoke(cli, ["live", "--models", str(root), "--source", str(stream),
+                                       "--speed", "0", "--no-view"])
+    assert sorted(line for line in default.output.splitlines() if " s  " in line) == outputs["inline"]
+    assert outputs["background"] == outputs["inline"] and len(outputs["inline"]) >= 2
+    paper = CliRunner().invoke(cli, ["live", "--models", str(root), "--source", str(stream),
+                                     "--speed", "0", "--no-view", "--method", "paper",
+                                     "--classify", "background"])
+    assert paper.exit_code == 2 and "--method segments" in paper.output
+
+
 def test_stream_and_live_over_zmq(tiny):
     """``stream`` publishes on 127.0.0.1 while ``live`` subscribes; both end by themselves."""
     root, stream = tiny

@@ -219,12 +219,16 @@ _emit_option = click.option(
               help="With --robot sim: write the session figure (PNG) at the end.")
 @click.option("--robot-settle", type=float, default=3.0, show_default=True,
               help="With --robot sim: simulated seconds after the last pose.")
+@click.option("--classify", type=click.Choice(["background", "inline"]), default=None,
+              help="Where candidates are classified: on a worker thread, so that a large "
+                   "vocabulary never stalls the source (default with --method segments), or "
+                   "inline on the pose path (the paper's method always is). Same events.")
 @_emit_option
 def live_cmd(models: str, model_context: str, model_quat_order: str, units: str, source: str,
              quat_order: str, speed: float, timeout: float, robot: str,
              robot_plot: str | None, robot_settle: float, emit: tuple[str, ...] = (),
              view_kind: str = "terminal", no_view: bool = False, save_rrd: str | None = None,
-             **kw: Any):
+             classify: str | None = None, **kw: Any):
     """Recognize gestures live from a pose source and print events as they happen.
 
     With ``--robot sim`` the events drive the simulated robot: the simulation clock follows the
@@ -242,6 +246,10 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     # the source is checked (and a ZeroMQ subscriber connected) before the slow model building
     src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units)
     rec = _recognizer(models, model_context, model_quat_order, units, **kw)
+    if classify == "background" and not hasattr(rec, "background"):
+        raise FramefreeError("--classify background needs --method segments")
+    if hasattr(rec, "background"):
+        rec.background = classify != "inline"
     out = _emitters(emit, rec)
     rview = _rerun_view(rec, view_kind == "rerun", save_rrd)
     try:
@@ -299,6 +307,19 @@ def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None, rview:
     thresholds = rec.gesture_thresholds
     n = 0
     last_view = 0.0
+
+    def deliver(events: list) -> None:
+        for ev in events:
+            if tty:
+                click.echo("\r\033[K", nl=False)
+            d = "" if ev.is_stop else f"  d={ev.dissimilarity:.4g}  model {ev.model}"
+            click.secho(f"{ev.time:9.2f} s  {ev.label.upper():<14}{d}", bold=True,
+                        fg="red" if ev.is_stop else "green")
+            if emit is not None:
+                emit(ev)
+            if sim is not None:
+                sim.handle(ev)
+
     try:
         for t, p, q in src:
             n += 1
@@ -308,16 +329,7 @@ def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None, rview:
             events = rec.push(t, p, q)
             if rview is not None:
                 rview.update(t, p, q, events)
-            for ev in events:
-                if tty:
-                    click.echo("\r\033[K", nl=False)
-                d = "" if ev.is_stop else f"  d={ev.dissimilarity:.4g}  model {ev.model}"
-                click.secho(f"{ev.time:9.2f} s  {ev.label.upper():<14}{d}", bold=True,
-                            fg="red" if ev.is_stop else "green")
-                if emit is not None:
-                    emit(ev)
-                if sim is not None:
-                    sim.handle(ev)
+            deliver(events)
             if sim is not None:
                 sim.advance_to(float(t) - t0)
             now = time.perf_counter()
@@ -327,9 +339,20 @@ def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None, rview:
                 click.echo(f"\r\033[K{line}", nl=False)
     except KeyboardInterrupt:
         pass
+    finally:
+        deliver(_finish(rec))
     if tty:
         click.echo()
     return n, t0, sim
+
+
+def _finish(rec: Any) -> list:
+    """Events the worker still held at the end of the stream; the worker is stopped."""
+    if not getattr(rec, "background", False):
+        return []
+    events = rec.finish()
+    rec.close()
+    return events
 
 
 def _robot_dry_run():

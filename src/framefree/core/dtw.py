@@ -182,7 +182,7 @@ def path_distance_kernel(X, Y, align_lo, align_hi, mode, open_end):
     return total / (n + m - 1)
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, nogil=True)
 def path_distance_matrix_kernel(qdata, qoff, mdata, moff, align_lo, align_hi, mode, open_end):
     """Distances between every packed query and every packed model, shape (n_queries, n_models)."""
     nq = qoff.shape[0] - 1

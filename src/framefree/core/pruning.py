@@ -109,7 +109,7 @@ def bound_features(seq: np.ndarray, spec: DistanceSpec) -> np.ndarray:
     return np.ascontiguousarray(seq[:, spec.align_lo:spec.align_hi])
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _sorted_columns(B):
     out = np.empty((B.shape[1], B.shape[0]))
     for f in range(B.shape[1]):
@@ -155,7 +155,7 @@ def _lower_bound(Sm, Sq, squared, open_end):
     return best / (n + m - 1) * (1.0 - _SLACK)
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, parallel=True, nogil=True)
 def _lower_bounds_kernel(sdata, soff, qS, squared, open_end):
     M = soff.shape[0] - 1
     out = np.empty(M)
@@ -173,7 +173,7 @@ def _exact_chunk(qdata, idx, mdata, moff, lo, hi, mode, open_end):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _search(qdata, bounds, mdata, moff, lo, hi, mode, open_end, chunk, accept_below):
     """Exact distances in bound order, ``chunk`` at a time (in parallel), until every remaining
     bound exceeds the best distance so far — or, with acceptance thresholds, until the best so far

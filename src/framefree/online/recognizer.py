@@ -21,7 +21,8 @@ recordings (:meth:`Recognizer.from_trajectories`). See ``docs/online.md``.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections import deque
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -35,9 +36,17 @@ from ..descriptors.base import Descriptor, get_descriptor
 from ..descriptors.bilts import window_spacing
 from ..io.library_file import LibraryError, library_takes, read_library_file, rebuild_hint
 from .acceptance import SampleGate
+from .background import SerialWorker
 from .config import RecognizerConfig
 from .events import STOP, Event
-from .segmentation import MotionSegmenter, SpeedLevels, UniformResampler, speed_levels
+from .segmentation import (
+    MotionSegmenter,
+    PoseBuffer,
+    SpeedLevels,
+    UniformResampler,
+    Unit,
+    speed_levels,
+)
 from .spotting import SegmentClassifier, Spotter
 from .stop import StopDetector, sustained_peak_speed
 from .streaming import StreamingRecognizer
@@ -220,6 +229,8 @@ class Recognizer(StreamingRecognizer):
         self.spotter = _spotter(classifier, self.model_thresholds, c, self.labels)
         self._counts = dict.fromkeys(STAT_KEYS, 0)
         self.observations: list[tuple[float, np.ndarray]] = []
+        self._worker: SerialWorker | None = None
+        self._recent_units: deque[Unit] = deque(maxlen=max(1, c.max_units))
 
     # ------------------------------------------------------------------------------ construction
     @classmethod
@@ -316,8 +327,47 @@ class Recognizer(StreamingRecognizer):
     def prune(self, value: bool) -> None:
         self.classifier.prune = bool(value)
 
+    @property
+    def background(self) -> bool:
+        """Whether candidates are classified on a worker thread (:mod:`~framefree.online.
+        background`), off the pose path: :meth:`push` then returns within a fraction of a
+        millisecond whatever the vocabulary, and a gesture event comes out of a later
+        :meth:`push` (or :meth:`finish`) as soon as the worker has decided it, stamped with the
+        time of the pose that fired it as inline. The events are those of the inline recognizer.
+        Off by default; :meth:`close` (or setting it off) stops the thread."""
+        return self._worker is not None
+
+    @background.setter
+    def background(self, value: bool) -> None:
+        if bool(value) == self.background:
+            return
+        if value:
+            self._worker = SerialWorker()
+        else:
+            self._collect(self._worker.wait())
+            self._worker.close()
+            self._worker = None
+
+    def finish(self) -> list[Event]:
+        """Wait for the worker to decide everything pushed so far; return the events it still
+        held (inline, or when it has caught up: none). Call it at the end of a recording."""
+        if self._worker is None:
+            return []
+        return self._collect(self._worker.wait())
+
+    def close(self) -> None:
+        """Stop the worker thread, if any (the recognizer then runs inline)."""
+        self.background = False
+
+    def __getstate__(self) -> dict[str, Any]:
+        state = dict(self.__dict__)
+        state["_worker"] = None  # a copy runs inline
+        return state
+
     def reset(self) -> None:
         """Forget the stream and the counters (a new session)."""
+        if self._worker is not None:
+            self._worker.wait()
         self.gate.reset()
         self.stop.rearm_now()
         self._restart()
@@ -327,7 +377,8 @@ class Recognizer(StreamingRecognizer):
     def _restart(self) -> None:
         self.resampler.reset()
         self.segmenter.reset()
-        self.spotter.reset()
+        self._recent_units.clear()
+        self._decide_later(self.spotter.reset)
         self.stop.reset()
 
     def warmup(self) -> None:
@@ -339,6 +390,7 @@ class Recognizer(StreamingRecognizer):
             p = np.array([0.3 * s[k], 0.05 * s[k] ** 2, 0.0])
             q = np.array([math.cos(0.4 * s[k]), 0.0, 0.0, math.sin(0.4 * s[k])])
             self.push(float(t[k]), p, q)
+        self.finish()
         self.reset()
 
     def push(self, t: float, p: Sequence[float] | np.ndarray, q: Sequence[float] | np.ndarray
@@ -359,7 +411,7 @@ class Recognizer(StreamingRecognizer):
         list of Event
             Stop events and gesture events, in time order.
         """
-        self.spotter.evaluated.clear()
+        self.observations = []
         accepted = self.gate.push(t, p, q)
         if accepted.restarted:
             self._counts["restarts"] += 1
@@ -367,14 +419,16 @@ class Recognizer(StreamingRecognizer):
         events: list[Event] = []
         for ts, ps, qs in accepted.samples:
             events.extend(self._on_sample(ts, ps, qs))
-        self.observations = self.spotter.evaluated
+        if self._worker is not None:
+            events.extend(self._collect(self._worker.done()))
+            events.sort(key=lambda e: e.time)
         return events
 
     def _on_sample(self, t: float, p: np.ndarray, q: np.ndarray) -> list[Event]:
         events: list[Event] = []
         if self.stop.update(t, q):
             self._counts["stops"] += 1
-            self.spotter.discard_before(self.segmenter.buffer.count)
+            self._decide_later(self.spotter.discard_before, self.segmenter.buffer.count)
             events.append(Event(STOP, t, -1.0, -1))
         T = np.eye(4)
         T[:3, :3] = se3.matrix_from_quaternion(q)
@@ -389,23 +443,48 @@ class Recognizer(StreamingRecognizer):
     def _on_grid(self, t: float, T: np.ndarray) -> Event | None:
         self._counts["grid"] += 1
         unit = self.segmenter.push(t, T)
-        spotter = self.spotter
+        buffer = self.segmenter.buffer
         if not self.stop.armed:  # a stop fired and the hand still turns fast: it is not a gesture
-            spotter.discard_before(self.segmenter.buffer.count)
-            return None
-        fired = None
+            return self._decide_later(self.spotter.discard_before, buffer.count)
         if unit is not None:
             self._counts["units"] += 1
-            n_before = len(spotter.evaluated)
-            fired = spotter.on_unit(unit, self.segmenter.buffer)
-            self._counts["candidates"] += len(spotter.evaluated) - n_before
-        if fired is None:
-            fired = spotter.poll(t, self.segmenter.resting)
+            self._recent_units.append(unit)
+            if self._worker is not None:  # the worker reads candidates from a copy
+                buffer = buffer.snapshot(self._recent_units[0].start - self.spotter.margin)
+        return self._decide_later(self._spot, t, self.segmenter.resting, unit, buffer)
+
+    def _spot(self, t: float, resting: bool, unit: Unit | None, buffer: PoseBuffer) -> Event | None:
+        """The spotter's step for one uniform pose (:meth:`Spotter.step`), as an event."""
+        n_before = len(self.spotter.evaluated)
+        fired = self.spotter.step(t, resting, unit, buffer)
+        self._counts["candidates"] += len(self.spotter.evaluated) - n_before
         if fired is None:
             return None
-        spotter.discard_before(fired.end + 1)
         self._counts["events"] += 1
         return Event(self.labels[fired.model], t, fired.distance, fired.model)
+
+    def _decide_later(self, fn: Callable[..., Event | None], *args: Any) -> Event | None:
+        """Run a spotter step now (inline: its event, if any) or queue it on the worker (None;
+        its event comes out of :meth:`_collect` later). Steps run in the order they are made."""
+        if self._worker is not None:
+            self._worker.submit(self._observed, fn, *args)
+            return None
+        event, observed = self._observed(fn, *args)
+        self.observations.extend(observed)
+        return event
+
+    def _observed(self, fn: Callable[..., Event | None], *args: Any
+                  ) -> tuple[Event | None, list[tuple[float, np.ndarray]]]:
+        self.spotter.evaluated.clear()
+        return fn(*args), list(self.spotter.evaluated)
+
+    def _collect(self, results: list[tuple[Event | None, list]]) -> list[Event]:
+        events = []
+        for event, observed in results:
+            self.observations.extend(observed)
+            if event is not None:
+                events.append(event)
+        return events
 
     def gesture_dissimilarities(self) -> dict[str, float]:
         """Distance of the latest classified candidate to each gesture's nearest model (with

@@ -365,6 +365,18 @@ class Spotter:
         self.pending = min(later, key=lambda c: c.ratio, default=None)
         return pend
 
+    def step(self, t: float, resting: bool, unit: Unit | None, buffer: PoseBuffer
+             ) -> Candidate | None:
+        """One uniform pose at time ``t`` [s]: the unit that ended with it, if any, then the
+        pending candidate's timer; return the candidate that fires, whose motion is then spoken
+        for."""
+        fired = self.on_unit(unit, buffer) if unit is not None else None
+        if fired is None:
+            fired = self.poll(t, resting)
+        if fired is not None:
+            self.discard_before(fired.end + 1)
+        return fired
+
     def poll(self, t: float, resting: bool) -> Candidate | None:
         """Called for every uniform pose: fire the pending candidate when its time has come."""
         pend = self.pending
