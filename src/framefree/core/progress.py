@@ -60,13 +60,17 @@ def screw_increment_from_twist(xi, L):
     if nphi2 == 0.0:
         d1 = math.sqrt(rho[0] * rho[0] + rho[1] * rho[1] + rho[2] * rho[2])
     else:
-        pp = se3.cross_one(phi, rho)
-        pp /= nphi2
-        npp = math.sqrt(pp[0] * pp[0] + pp[1] * pp[1] + pp[2] * pp[2])
+        p0 = (phi[1] * rho[2] - phi[2] * rho[1]) / nphi2
+        p1 = (phi[2] * rho[0] - phi[0] * rho[2]) / nphi2
+        p2 = (phi[0] * rho[1] - phi[1] * rho[0]) / nphi2
+        npp = math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
         if npp > L:
-            pb = pp * (L / npp)
-            moved = rho + se3.cross_one(phi, pb)
-            d1 = math.sqrt(moved[0] * moved[0] + moved[1] * moved[1] + moved[2] * moved[2])
+            shrink = L / npp
+            b0, b1, b2 = p0 * shrink, p1 * shrink, p2 * shrink
+            m0 = rho[0] + (phi[1] * b2 - phi[2] * b1)
+            m1 = rho[1] + (phi[2] * b0 - phi[0] * b2)
+            m2 = rho[2] + (phi[0] * b1 - phi[1] * b0)
+            d1 = math.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
         else:
             d1 = abs(phi[0] * rho[0] + phi[1] * rho[1] + phi[2] * rho[2]) / math.sqrt(nphi2)
     return math.sqrt(L * L * nphi2 + d1 * d1)
@@ -82,6 +86,8 @@ def screw_path_increment(A, B, L):
 def _increments_kernel(T, code, L):
     n = T.shape[0]
     out = np.empty(n - 1)
+    work = np.empty((4, 4))
+    xi = np.empty(6)
     for k in range(n - 1):
         if code == 0:
             d = 0.0
@@ -92,8 +98,10 @@ def _increments_kernel(T, code, L):
         elif code == 1:
             phi = se3.rotation_increment_one(T[k], T[k + 1])  # rotation of R_{k+1} R_kᵀ
             out[k] = math.sqrt(phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2])
-        else:
-            out[k] = screw_path_increment(T[k], T[k + 1], L)
+        else:  # screw_path_increment without allocations
+            se3.relative_into(T[k], T[k + 1], work)
+            se3.twist_from_pose_into(work, xi)
+            out[k] = screw_increment_from_twist(xi, L)
     return out
 
 

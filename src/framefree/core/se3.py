@@ -89,6 +89,13 @@ def hat_one(v):
 def _rodrigues(phi, a, b, theta2):
     """``I + a [φ]x + b [φ]x²`` written out (``[φ]x² = φφᵀ - θ² I``)."""
     R = np.empty((3, 3))
+    _rodrigues_into(phi, a, b, theta2, R)
+    return R
+
+
+@njit(cache=True)
+def _rodrigues_into(phi, a, b, theta2, R):
+    """:func:`_rodrigues` written into ``R`` (3×3, or the rotation block of a pose)."""
     d = 1.0 - b * theta2
     for i in range(3):
         for j in range(3):
@@ -100,7 +107,6 @@ def _rodrigues(phi, a, b, theta2):
     R[1, 2] -= a * phi[0]
     R[2, 0] -= a * phi[1]
     R[2, 1] += a * phi[0]
-    return R
 
 
 @njit(cache=True)
@@ -124,13 +130,20 @@ def vector_from_rotation_one(R):
     Follows the reference closed form (``atan2`` of the skew and trace parts); close to π, where
     the skew part vanishes, the axis is read from the symmetric part instead.
     """
+    out = np.empty(3)
+    vector_from_rotation_into(R, out)
+    return out
+
+
+@njit(cache=True)
+def vector_from_rotation_into(R, out):
+    """:func:`vector_from_rotation_one` written into ``out`` (3,): no allocation."""
     ax = 0.5 * (R[2, 1] - R[1, 2])
     ay = 0.5 * (R[0, 2] - R[2, 0])
     az = 0.5 * (R[1, 0] - R[0, 1])
     s = math.sqrt(ax * ax + ay * ay + az * az)
     c = 0.5 * (R[0, 0] + R[1, 1] + R[2, 2] - 1.0)
     c = min(1.0, max(-1.0, c))
-    out = np.empty(3)
     if c < _NEAR_PI_COS:
         theta = math.atan2(s, c)
         # B = (R + R^T)/2 - c I = (1 - c) n n^T
@@ -141,7 +154,7 @@ def vector_from_rotation_one(R):
             if bii > bval:
                 bval = bii
                 best = i
-        n = np.empty(3)
+        n = out  # the axis, scaled in place
         for r in range(3):
             n[r] = 0.5 * (R[r, best] + R[best, r])
         n[best] = R[best, best] - c
@@ -151,7 +164,7 @@ def vector_from_rotation_one(R):
             sign = -1.0
         for r in range(3):
             out[r] = sign * theta * n[r] / nn
-        return out
+        return
     if s < 1e-14:
         alpha = 1.0
     else:
@@ -159,12 +172,19 @@ def vector_from_rotation_one(R):
     out[0] = alpha * ax
     out[1] = alpha * ay
     out[2] = alpha * az
-    return out
 
 
 @njit(cache=True)
 def pose_from_twist_one(xi):
     """SE(3) exponential of a displacement twist ``xi = (phi, rho)`` (6,) → 4×4 pose."""
+    T = np.zeros((4, 4))
+    pose_from_twist_into(xi, T)
+    return T
+
+
+@njit(cache=True)
+def pose_from_twist_into(xi, T):
+    """:func:`pose_from_twist_one` written into ``T`` (4×4): no allocation."""
     phi = xi[:3]
     theta2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2]
     theta = math.sqrt(theta2)
@@ -177,17 +197,18 @@ def pose_from_twist_one(xi):
         a = st / theta
         b = (1.0 - math.cos(theta)) / theta2
         c = (theta - st) / (theta2 * theta)
-    R = _rodrigues(phi, a, b, theta2)
+    _rodrigues_into(phi, a, b, theta2, T[:3, :3])
     rho = xi[3:]
-    w1 = cross_one(phi, rho)
-    w2 = cross_one(phi, w1)
-    T = np.zeros((4, 4))
-    for r in range(3):
-        for col in range(3):
-            T[r, col] = R[r, col]
-        T[r, 3] = rho[r] + b * w1[r] + c * w2[r]
+    w10 = phi[1] * rho[2] - phi[2] * rho[1]
+    w11 = phi[2] * rho[0] - phi[0] * rho[2]
+    w12 = phi[0] * rho[1] - phi[1] * rho[0]
+    T[0, 3] = rho[0] + b * w10 + c * (phi[1] * w12 - phi[2] * w11)
+    T[1, 3] = rho[1] + b * w11 + c * (phi[2] * w10 - phi[0] * w12)
+    T[2, 3] = rho[2] + b * w12 + c * (phi[0] * w11 - phi[1] * w10)
+    T[3, 0] = 0.0
+    T[3, 1] = 0.0
+    T[3, 2] = 0.0
     T[3, 3] = 1.0
-    return T
 
 
 @njit(cache=True)
@@ -196,25 +217,35 @@ def twist_from_pose_one(T):
 
     ``rho = V(phi)^-1 p``; identical to the reference's ``theta * G^-1 p`` (docs/algorithms/se3.md).
     """
-    phi = vector_from_rotation_one(T[:3, :3])
+    out = np.empty(6)
+    twist_from_pose_into(T, out)
+    return out
+
+
+@njit(cache=True)
+def twist_from_pose_into(T, out):
+    """:func:`twist_from_pose_one` written into ``out`` (6,): no allocation."""
+    phi = out[:3]
+    vector_from_rotation_into(T[:3, :3], phi)
     theta2 = phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2]
     theta = math.sqrt(theta2)
-    out = np.empty(6)
-    out[:3] = phi
     p = T[:3, 3]
     if theta == 0.0:
-        out[3:] = p
-        return out
+        out[3] = p[0]
+        out[4] = p[1]
+        out[5] = p[2]
+        return
     if theta < _SMALL_ANGLE:
         beta = 1.0 / 12.0 + theta2 / 720.0 + theta2 * theta2 / 30240.0
     else:
         half = 0.5 * theta
         beta = (1.0 - half * math.cos(half) / math.sin(half)) / theta2
-    Kp = cross_one(phi, p)
-    KKp = cross_one(phi, Kp)
-    for r in range(3):
-        out[3 + r] = p[r] - 0.5 * Kp[r] + beta * KKp[r]
-    return out
+    k0 = phi[1] * p[2] - phi[2] * p[1]
+    k1 = phi[2] * p[0] - phi[0] * p[2]
+    k2 = phi[0] * p[1] - phi[1] * p[0]
+    out[3] = p[0] - 0.5 * k0 + beta * (phi[1] * k2 - phi[2] * k1)
+    out[4] = p[1] - 0.5 * k1 + beta * (phi[2] * k0 - phi[0] * k2)
+    out[5] = p[2] - 0.5 * k2 + beta * (phi[0] * k1 - phi[1] * k0)
 
 
 @njit(cache=True)
@@ -231,12 +262,21 @@ def rotation_increment_one(A, B):
 def compose_one(A, B):
     """Product of two 4×4 poses (rigid transforms), written out for speed."""
     C = np.zeros((4, 4))
+    compose_into(A, B, C)
+    return C
+
+
+@njit(cache=True)
+def compose_into(A, B, C):
+    """:func:`compose_one` written into ``C`` (4×4, not ``A`` or ``B``): no allocation."""
     for i in range(3):
         for j in range(3):
             C[i, j] = A[i, 0] * B[0, j] + A[i, 1] * B[1, j] + A[i, 2] * B[2, j]
         C[i, 3] = A[i, 0] * B[0, 3] + A[i, 1] * B[1, 3] + A[i, 2] * B[2, 3] + A[i, 3]
+    C[3, 0] = 0.0
+    C[3, 1] = 0.0
+    C[3, 2] = 0.0
     C[3, 3] = 1.0
-    return C
 
 
 @njit(cache=True)
@@ -256,6 +296,13 @@ def inverse_one(T):
 def relative_one(A, B):
     """``A^-1 B`` for rigid transforms, without forming the inverse."""
     C = np.zeros((4, 4))
+    relative_into(A, B, C)
+    return C
+
+
+@njit(cache=True)
+def relative_into(A, B, C):
+    """:func:`relative_one` written into ``C`` (4×4, not ``A`` or ``B``): no allocation."""
     for i in range(3):
         for j in range(3):
             C[i, j] = A[0, i] * B[0, j] + A[1, i] * B[1, j] + A[2, i] * B[2, j]
@@ -264,26 +311,48 @@ def relative_one(A, B):
             + A[1, i] * (B[1, 3] - A[1, 3])
             + A[2, i] * (B[2, 3] - A[2, 3])
         )
+    C[3, 0] = 0.0
+    C[3, 1] = 0.0
+    C[3, 2] = 0.0
     C[3, 3] = 1.0
-    return C
 
 
 @njit(cache=True)
 def sclerp_one(A, B, alpha):
     """Screw linear interpolation ``A exp(alpha log(A^-1 B))`` (constant body twist)."""
-    xi = twist_from_pose_one(relative_one(A, B))
-    return compose_one(A, pose_from_twist_one(alpha * xi))
+    out = np.empty((4, 4))
+    sclerp_into(A, B, alpha, out, np.empty((4, 4)), np.empty(6))
+    return out
+
+
+@njit(cache=True)
+def sclerp_into(A, B, alpha, out, work, xi):
+    """:func:`sclerp_one` written into ``out`` (4×4) with scratch ``work`` (4×4) and ``xi``
+    (6,): no allocation."""
+    relative_into(A, B, work)
+    twist_from_pose_into(work, xi)
+    for r in range(6):
+        xi[r] = alpha * xi[r]
+    pose_from_twist_into(xi, work)
+    compose_into(A, work, out)
 
 
 @njit(cache=True)
 def matrix_from_quaternion_one(q):
     """Rotation matrix of a quaternion ``(w, x, y, z)``; the quaternion is normalized first."""
+    R = np.empty((3, 3))
+    matrix_from_quaternion_into(q, R)
+    return R
+
+
+@njit(cache=True)
+def matrix_from_quaternion_into(q, R):
+    """:func:`matrix_from_quaternion_one` written into ``R`` (3×3): no allocation."""
     n = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
     w = q[0] / n
     x = q[1] / n
     y = q[2] / n
     z = q[3] / n
-    R = np.empty((3, 3))
     R[0, 0] = 1.0 - 2.0 * (y * y + z * z)
     R[0, 1] = 2.0 * (x * y - w * z)
     R[0, 2] = 2.0 * (x * z + w * y)
@@ -293,7 +362,6 @@ def matrix_from_quaternion_one(q):
     R[2, 0] = 2.0 * (x * z - w * y)
     R[2, 1] = 2.0 * (y * z + w * x)
     R[2, 2] = 1.0 - 2.0 * (x * x + y * y)
-    return R
 
 
 @njit(cache=True)
@@ -378,7 +446,7 @@ def _twist_from_pose_batch(T):
 def _matrix_from_quaternion_batch(q):
     out = np.empty((q.shape[0], 3, 3))
     for i in range(q.shape[0]):
-        out[i] = matrix_from_quaternion_one(q[i])
+        matrix_from_quaternion_into(q[i], out[i])
     return out
 
 
@@ -430,6 +498,8 @@ def interpolate_poses_kernel(x, T, xq):
     """
     n = x.shape[0]
     out = np.empty((xq.shape[0], 4, 4))
+    work = np.empty((4, 4))
+    xi = np.empty(6)
     j = 0
     for i in range(xq.shape[0]):
         while j < n - 2 and xq[i] > x[j + 1]:
@@ -438,7 +508,7 @@ def interpolate_poses_kernel(x, T, xq):
             out[i] = T[j]
         else:
             alpha = (xq[i] - x[j]) / (x[j + 1] - x[j])
-            out[i] = sclerp_one(T[j], T[j + 1], alpha)
+            sclerp_into(T[j], T[j + 1], alpha, out[i], work, xi)
     return out
 
 

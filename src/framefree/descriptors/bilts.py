@@ -75,9 +75,25 @@ def window_spacing(ds_scale: float, ds: float, cap: int = MAX_WINDOW_SPACING) ->
 
 
 @njit(cache=True)
-def _sym3_eigvals_ascending(A):
-    """Eigenvalues of a symmetric 3×3 matrix by cyclic Jacobi rotations, ascending."""
-    a = A.copy()
+def _root_eigvals_into(a, out, at):
+    """``out[at:at+3]``: square roots of the eigenvalues of the symmetric 3×3 ``a`` (a Gram
+    matrix, overwritten), ascending, negative rounding clipped at 0 (no allocation)."""
+    _sym3_diagonalize(a)
+    e0, e1, e2 = a[0, 0], a[1, 1], a[2, 2]
+    if e0 > e1:
+        e0, e1 = e1, e0
+    if e1 > e2:
+        e1, e2 = e2, e1
+    if e0 > e1:
+        e0, e1 = e1, e0
+    out[at] = math.sqrt(max(e0, 0.0))
+    out[at + 1] = math.sqrt(max(e1, 0.0))
+    out[at + 2] = math.sqrt(max(e2, 0.0))
+
+
+@njit(cache=True)
+def _sym3_diagonalize(a):
+    """Cyclic Jacobi rotations of a symmetric 3×3 matrix in place, until it is diagonal."""
     for _ in range(50):
         off = a[0, 1] * a[0, 1] + a[0, 2] * a[0, 2] + a[1, 2] * a[1, 2]
         diag = a[0, 0] * a[0, 0] + a[1, 1] * a[1, 1] + a[2, 2] * a[2, 2]
@@ -102,20 +118,23 @@ def _sym3_eigvals_ascending(A):
                     aqk = a[q, k]
                     a[p, k] = c * apk - s * aqk
                     a[q, k] = s * apk + c * aqk
-    ev = np.array([a[0, 0], a[1, 1], a[2, 2]])
-    ev.sort()
-    return ev
 
 
 @njit(cache=True)
 def _gram(F):
     """``F Fᵀ`` of a 3×3 matrix, written out."""
     G = np.empty((3, 3))
+    _gram_into(F, G)
+    return G
+
+
+@njit(cache=True)
+def _gram_into(F, G):
+    """:func:`_gram` written into ``G``."""
     for i in range(3):
         for j in range(i, 3):
             G[i, j] = F[i, 0] * F[j, 0] + F[i, 1] * F[j, 1] + F[i, 2] * F[j, 2]
             G[j, i] = G[i, j]
-    return G
 
 
 # Kept as one compiled function (about 75 lines of code): it runs once per descriptor sample in
@@ -182,11 +201,12 @@ def bilts_sample(xm, x0, xp, p_obj, L, regularized, axis_prior):
         if axis_prior > 0.0:  # regularized least squares, pulled towards the body's foot point
             w2 = (axis_prior * R1[0, 0]) ** 2
             ps[0] = (R1[1, 1] * b + w2 * qo[0]) / (R1[1, 1] ** 2 + w2)
-        delta = ps - qo
-        nd = math.sqrt(delta[0] ** 2 + delta[1] ** 2 + delta[2] ** 2)
+        d0, d1, d2 = ps[0] - qo[0], ps[1] - qo[1], ps[2] - qo[2]
+        nd = math.sqrt(d0 ** 2 + d1 ** 2 + d2 ** 2)
         if nd > L:
-            delta *= L / nd
-        ps = qo + delta
+            shrink = L / nd
+            d0, d1, d2 = d0 * shrink, d1 * shrink, d2 * shrink
+        ps[0], ps[1], ps[2] = qo[0] + d0, qo[1] + d1, qo[2] + d2
     # R2 = Y - [p*]x R1
     R2 = np.empty((3, 3))
     for j in range(3):
@@ -211,11 +231,10 @@ def bilts_sample(xm, x0, xp, p_obj, L, regularized, axis_prior):
         for r in range(3):
             out[6 * c + r] = Fw[r, c]
             out[6 * c + 3 + r] = Fv[r, c]
-    ew = _sym3_eigvals_ascending(_gram(Fw))
-    ev = _sym3_eigvals_ascending(_gram(Fv))
-    for i in range(3):
-        out[18 + i] = math.sqrt(max(ew[i], 0.0))
-        out[21 + i] = math.sqrt(max(ev[i], 0.0))
+    _gram_into(Fw, R1)  # R1 and Y are no longer needed: scratch for the Gram matrices
+    _root_eigvals_into(R1, out, 18)
+    _gram_into(Fv, Y)
+    _root_eigvals_into(Y, out, 21)
     return out
 
 
