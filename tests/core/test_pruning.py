@@ -19,6 +19,7 @@ from framefree.core.pruning import (
     DistanceSpec,
     ModelBank,
     bound_features,
+    envelope_bounds,
     lower_bounds,
     pruned_nearest,
 )
@@ -58,8 +59,11 @@ def test_decisions_equal_the_full_search(vocab, chunk):
     bank = ModelBank(models, spec)
     for q in queries:
         full = _full(models, q, spec)
-        assert np.all(lower_bounds(q, bank) <= full)
+        tight = lower_bounds(q, bank)
+        assert np.all(tight <= full)
+        assert np.all(envelope_bounds(q, bank) <= tight)
         found = pruned_nearest(q, bank, chunk=chunk)
+        assert np.all(found.values <= full)
         assert found.nearest == int(np.argmin(full))
         assert np.array_equal(found.values[found.exact], full[found.exact])
         assert found.values[found.nearest] == full.min()

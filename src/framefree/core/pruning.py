@@ -54,6 +54,7 @@ __all__ = [
     "ModelBank",
     "SearchResult",
     "bound_features",
+    "envelope_bounds",
     "lower_bounds",
     "pruned_nearest",
 ]
@@ -155,6 +156,40 @@ def _lower_bound(Sm, Sq, squared, open_end):
     return best / (n + m - 1) * (1.0 - _SLACK)
 
 
+@njit(cache=True)
+def _envelope_sum(qS, lo, hi, squared):
+    """Bound of ``Σ_j min_i c(i, j)`` from the model's per-feature range ``[lo_f, hi_f]`` (k,)
+    alone: every model sample lies in it, so a query value ``v`` costs at least its squared (or
+    plain) distance to the range. With the query's values sorted per feature (``qS``, (k, m)),
+    only the values outside the range are visited; each term is at most the merge bound's (the
+    same subtraction, of a nearer or equal number), so rounding never lifts it above."""
+    k, m = qS.shape
+    total = 0.0
+    for f in range(k):
+        row = qS[f]
+        i = 0
+        while i < m and row[i] < lo[f]:
+            d = lo[f] - row[i]
+            total += d * d if squared else d
+            i += 1
+        i = m - 1
+        while i >= 0 and row[i] > hi[f]:
+            d = row[i] - hi[f]
+            total += d * d if squared else d
+            i -= 1
+    return total if squared else total / np.sqrt(k)
+
+
+@njit(cache=True, parallel=True, nogil=True)
+def _envelope_kernel(lo, hi, lengths, qS, squared):
+    M = lo.shape[0]
+    m = qS.shape[1]
+    out = np.empty(M)
+    for j in prange(M):
+        out[j] = _envelope_sum(qS, lo[j], hi[j], squared) / (lengths[j] + m - 1) * (1.0 - _SLACK)
+    return out
+
+
 @njit(cache=True, parallel=True, nogil=True)
 def _lower_bounds_kernel(sdata, soff, qS, squared, open_end):
     M = soff.shape[0] - 1
@@ -165,20 +200,32 @@ def _lower_bounds_kernel(sdata, soff, qS, squared, open_end):
 
 
 @njit(cache=True, parallel=True)
-def _exact_chunk(qdata, idx, mdata, moff, lo, hi, mode, open_end):
+def _exact_chunk(qdata, qS, idx, cutoff, sdata, soff, mdata, moff, lo, hi, mode, open_end):
+    """For each model of ``idx`` (in parallel): its merge bound, and, unless that exceeds
+    ``cutoff``, its exact distance. Returns the values and which are exact."""
     out = np.empty(idx.shape[0])
+    exact = np.zeros(idx.shape[0], dtype=np.bool_)
+    squared = mode != POINTWISE_EUCLIDEAN
     for k in prange(idx.shape[0]):
         j = idx[k]
-        out[k] = path_distance_kernel(mdata[moff[j]:moff[j + 1]], qdata, lo, hi, mode, open_end)
-    return out
+        out[k] = _lower_bound(sdata[:, soff[j]:soff[j + 1]], qS, squared, open_end)
+        if out[k] <= cutoff:
+            out[k] = path_distance_kernel(mdata[moff[j]:moff[j + 1]], qdata, lo, hi, mode,
+                                          open_end)
+            exact[k] = True
+    return out, exact
 
 
 @njit(cache=True, nogil=True)
-def _search(qdata, bounds, mdata, moff, lo, hi, mode, open_end, chunk, accept_below):
-    """Exact distances in bound order, ``chunk`` at a time (in parallel), until every remaining
-    bound exceeds the best distance so far — or, with acceptance thresholds, until the best so far
-    cannot be accepted and no remaining model could be (its bound is at or above the largest
-    threshold). Returns the values, which are exact, and the DTW cells computed."""
+def _search(qdata, qS, bounds, sdata, soff, mdata, moff, lo, hi, mode, open_end, chunk,
+            accept_below):
+    """Exact distances in the order of the cheap envelope ``bounds``, ``chunk`` at a time (in
+    parallel), until every remaining bound exceeds the best distance so far — or, with acceptance
+    thresholds, until the best so far cannot be accepted and no remaining model could be (its
+    bound is at or above the largest threshold). A model the envelope does not rule out gets its
+    tighter merge bound (:func:`_lower_bound`) in the parallel chunk, and its exact distance only
+    if that bound does not rule it out either. Returns the values (exact, or a lower bound),
+    which are exact, and the DTW cells computed."""
     M = bounds.shape[0]
     reject = accept_below.shape[0] == M
     top = accept_below.max() if reject and M > 0 else np.inf
@@ -195,15 +242,22 @@ def _search(qdata, bounds, mdata, moff, lo, hi, mode, open_end, chunk, accept_be
         n_todo = 0
         while k < M and n_todo < chunk:
             j = order[k]
+            if best >= 0 and bounds[j] > values[best]:
+                k = M  # bounds ascend: no later model can be nearer
+                break
             k += 1
-            if best < 0 or bounds[j] <= values[best]:
-                todo[n_todo] = j
-                n_todo += 1
+            todo[n_todo] = j
+            n_todo += 1
         if n_todo == 0:
             break
-        d = _exact_chunk(qdata, todo[:n_todo], mdata, moff, lo, hi, mode, open_end)
+        cutoff = np.inf if best < 0 else values[best]
+        d, computed = _exact_chunk(qdata, qS, todo[:n_todo], cutoff, sdata, soff, mdata, moff, lo,
+                                   hi, mode, open_end)
         for t in range(n_todo):
             j = todo[t]
+            if not computed[t]:  # ruled out by its merge bound
+                values[j] = max(values[j], d[t])
+                continue
             values[j] = d[t]
             exact[j] = True
             cells += (moff[j + 1] - moff[j]) * qdata.shape[0]
@@ -230,6 +284,10 @@ class ModelBank:
         bounds = [bound_features(m, spec) for m in models]
         self.sdata = np.ascontiguousarray(np.concatenate([_sorted_columns(b) for b in bounds], axis=1))
         self.soff = np.concatenate([[0], np.cumsum([b.shape[0] for b in bounds])]).astype(np.int64)
+        #: each model's per-feature range of bound features (M, k) and its length (M,)
+        self.low = np.ascontiguousarray(self.sdata[:, self.soff[:-1]].T)
+        self.high = np.ascontiguousarray(self.sdata[:, self.soff[1:] - 1].T)
+        self.lengths = np.diff(self.moff)
         self.dtw_cells = sum(int(m.shape[0]) for m in models)  # times the query length
 
     def __len__(self) -> int:
@@ -269,6 +327,15 @@ def lower_bounds(query: np.ndarray, bank: ModelBank) -> np.ndarray:
     return _lower_bounds_kernel(bank.sdata, bank.soff, qS, bank.spec.squared, bank.spec.open_end)
 
 
+def envelope_bounds(query: np.ndarray, bank: ModelBank) -> np.ndarray:
+    """Cheaper, looser lower bounds (M,) than :func:`lower_bounds`: each model's samples are
+    replaced by the range of their bound features, ``O(k · outside)`` per model instead of a merge
+    of both sequences. The search orders the models by these."""
+    q = np.ascontiguousarray(query, dtype=np.float64)
+    qS = _sorted_columns(bound_features(q, bank.spec))
+    return _envelope_kernel(bank.low, bank.high, bank.lengths, qS, bank.spec.squared)
+
+
 def pruned_nearest(query: np.ndarray, bank: ModelBank, chunk: int = 8,
                    accept_below: np.ndarray | None = None) -> SearchResult:
     """The exact nearest model, the others pruned by their lower bounds where possible.
@@ -298,6 +365,9 @@ def pruned_nearest(query: np.ndarray, bank: ModelBank, chunk: int = 8,
     tau = np.zeros(0) if accept_below is None else np.ascontiguousarray(accept_below, dtype=np.float64)
     if tau.size and tau.shape != (len(bank),):
         raise ValueError(f"accept_below needs one threshold per model ({len(bank)}), got {tau.shape}")
-    values, exact, cells = _search(q, lower_bounds(q, bank), bank.mdata, bank.moff, s.align_lo,
-                                   s.align_hi, s.mode, s.open_end, max(1, int(chunk)), tau)
+    qS = _sorted_columns(bound_features(q, s))
+    envelope = _envelope_kernel(bank.low, bank.high, bank.lengths, qS, s.squared)  # envelope_bounds
+    values, exact, cells = _search(q, qS, envelope, bank.sdata, bank.soff, bank.mdata, bank.moff,
+                                   s.align_lo, s.align_hi, s.mode, s.open_end, max(1, int(chunk)),
+                                   tau)
     return SearchResult(values, exact, int(cells), int(bank.dtw_cells * q.shape[0]))
