@@ -1,17 +1,27 @@
-"""Exact pruning against vocabulary size: the live recognizer and the offline classifier, pruning
-on and off side by side in one run.
+"""Real time against vocabulary size: exact pruning on and off, inline and in the background, one
+and two trackers, 50 and 120 Hz.
 
-Models: 7 HPM gestures × 5 takes performed by 1, 10, 100 (or 1000) simulated people of the replica
+Models: 7 HPM gestures × 5 takes performed by 1, 10, 100, 1000 simulated people of the replica
 population (35, 350, 3 500, 35 000 distinct models; seeds 5000+, none of the development or held-out
 people); thresholds and settings calibrated once on the replica's 35 ``original_1`` recordings.
-Stream: a held-out person's session (gestures among everyday motion), at 50 Hz as recorded and
-resampled to 120 Hz. One tracker (the live recognizer takes one).
+Streams: sessions of held-out people (eight gestures among everyday motion), as recorded at
+50 Hz and resampled to 120 Hz; with two trackers, two people's sessions side by side, one
+recognizer each.
 
-Prints and writes ``benchmarks/results/pruning.json`` and ``docs/images/pruning.png``: mean and
-p99 time per pose, time per pose sample that classifies candidates (mean, p99, max), and the
-fraction of DTW cells computed; offline, time per query and cells, against the number of models.
+Two measurements:
 
-    .venv/bin/python benchmarks/bench_pruning.py [--counts 35,350,3500] [--rates 50,120]
+* **cost** (as fast as the machine goes, classification inline): time per pose step (both
+  trackers), per step that classifies candidates, and per movement unit; DTW cells computed. The
+  lateness of each event is what a single-threaded loop fed at the source's rate would see: the
+  steps queue behind a slow one (``finish_k = max(arrival_k, finish_{k-1}) + cost_k``).
+* **real time** (``--realtime``, background classification): the poses are pushed at their time
+  stamps on the wall clock; time per push, and each event's lateness, the wall time it was handed
+  out minus the time its firing pose was due.
+
+Prints and writes ``benchmarks/results/pruning.json`` and ``docs/images/pruning.png``.
+
+    .venv/bin/python benchmarks/bench_pruning.py [--counts 35,350,3500,35000] [--rates 50,120]
+        [--unpruned-up-to 3500] [--realtime 3500,35000] [--cache DIR]
 """
 
 from __future__ import annotations
@@ -28,10 +38,14 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def _vocabulary(count: int, descriptor) -> tuple[list[np.ndarray], list[str]]:
+def _vocabulary(count: int, descriptor, cache: Path | None) -> tuple[list[np.ndarray], list[str]]:
     from framefree.datasets import GESTURES
     from framefree.replica import person, synthesize_gesture
 
+    path = None if cache is None else cache / f"vocabulary_{count}.npz"
+    if path is not None and path.is_file():
+        z = np.load(path)
+        return np.split(z["data"], np.cumsum(z["lengths"])[:-1]), [str(s) for s in z["labels"]]
     rng = np.random.default_rng(count)
     models, labels = [], []
     for k in range(-(-count // (5 * len(GESTURES)))):
@@ -40,110 +54,187 @@ def _vocabulary(count: int, descriptor) -> tuple[list[np.ndarray], list[str]]:
             for _ in range(5):
                 models.append(descriptor.compute(synthesize_gesture(g, rng, person=who)))
                 labels.append(g)
-    return models[:count], labels[:count]
+    models, labels = models[:count], labels[:count]
+    if path is not None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        np.savez(path, data=np.concatenate(models), lengths=[len(m) for m in models], labels=labels)
+    return models, labels
 
 
-def _stream(rate: float):
+def _streams(rate: float, trackers: int):
     from framefree.replica.people import HELDOUT_PEOPLE, person
     from framefree.replica.people_streams import person_stream
 
-    tr = person_stream(1, person(HELDOUT_PEOPLE[0]), n_gestures=20).traj
-    if rate != 50:
-        tr = tr.resampled(1.0 / rate)
-    return tr
+    out = []
+    for k in range(trackers):
+        tr = person_stream(1 + k, person(HELDOUT_PEOPLE[k]), n_gestures=8).traj
+        out.append(tr if rate == 50 else tr.resampled(1.0 / rate))
+    n = min(len(tr) for tr in out)
+    return [(tr.t[:n] - tr.t[0], tr.p[:n], tr.q[:n]) for tr in out]
 
 
-def _live(rec, tr) -> dict:
-    rec.reset()
-    cells0 = list(rec.classifier.cells)
-    per_pose = np.empty(len(tr))
-    classifies = np.zeros(len(tr), dtype=bool)
-    events = []
-    for k in range(len(tr)):
+def _lateness(arrival: np.ndarray, cost: np.ndarray, fired_at: list[int]) -> list[float]:
+    """Event lateness of a single-threaded loop fed at ``arrival`` (module docstring)."""
+    finish = np.empty_like(arrival)
+    done = -np.inf
+    for k in range(arrival.size):
+        done = max(arrival[k], done) + cost[k]
+        finish[k] = done
+    return [float(finish[k] - arrival[k]) for k in fired_at]
+
+
+def _ms(x: np.ndarray, q: float | None = None) -> float:
+    if x.size == 0:
+        return 0.0
+    return 1e3 * float(np.mean(x) if q is None else np.percentile(x, q))
+
+
+def _cost(recs, streams) -> dict:
+    """Inline, as fast as possible (module docstring)."""
+    for rec in recs:
+        rec.reset()
+    t = streams[0][0]
+    per_step = np.empty(t.size)
+    classifying = np.zeros(t.size, dtype=bool)
+    events, fired_at = [], []
+    for k in range(t.size):
         a = time.perf_counter()
-        events += rec.push(tr.t[k], tr.p[k], tr.q[k])
-        per_pose[k] = time.perf_counter() - a
-        classifies[k] = len(rec.observations) > 0
-    cells = rec.classifier.cells[0] - cells0[0], rec.classifier.cells[1] - cells0[1]
-    heavy = per_pose[classifies]
+        for rec, (tt, p, q) in zip(recs, streams, strict=True):
+            got = rec.push(tt[k], p[k], q[k])
+            events += [(e.label, round(e.time, 3)) for e in got if not e.is_stop]
+            fired_at += [k] * sum(not e.is_stop for e in got)
+            classifying[k] |= len(rec.observations) > 0
+        per_step[k] = time.perf_counter() - a
+    cells = [sum(rec.classifier.cells[i] for rec in recs[:1]) for i in (0, 1)]
+    late = _lateness(t, per_step, fired_at)
+    heavy = per_step[classifying]
+    units = sum(rec.stats["units"] for rec in recs)
     return {
-        "poses": len(tr), "classifying_poses": int(classifies.sum()),
-        "mean_per_pose_ms": 1e3 * float(per_pose.mean()),
-        "p99_per_pose_ms": 1e3 * float(np.percentile(per_pose, 99)),
-        "mean_per_classifying_pose_ms": 1e3 * float(heavy.mean()) if heavy.size else 0.0,
-        "p99_per_classifying_pose_ms": 1e3 * float(np.percentile(heavy, 99)) if heavy.size else 0.0,
-        "max_per_pose_ms": 1e3 * float(per_pose.max()),
+        "poses_per_tracker": int(t.size),
+        "mean_per_step_ms": _ms(per_step), "p99_per_step_ms": _ms(per_step, 99),
+        "max_per_step_ms": _ms(per_step, 100),
+        "classifying_steps": int(classifying.sum()),
+        "mean_per_classifying_step_ms": _ms(heavy), "p99_per_classifying_step_ms": _ms(heavy, 99),
+        "mean_per_unit_ms": 1e3 * float(heavy.sum()) / max(units, 1),
         "dtw_cells_fraction": cells[0] / cells[1] if cells[1] else None,
-        "events": [(e.label, round(e.time, 3)) for e in events],
+        "max_event_lateness_s": max(late, default=0.0),
+        "events_later_than_0.1_s": sum(x > 0.1 for x in late),
+        "events": sorted(events),
     }
 
 
-def _offline(descriptor, models, labels, queries) -> dict:
-    from framefree.core.pruning import ModelBank, pruned_nearest
+def _realtime(recs, streams) -> dict:
+    """Background classification, poses pushed at their time stamps (module docstring)."""
+    for rec in recs:
+        rec.reset()
+        rec.background = True
+    t = streams[0][0]
+    push = np.empty(t.size)
+    late, events = [], []
+    start = time.perf_counter()
+    try:
+        for k in range(t.size):
+            due = start + t[k]
+            while time.perf_counter() < due:
+                time.sleep(max(0.0, min(due - time.perf_counter(), 0.002)))
+            a = time.perf_counter()
+            got = []
+            for rec, (tt, p, q) in zip(recs, streams, strict=True):
+                got += rec.push(tt[k], p[k], q[k])
+            now = time.perf_counter()
+            push[k] = now - a
+            for e in got:
+                if not e.is_stop:
+                    fired = start + t[np.searchsorted(t, e.time - 1e-9)]
+                    late.append(now - fired)
+                    events.append((e.label, round(e.time, 3)))
+        for rec in recs:
+            events += [(e.label, round(e.time, 3)) for e in rec.finish() if not e.is_stop]
+    finally:
+        for rec in recs:
+            rec.close()
+    return {
+        "mean_per_step_ms": _ms(push), "p99_per_step_ms": _ms(push, 99),
+        "max_per_step_ms": _ms(push, 100),
+        "max_event_lateness_s": max(late, default=0.0),
+        "events_later_than_0.1_s": sum(x > 0.1 for x in late),
+        "events": sorted(events),
+    }
 
-    bank = ModelBank(models, descriptor.distance_spec())
-    out = {}
-    a = time.perf_counter()
-    full = descriptor.distance_matrix(queries, models)
-    out["unpruned_ms_per_query"] = 1e3 * (time.perf_counter() - a) / len(queries)
-    a = time.perf_counter()
-    found = [pruned_nearest(q, bank) for q in queries]
-    out["pruned_ms_per_query"] = 1e3 * (time.perf_counter() - a) / len(queries)
-    out["same_nearest"] = all(f.nearest == int(np.argmin(d)) for f, d in zip(found, full, strict=True))
-    out["dtw_cells_fraction"] = sum(f.cells for f in found) / sum(f.full_cells for f in found)
-    return out
+
+def _recognizers(classifier_for, labels, config, trackers: int):
+    from framefree.online import Recognizer
+
+    recs = [Recognizer(classifier_for(), labels, config) for _ in range(trackers)]
+    recs[0].warmup()
+    return recs
 
 
-def _print_live(rate: int, prune: bool, r: dict) -> None:
-    print(f"  {rate:3d} Hz pruning {'on ' if prune else 'off'}: {r['mean_per_pose_ms']:.2f} ms/pose "
-          f"(p99 {r['p99_per_pose_ms']:.2f}), classifying {r['mean_per_classifying_pose_ms']:.1f} ms "
-          f"(p99 {r['p99_per_classifying_pose_ms']:.1f}, max {r['max_per_pose_ms']:.1f}), "
-          f"cells {r['dtw_cells_fraction'] or 1:.2f}", flush=True)
+def _print(label: str, r: dict) -> None:
+    extra = ""
+    if "mean_per_unit_ms" in r:
+        extra = (f", per unit {r['mean_per_unit_ms']:.1f} ms, classifying p99 "
+                 f"{r['p99_per_classifying_step_ms']:.1f} ms, cells {r['dtw_cells_fraction'] or 1:.3f}")
+    print(f"  {label}: {r['mean_per_step_ms']:.2f} ms/step (p99 {r['p99_per_step_ms']:.2f}, max "
+          f"{r['max_per_step_ms']:.1f}){extra}; latest event {r['max_event_lateness_s']:.3f} s, "
+          f"{r['events_later_than_0.1_s']} later than 0.1 s", flush=True)
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--counts", default="35,350,3500")
+    ap.add_argument("--counts", default="35,350,3500,35000")
     ap.add_argument("--rates", default="50,120")
+    ap.add_argument("--trackers", default="1,2")
+    ap.add_argument("--unpruned-up-to", type=int, default=3500,
+                    help="largest vocabulary also run without pruning")
+    ap.add_argument("--realtime", default="3500,35000",
+                    help="vocabularies also replayed in real time in the background (120 Hz)")
+    ap.add_argument("--cache", type=Path, default=None, help="folder to keep built vocabularies in")
     ap.add_argument("--json", default=str(ROOT / "benchmarks" / "results" / "pruning.json"))
     args = ap.parse_args()
 
-    from framefree.datasets import GESTURES
     from framefree.datasets.layout import load_model_recordings
     from framefree.online import Recognizer
     from framefree.online.spotting import SegmentClassifier
-    from framefree.replica import person, replica_path, synthesize_gesture
+    from framefree.replica import replica_path
 
     trajs, labels = load_model_recordings(replica_path(0), "original_1")
     calibrated = Recognizer.from_trajectories(trajs, labels)
     descriptor = calibrated.classifier.descriptor
-    rng = np.random.default_rng(1)
-    queries = [descriptor.compute(synthesize_gesture(g, rng, person=person(9000 + k)))
-               for k in range(3) for g in GESTURES]
-    streams = {int(r): _stream(float(r)) for r in args.rates.split(",")}
+    rates = [int(r) for r in args.rates.split(",")]
+    trackers = [int(n) for n in args.trackers.split(",")]
+    realtime = {int(c) for c in args.realtime.split(",") if c}
+    streams = {(r, n): _streams(float(r), n) for r in rates for n in trackers}
     rows = []
     for count in (int(c) for c in args.counts.split(",")):
         a = time.perf_counter()
-        models, model_labels = _vocabulary(count, descriptor)
-        print(f"{count} models built in {time.perf_counter() - a:.0f} s", flush=True)
-        row = {"models": count, "offline": _offline(descriptor, models, model_labels, queries), "live": {}}
-        for rate, tr in streams.items():
-            for prune in (False, True):
-                rec = Recognizer(SegmentClassifier(descriptor, models, prune=prune), model_labels,
-                                 calibrated.config)
-                rec.warmup()
-                row["live"][f"{rate} Hz, pruning {'on' if prune else 'off'}"] = r = _live(rec, tr)
-                _print_live(rate, prune, r)
-            on, off = row["live"][f"{rate} Hz, pruning on"], row["live"][f"{rate} Hz, pruning off"]
-            row["live"][f"{rate} Hz, same events"] = on["events"] == off["events"]
-        o = row["offline"]
-        print(f"  offline: {o['unpruned_ms_per_query']:.1f} ms/query unpruned, "
-              f"{o['pruned_ms_per_query']:.1f} pruned, cells {o['dtw_cells_fraction']:.2f}, "
-              f"same nearest {o['same_nearest']}", flush=True)
+        models, model_labels = _vocabulary(count, descriptor, args.cache)
+        print(f"{count} models ({time.perf_counter() - a:.0f} s to build)", flush=True)
+        row: dict = {"models": count, "cost": {}, "realtime": {}}
+        for prune in ((False, True) if count <= args.unpruned_up_to else (True,)):
+            clf = SegmentClassifier(descriptor, models, prune=prune)
+            for rate in rates:
+                for n in trackers:
+                    key = f"{rate} Hz, {n} tracker{'s' if n > 1 else ''}, pruning {'on' if prune else 'off'}"
+                    recs = _recognizers(lambda c=clf: c, model_labels, calibrated.config, n)
+                    row["cost"][key] = r = _cost(recs, streams[(rate, n)])
+                    _print(key, r)
+        if count in realtime:
+            clf = SegmentClassifier(descriptor, models, prune=True)
+            for n in trackers:
+                key = f"120 Hz, {n} tracker{'s' if n > 1 else ''}, background, real time"
+                recs = _recognizers(lambda c=clf: c, model_labels, calibrated.config, n)
+                row["realtime"][key] = r = _realtime(recs, streams[(120, n)])
+                _print(key, r)
+        row["same_events"] = all(
+            v["events"] == row["cost"][k.replace("pruning off", "pruning on")]["events"]
+            for k, v in row["cost"].items() if "pruning off" in k) and all(
+            v["events"] == row["cost"][k.replace("background, real time", "pruning on")]["events"]
+            for k, v in row["realtime"].items())
         rows.append(row)
-    out = {"benchmark": "exact pruning against vocabulary size", "rows": rows,
+    out = {"benchmark": "real time against vocabulary size", "rows": rows,
            "machine": {"platform": platform.platform(), "cpu_count": os.cpu_count(),
-                       "load_average": os.getloadavg()}}
+                       "load_average_at_end": os.getloadavg()}}
     Path(args.json).write_text(json.dumps(out, indent=1, default=float))
     _figure(rows, ROOT / "docs" / "images" / "pruning.png")
     print(f"wrote {args.json}")
@@ -153,24 +244,29 @@ def _figure(rows: list[dict], path: Path) -> None:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(9, 3.8), layout="constrained")
+    fig = Figure(figsize=(10, 3.8), layout="constrained")
     FigureCanvasAgg(fig)
     ax1, ax2 = fig.subplots(1, 2)
-    counts = [r["models"] for r in rows]
-    for key, style in (("50 Hz, pruning off", "o--"), ("50 Hz, pruning on", "o-")):
-        if key in rows[0]["live"]:
-            ax1.plot(counts, [r["live"][key]["mean_per_classifying_pose_ms"] for r in rows], style,
-                     label=f"mean, {key}")
-            ax1.plot(counts, [r["live"][key]["p99_per_classifying_pose_ms"] for r in rows], style,
-                     alpha=0.5, label=f"p99, {key}")
-    ax1.set(xscale="log", yscale="log", xlabel="models", ylabel="time per classifying pose [ms]",
-            title="Live: a pose where a movement unit ends")
-    ax1.legend(fontsize=7)
-    ax2.plot(counts, [r["offline"]["unpruned_ms_per_query"] for r in rows], "o--", label="unpruned")
-    ax2.plot(counts, [r["offline"]["pruned_ms_per_query"] for r in rows], "o-", label="pruned")
-    ax2.set(xscale="log", yscale="log", xlabel="models", ylabel="time per query [ms]",
-            title="Offline 1-NN (BILTS+, recommended)")
-    ax2.legend(fontsize=7)
+    for key, style in (("120 Hz, 1 tracker, pruning off", "o--"), ("120 Hz, 1 tracker, pruning on", "o-"),
+                       ("120 Hz, 2 trackers, pruning on", "s-")):
+        have = [r for r in rows if key in r["cost"]]
+        if have:
+            counts = [r["models"] for r in have]
+            ax1.plot(counts, [r["cost"][key]["mean_per_unit_ms"] for r in have], style, label=key)
+            ax2.plot(counts, [r["cost"][key]["p99_per_step_ms"] for r in have], style, label=key)
+    for key, style in (("120 Hz, 1 tracker, background, real time", "^:"),
+                       ("120 Hz, 2 trackers, background, real time", "v:")):
+        have = [r for r in rows if key in r["realtime"]]
+        if have:
+            ax2.plot([r["models"] for r in have], [r["realtime"][key]["p99_per_step_ms"] for r in have],
+                     style, label=key)
+    ax1.set(xscale="log", yscale="log", xlabel="models", ylabel="ms",
+            title="Classifying one movement unit (mean)")
+    ax2.axhline(1000 / 120, color="grey", lw=0.8)
+    ax2.set(xscale="log", yscale="log", xlabel="models", ylabel="ms",
+            title="p99 time per pose step (grey: 120 Hz period)")
+    for ax in (ax1, ax2):
+        ax.legend(fontsize=7)
     fig.savefig(path, dpi=110)
 
 
