@@ -105,7 +105,7 @@ def _cost(recs, streams) -> dict:
             fired_at += [k] * sum(not e.is_stop for e in got)
             classifying[k] |= len(rec.observations) > 0
         per_step[k] = time.perf_counter() - a
-    cells = [sum(rec.classifier.cells[i] for rec in recs[:1]) for i in (0, 1)]
+    cells = recs[0].classifier.cells  # the trackers' recognizers share one classifier
     late = _lateness(t, per_step, fired_at)
     heavy = per_step[classifying]
     units = sum(rec.stats["units"] for rec in recs)

@@ -79,7 +79,16 @@ def screw_increment_from_twist(xi, L):
 @njit(cache=True)
 def screw_path_increment(A, B, L):
     """Screw path [m] of the relative displacement from pose ``A`` to pose ``B`` (4×4 each)."""
-    return screw_increment_from_twist(se3.twist_from_pose_one(se3.relative_one(A, B)), L)
+    return screw_path_increment_into(A, B, L, np.empty((4, 4)), np.empty(6))
+
+
+@njit(cache=True)
+def screw_path_increment_into(A, B, L, work, xi):
+    """:func:`screw_path_increment` with scratch arrays ``work`` (4×4) and ``xi`` (6,): no
+    allocation."""
+    se3.relative_into(A, B, work)
+    se3.twist_from_pose_into(work, xi)
+    return screw_increment_from_twist(xi, L)
 
 
 @njit(cache=True)
@@ -98,10 +107,8 @@ def _increments_kernel(T, code, L):
         elif code == 1:
             phi = se3.rotation_increment_one(T[k], T[k + 1])  # rotation of R_{k+1} R_kᵀ
             out[k] = math.sqrt(phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2])
-        else:  # screw_path_increment without allocations
-            se3.relative_into(T[k], T[k + 1], work)
-            se3.twist_from_pose_into(work, xi)
-            out[k] = screw_increment_from_twist(xi, L)
+        else:
+            out[k] = screw_path_increment_into(T[k], T[k + 1], L, work, xi)
     return out
 
 

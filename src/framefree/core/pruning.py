@@ -332,7 +332,10 @@ def envelope_bounds(query: np.ndarray, bank: ModelBank) -> np.ndarray:
     replaced by the range of their bound features, ``O(k · outside)`` per model instead of a merge
     of both sequences. The search orders the models by these."""
     q = np.ascontiguousarray(query, dtype=np.float64)
-    qS = _sorted_columns(bound_features(q, bank.spec))
+    return _envelope(_sorted_columns(bound_features(q, bank.spec)), bank)
+
+
+def _envelope(qS: np.ndarray, bank: ModelBank) -> np.ndarray:
     return _envelope_kernel(bank.low, bank.high, bank.lengths, qS, bank.spec.squared)
 
 
@@ -366,8 +369,7 @@ def pruned_nearest(query: np.ndarray, bank: ModelBank, chunk: int = 8,
     if tau.size and tau.shape != (len(bank),):
         raise ValueError(f"accept_below needs one threshold per model ({len(bank)}), got {tau.shape}")
     qS = _sorted_columns(bound_features(q, s))
-    envelope = _envelope_kernel(bank.low, bank.high, bank.lengths, qS, s.squared)  # envelope_bounds
-    values, exact, cells = _search(q, qS, envelope, bank.sdata, bank.soff, bank.mdata, bank.moff,
+    values, exact, cells = _search(q, qS, _envelope(qS, bank), bank.sdata, bank.soff, bank.mdata, bank.moff,
                                    s.align_lo, s.align_hi, s.mode, s.open_end, max(1, int(chunk)),
                                    tau)
     return SearchResult(values, exact, int(cells), int(bank.dtw_cells * q.shape[0]))

@@ -22,6 +22,7 @@ import math
 from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -55,7 +56,7 @@ class SegmentClassifier:
         #: search with lower bounds (:mod:`framefree.core.pruning`); the nearest model and its
         #: distance are those of the full search
         self.prune = prune
-        #: DTW cells computed / that a full search would compute, over every :meth:`search`
+        #: DTW cells computed / that a full search would compute, over every :meth:`search_described`
         self.cells = [0, 0]
 
     def describe(self, times: np.ndarray, poses: np.ndarray) -> tuple[np.ndarray, float] | None:
@@ -85,27 +86,19 @@ class SegmentClassifier:
 
     @property
     def pruning(self) -> bool:
-        """Whether :meth:`search_described` prunes (:attr:`prune` set and the distance allows it)."""
+        """Whether :meth:`search_described` can be used (:attr:`prune` set and the distance
+        allows it); otherwise :meth:`distances` computes every model's distance."""
         return self.prune and self.bank is not None
-
-    def search(self, times: np.ndarray, poses: np.ndarray, accept_below: np.ndarray | None = None
-               ) -> tuple[np.ndarray, float]:
-        """Like :meth:`distances`, pruned when :attr:`prune` is set: every value is a model's exact
-        distance or a lower bound of it. With ``accept_below`` (each model's threshold), whether
-        the nearest model is below its threshold is exact, and when it is, so are the nearest
-        model and its distance (:func:`~framefree.core.pruning.pruned_nearest`); without it, the
-        nearest model and its distance always are."""
-        if not self.pruning:
-            return self.distances(times, poses)
-        out = self.describe(times, poses)
-        if out is None:
-            return np.full(len(self.models), math.inf), 0.0
-        return self.search_described(out[0], accept_below), out[1]
 
     def search_described(self, descriptor: np.ndarray, accept_below: np.ndarray | None = None
                          ) -> np.ndarray:
-        """The pruned search of :meth:`search` for a descriptor (n, F) already computed. When
-        ``accept_below`` accepts nothing (all zero), nothing is searched: every value is ``inf``."""
+        """Distances (M,) from a descriptor (n, F) (:meth:`describe`) to the models, pruned:
+        every value is a model's exact distance or a lower bound of it. With ``accept_below``
+        (each model's threshold), whether the nearest model is below its threshold is exact, and
+        when it is, so are the nearest model and its distance
+        (:func:`~framefree.core.pruning.pruned_nearest`); without it, the nearest model and its
+        distance always are. When ``accept_below`` accepts nothing (all zero), nothing is
+        searched: every value is ``inf``."""
         if accept_below is not None and not np.any(accept_below > 0.0):
             self.cells[1] += self.bank.dtw_cells * descriptor.shape[0]
             return np.full(len(self.models), math.inf)
@@ -333,16 +326,17 @@ class Spotter:
     def admitting_models(self, closure_: float, size: float) -> np.ndarray:
         """Which models' gestures admit a segment of this closure and size [m] (M,) bool: the
         rule of :meth:`admissible`, for every model at once."""
-        lo, hi = self.size_limits[:, 0], self.size_limits[:, 1]
-        closes = (closure_ <= self.closure_limits) | (closure_ * size <= self.return_error)
-        return closes & (closure_ >= self.opening_limits) & (size >= lo) & (size <= hi)
+        return self._admits(slice(None), closure_, size)
 
     def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray) -> np.ndarray:
         """Which segments (closures (n,), sizes (n,) [m]) may be model ``j``'s gesture: within its
         size range, no more closed than its opening limit, and within its closure limit or ending
         within :attr:`return_error` of their start (closure × size)."""
-        closures, sizes = np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float)
-        lo, hi = self.size_limits[j]
+        return self._admits(j, np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float))
+
+    def _admits(self, j: int | slice, closures: Any, sizes: Any) -> np.ndarray:
+        """The admissibility rule for model(s) ``j`` (broadcast against the segments)."""
+        lo, hi = self.size_limits[j, 0], self.size_limits[j, 1]
         closes = (closures <= self.closure_limits[j]) | (closures * sizes <= self.return_error)
         opens = closures >= self.opening_limits[j]
         return closes & opens & (sizes >= lo) & (sizes <= hi)
