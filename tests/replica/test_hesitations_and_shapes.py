@@ -85,7 +85,7 @@ def _closure(name: str, seed: int) -> float:
 
 @pytest.mark.parametrize("name", list(DRAWN_SHAPES))
 def test_drawn_shapes_close_or_stay_open_as_documented(name: str) -> None:
-    closes = name in ("triangle", "square")
+    closes = name in ("triangle", "square", "diamond")
     for seed in range(3):
         c = _closure(name, seed)
         assert (c < 0.1) if closes else (c > 0.15), (name, seed, c)
