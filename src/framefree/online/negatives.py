@@ -12,6 +12,10 @@ Families (``kinds``), all measured in the recordings themselves, never in a test
     a few unhurried via-point moves (minimum-jerk screw interpolation) from the recording's start
     pose to nearby random poses (±12 cm, up to 60°), with short holds and the same noise:
     repositioning, reaching, re-gripping;
+``drawn``
+    random shapes drawn in the air from the recording's start and end pose, as large and as fast
+    as the recording (:mod:`framefree.online.scribbles`), with the same noise: the unknown
+    gestures nobody enrolled;
 ``head``, ``middle``, ``tail``
     the first half, the central half (25–75 %) and the second half (by screw path) of each recording;
 ``splice``
@@ -28,6 +32,7 @@ import numpy as np
 from ..core import se3
 from ..core.progress import cumulative_progress
 from ..core.trajectory import Trajectory
+from .scribbles import scribble
 
 __all__ = ["non_gesture_motions", "sensor_noise"]
 
@@ -126,7 +131,11 @@ def non_gesture_motions(
     L : float
         Scale length [m] (to cut pieces by screw path).
     kinds : sequence of str
-        Families to build among ``rest``, ``moves``, ``head``, ``middle``, ``tail``, ``splice``
+        Families to build among ``rest``, ``moves``, ``drawn``
+    random shapes drawn in the air from the recording's start and end pose, as large and as fast
+    as the recording (:mod:`framefree.online.scribbles`), with the same noise: the unknown
+    gestures nobody enrolled;
+``head``, ``middle``, ``tail``, ``splice``
         (``cross`` needs no sequence: the recordings themselves are used).
     seed : int
         Seed of the random via points and noise (the calibration is deterministic).
@@ -134,6 +143,7 @@ def non_gesture_motions(
     out: list[tuple[str, Trajectory]] = []
     n = len(trajectories)
     rng = np.random.default_rng(seed)
+    drawing = np.random.default_rng([seed, 1])  # its own stream: the other families stay as they were
     for r, tr in enumerate(trajectories):
         if len(tr) < 8:
             continue
@@ -150,6 +160,11 @@ def non_gesture_motions(
                 P = _via_point_moves(T0, rng, dt, int(rng.integers(2, 5)))
                 out.append(("moves", _noisy(dt * np.arange(P.shape[0]), P, sp, sr, rng,
                                             f"moves from {tr.source}")))
+        if "drawn" in kinds:
+            for T0 in (T[0], T[-1]):
+                P = scribble(tr, drawing, T0)
+                out.append(("drawn", _noisy(dt * np.arange(P.shape[0]), P, sp, sr, drawing,
+                                            f"shape drawn from {tr.source}")))
         q1 = _split_index(tr, 0.25, L)
         h = _split_index(tr, 0.5, L)
         q3 = _split_index(tr, 0.75, L)

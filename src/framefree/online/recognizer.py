@@ -130,7 +130,8 @@ def resolve_config(
         spotter = _spotter(classifier, np.ones(len(labels)), c, list(labels))
         calibration = calibrate_segment_thresholds(
             trajectories, labels, classifier, levels, spotter, c.L, c.negative_quantile,
-            c.threshold_position, gated=c.gated_negatives, rivals=c.rival_negatives)
+            c.threshold_position, gated=c.gated_negatives, rivals=c.rival_negatives,
+            drawn=c.drawn_negatives)
         c = c.replace(gesture_thresholds=calibration.thresholds)
     if c.stop_threshold is None:
         peak = max(sustained_peak_speed(tr.t, tr.q, c.stop_window, c.stop_min_duration)
@@ -151,7 +152,8 @@ def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: Rec
     return Spotter(classifier, model_thresholds, c.max_units, c.max_duration, c.max_pause,
                    c.margin, c.confirm, c.max_wait, closures, c.L, sizes,
                    math.inf if c.pause_ratio is None else c.pause_ratio, c.min_pause,
-                   c.return_error if c.closure else 0.0, openings)
+                   c.return_error if c.closure else 0.0, openings, c.fire_on_motion,
+                   c.rest_before)
 
 
 class Recognizer(StreamingRecognizer):

@@ -245,8 +245,12 @@ class Spotter:
         min_pause: float = 0.0,
         return_error: float = 0.0,
         opening_limits: np.ndarray | None = None,
+        fire_on_motion: bool = True,
+        rest_before: float = 0.0,
     ) -> None:
         self.classifier = classifier
+        self.fire_on_motion = bool(fire_on_motion)
+        self.rest_before = float(rest_before)
         self.return_error = float(return_error)
         self.opening_limits = (np.zeros(len(classifier.models)) if opening_limits is None
                                else np.asarray(opening_limits, dtype=np.float64))
@@ -266,11 +270,14 @@ class Spotter:
         self.size_limits = (np.tile([0.0, np.inf], (n_models, 1)) if size_limits is None
                             else np.asarray(size_limits, dtype=np.float64).reshape(n_models, 2))
         self.units: deque[Unit] = deque(maxlen=max(1, self.max_units))
+        self.rests: deque[float] = deque(maxlen=max(1, self.max_units))  # rest [s] before each unit
         self.reset()
 
     def reset(self) -> None:
         """Forget units and the pending candidate."""
         self.units.clear()
+        self.rests.clear()
+        self._last_end_t = -math.inf
         self.pending: Candidate | None = None
         self.consumed = -1  # candidates must start after this running index
         self.last_distances: np.ndarray | None = None
@@ -284,6 +291,7 @@ class Spotter:
         self.consumed = max(self.consumed, index)
         while self.units and self.units[0].start < index:
             self.units.popleft()
+            self.rests.popleft()
 
     def candidates(self, buffer: PoseBuffer) -> list[Candidate]:
         """Classify every candidate that ends with the latest unit."""
@@ -292,6 +300,8 @@ class Spotter:
         after = max(self.consumed, buffer.oldest + self.margin - 1)
         for first, n in candidate_spans(list(self.units), self.max_units, self.max_duration,
                                         self.max_pause, after, self.pause_ratio, self.min_pause):
+            if self.rests[len(self.units) - n] < self.rest_before:
+                continue  # it starts in the middle of a motion
             lo_index = max(first.start - self.margin, buffer.oldest)
             times, poses = buffer.slice(lo_index, last.end + self.margin)
             # the margin after the unit may not be in the buffer yet: cut the unit out exactly
@@ -344,6 +354,8 @@ class Spotter:
     def on_unit(self, unit: Unit, buffer: PoseBuffer) -> Candidate | None:
         """A unit ended: update the pending candidate; return a candidate to fire now, if any."""
         self.units.append(unit)
+        self.rests.append(unit.start_t - self._last_end_t)
+        self._last_end_t = unit.end_t
         accepted = [c for c in self.candidates(buffer) if c.accepted]
         best = min(accepted, key=lambda c: c.ratio, default=None)
         pend = self.pending
@@ -353,8 +365,11 @@ class Spotter:
         if best is not None and best.ratio < pend.ratio:
             self.pending = best
             return None
-        # the motion went on without a better candidate: the pending one was complete
-        self.pending = None
+        # the motion went on without a better candidate
+        if not self.fire_on_motion:  # a gesture ends in rest: the pending one was part of more
+            self.pending = best
+            return None
+        self.pending = None  # the pending one was complete
         later = [c for c in accepted if c.start > pend.end]
         self.pending = min(later, key=lambda c: c.ratio, default=None)
         return pend

@@ -116,6 +116,9 @@ def segment_distances(
         for first, _ in candidate_spans(units[: k + 1], spotter.max_units, spotter.max_duration,
                                         spotter.max_pause, -1, spotter.pause_ratio,
                                         spotter.min_pause):
+            i = units.index(first)
+            if i > 0 and first.start_t - units[i - 1].end_t < spotter.rest_before:
+                continue  # starts in the middle of a motion, as the spotter would not take it
             t, P = seg.buffer.slice(first.start - spotter.margin, units[k].end + spotter.margin)
             d, size = classifier.distances(t, P)
             rows.append(d)
@@ -237,6 +240,7 @@ def calibrate_segment_thresholds(
     seed: int = 0,
     gated: bool = True,
     rivals: bool = True,
+    drawn: bool = True,
 ) -> SegmentThresholds:
     """τ_g for every gesture (see the module docstring).
 
@@ -266,6 +270,9 @@ def calibrate_segment_thresholds(
     rivals : bool
         Also count the other gestures' recordings as negatives: ``N_g`` is at most the distance
         between the nearest pair of a recording of ``g`` and a recording of another gesture.
+    drawn : bool
+        Also count random shapes drawn in the air (the ``drawn`` family of
+        :func:`~framefree.online.negatives.non_gesture_motions`) among the generic episodes.
     """
     labels_arr = np.asarray(labels)
     gestures = list(dict.fromkeys(labels))
@@ -287,7 +294,8 @@ def calibrate_segment_thresholds(
             score = float(D[ok][:, same].min()) if ok.any() else np.inf
             positives[labels[r]].append(score)
     episodes: dict[str, list[float]] = {g: [] for g in gestures}
-    for _, neg in non_gesture_motions(trajectories, labels, L, kinds=("rest", "moves"), seed=seed):
+    kinds = ("rest", "moves", "drawn") if drawn else ("rest", "moves")
+    for _, neg in non_gesture_motions(trajectories, labels, L, kinds=kinds, seed=seed):
         D, c, size = segment_distances(neg, classifier, levels, spotter, L)
         for g in gestures:
             ok = admissible(first[g], c, size)
