@@ -3,6 +3,7 @@ shapes the thresholds are placed against."""
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -95,7 +96,7 @@ def test_a_gesture_starts_from_rest(recognizer):
             sp._last_end_t = unit.end_t
             starts += [x.start_t for x in sp.candidates(seg.buffer)]
     assert len(units) == 4
-    gaps = [b.start_t - a.end_t for a, b in zip(units[:-1], units[1:], strict=True)]
+    gaps = [b.start_t - a.end_t for a, b in itertools.pairwise(units)]
     assert gaps[0] < 0.3 < gaps[1] and gaps[2] < 0.3
     assert set(starts) == {units[0].start_t, units[2].start_t}
 

@@ -27,6 +27,7 @@ drawing (corners, curves), and the random stream is seeded, so a calibration is 
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -98,7 +99,7 @@ def _planar_path(rng: np.random.Generator, length: float, speed: float, dt: floa
         dur = max(length / speed, 4 * dt)
         return _along(C, _min_jerk(np.linspace(0.0, 1.0, max(round(dur / dt), 2))))
     pieces = [P[:1]]
-    for a, b in zip(P[:-1], P[1:], strict=True):
+    for a, b in itertools.pairwise(P):
         dur = max(float(np.linalg.norm(b - a)) / speed, 4 * dt)
         x = _min_jerk(np.linspace(0.0, 1.0, max(round(dur / dt), 2))[1:])
         pieces.append(a + x[:, None] * (b - a))
