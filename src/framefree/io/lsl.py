@@ -35,9 +35,11 @@ scope is the user's explicit choice: set ``LSLAPICFG`` to your own lsl_api.cfg (
 from __future__ import annotations
 
 import json
+import math
 import os
 import sys
 import tempfile
+import time
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -184,6 +186,10 @@ class LslSource:
             self._inlet = None
 
 
+#: Seconds a marker outlet stays open after its last marker, while inlets are connected.
+LINGER = 1.0
+
+
 class LslMarkerEmitter:
     """An LSL marker stream (type ``Markers``, one string channel, irregular rate) of events.
 
@@ -200,6 +206,7 @@ class LslMarkerEmitter:
         info.desc().append_child_value("framefree", "gesture events as JSON")
         self.name = name
         self._outlet = pylsl.StreamOutlet(info)
+        self._last_push = -math.inf
 
     def wait_for_consumers(self, timeout: float) -> bool:
         """Wait until an inlet is connected (True) or ``timeout`` seconds pass (False)."""
@@ -208,7 +215,12 @@ class LslMarkerEmitter:
     def emit(self, record: dict[str, Any]) -> None:
         """Push one marker."""
         self._outlet.push_sample([json.dumps(record)], float(record["time"]))
+        self._last_push = time.monotonic()
 
     def close(self) -> None:
-        """Drop the outlet (inlets see the stream end)."""
+        """Drop the outlet (inlets see the stream end). liblsl sends in the background: a marker
+        pushed less than :data:`LINGER` seconds ago is given that long to reach connected inlets
+        before the outlet goes (dropped at once, the last event of a session was lost)."""
+        if self._outlet is not None and self._outlet.have_consumers():
+            time.sleep(max(0.0, LINGER - (time.monotonic() - self._last_push)))
         self._outlet = None
