@@ -91,9 +91,7 @@ def test_a_gesture_starts_from_rest(recognizer):
         unit = seg.push(float(t), T)
         if unit is not None:
             units.append(unit)
-            sp.units.append(unit)
-            sp.rests.append(unit.start_t - sp._last_end_t)
-            sp._last_end_t = unit.end_t
+            sp.add_unit(unit)
             starts += [x.start_t for x in sp.candidates(seg.buffer)]
     assert len(units) == 4
     gaps = [b.start_t - a.end_t for a, b in itertools.pairwise(units)]

@@ -23,6 +23,7 @@ import numpy as np
 from ..core import se3
 from ..core.trajectory import Trajectory
 from ..online.negatives import non_gesture_motions, sensor_noise
+from ..online.scribbles import min_jerk
 from ..online.stop import sustained_peak_speed
 
 __all__ = [
@@ -109,14 +110,9 @@ def _noisy(T: np.ndarray, take: Trajectory, rng: np.random.Generator, source: st
     return Trajectory.from_poses(PERIOD * np.arange(n), T, source=source)
 
 
-def _min_jerk(n: int) -> np.ndarray:
-    x = np.linspace(0.0, 1.0, max(n, 2))[1:]
-    return x**3 * (10.0 - 15.0 * x + 6.0 * x**2)
-
-
 def _move(A: np.ndarray, B: np.ndarray, duration: float) -> np.ndarray:
     """Minimum-jerk screw motion (ScLERP) from pose A to pose B, without A: (n, 4, 4)."""
-    x = _min_jerk(round(duration / PERIOD) + 1)
+    x = min_jerk(np.linspace(0.0, 1.0, max(round(duration / PERIOD) + 1, 2))[1:])
     return se3.sclerp(np.broadcast_to(A, (x.size, 4, 4)), np.broadcast_to(B, (x.size, 4, 4)), x)
 
 

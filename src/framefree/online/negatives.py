@@ -32,7 +32,7 @@ import numpy as np
 from ..core import se3
 from ..core.progress import cumulative_progress
 from ..core.trajectory import Trajectory
-from .scribbles import scribble
+from .scribbles import min_jerk, scribble
 
 __all__ = ["non_gesture_motions", "sensor_noise"]
 
@@ -85,10 +85,6 @@ def _noisy(t: np.ndarray, T: np.ndarray, sp: float, sr: float, rng: np.random.Ge
     return Trajectory.from_poses(t, T, source=source)
 
 
-def _min_jerk(x: np.ndarray) -> np.ndarray:
-    return x**3 * (10.0 - 15.0 * x + 6.0 * x**2)
-
-
 def _random_nearby(T: np.ndarray, rng: np.random.Generator, reach: float, turn: float) -> np.ndarray:
     out = T.copy()
     out[:3, 3] += np.clip(rng.normal(0.0, reach, 3), -2.5 * reach, 2.5 * reach)
@@ -108,7 +104,7 @@ def _via_point_moves(T0: np.ndarray, rng: np.random.Generator, dt: float, n_move
         dist = float(np.linalg.norm(B[:3, 3] - A[:3, 3]))
         ang = float(np.linalg.norm(se3.vector_from_rotation(A[:3, :3].T @ B[:3, :3])))
         dur = float(np.clip(0.5 + dist / 0.35 + ang / 2.5, 0.6, 2.5)) * rng.uniform(0.8, 1.2)
-        x = _min_jerk(np.linspace(0.0, 1.0, max(round(dur / dt), 2))[1:])
+        x = min_jerk(np.linspace(0.0, 1.0, max(round(dur / dt), 2))[1:])
         pieces.append(se3.sclerp(np.broadcast_to(A, (x.size, 4, 4)), np.broadcast_to(B, (x.size, 4, 4)), x))
         pieces.append(np.repeat(B[None], round(rng.uniform(0.05, 0.4) / dt) + 1, axis=0))
         A = B
@@ -131,12 +127,8 @@ def non_gesture_motions(
     L : float
         Scale length [m] (to cut pieces by screw path).
     kinds : sequence of str
-        Families to build among ``rest``, ``moves``, ``drawn``
-    random shapes drawn in the air from the recording's start and end pose, as large and as fast
-    as the recording (:mod:`framefree.online.scribbles`), with the same noise: the unknown
-    gestures nobody enrolled;
-``head``, ``middle``, ``tail``, ``splice``
-        (``cross`` needs no sequence: the recordings themselves are used).
+        Families to build among ``rest``, ``moves``, ``drawn``, ``head``, ``middle``, ``tail``,
+        ``splice`` (``cross`` needs no sequence: the recordings themselves are used).
     seed : int
         Seed of the random via points and noise (the calibration is deterministic).
     """

@@ -35,7 +35,7 @@ import numpy as np
 from ..core import se3
 from ..core.trajectory import Trajectory
 
-__all__ = ["scribble", "scribble_poses"]
+__all__ = ["min_jerk", "scribble", "scribble_poses"]
 
 #: Largest turn [rad] between two strokes of a scribble.
 MAX_TURN = math.radians(150.0)
@@ -46,7 +46,8 @@ PACE_SPREAD = 1.5
 DRIFT = math.radians(20.0)
 
 
-def _min_jerk(x: np.ndarray) -> np.ndarray:
+def min_jerk(x: np.ndarray) -> np.ndarray:
+    """Minimum-jerk progress (n,) in [0, 1] at normalised times ``x`` (n,) in [0, 1]."""
     return x**3 * (10.0 - 15.0 * x + 6.0 * x**2)
 
 
@@ -97,11 +98,11 @@ def _planar_path(rng: np.random.Generator, length: float, speed: float, dt: floa
     if rng.random() < 0.5:  # a smooth curve through the corners, one stroke
         C = _chaikin(P)
         dur = max(length / speed, 4 * dt)
-        return _along(C, _min_jerk(np.linspace(0.0, 1.0, max(round(dur / dt), 2))))
+        return _along(C, min_jerk(np.linspace(0.0, 1.0, max(round(dur / dt), 2))))
     pieces = [P[:1]]
     for a, b in itertools.pairwise(P):
         dur = max(float(np.linalg.norm(b - a)) / speed, 4 * dt)
-        x = _min_jerk(np.linspace(0.0, 1.0, max(round(dur / dt), 2))[1:])
+        x = min_jerk(np.linspace(0.0, 1.0, max(round(dur / dt), 2))[1:])
         pieces.append(a + x[:, None] * (b - a))
         if rng.random() < 0.5:
             pieces.append(np.repeat(b[None], round(rng.uniform(0.0, 0.08) / dt), axis=0))

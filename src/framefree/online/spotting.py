@@ -351,11 +351,15 @@ class Spotter:
         opens = closures >= self.opening_limits[j]
         return closes & opens & (sizes >= lo) & (sizes <= hi)
 
-    def on_unit(self, unit: Unit, buffer: PoseBuffer) -> Candidate | None:
-        """A unit ended: update the pending candidate; return a candidate to fire now, if any."""
+    def add_unit(self, unit: Unit) -> None:
+        """Keep a unit that ended, with the rest [s] the hand held before it."""
         self.units.append(unit)
         self.rests.append(unit.start_t - self._last_end_t)
         self._last_end_t = unit.end_t
+
+    def on_unit(self, unit: Unit, buffer: PoseBuffer) -> Candidate | None:
+        """A unit ended: update the pending candidate; return a candidate to fire now, if any."""
+        self.add_unit(unit)
         accepted = [c for c in self.candidates(buffer) if c.accepted]
         best = min(accepted, key=lambda c: c.ratio, default=None)
         pend = self.pending

@@ -17,6 +17,8 @@ candidate segment of it is classified against the *other* recordings of its gest
   nearest pair of a recording of ``g`` and a recording of another gesture bounds ``N_g`` from
   above: a segment that far from ``g`` may as well be the other gesture.
 
+Generic motion also includes random shapes drawn in the air (``drawn``,
+:mod:`framefree.online.scribbles`), so that a threshold also meets shapes nobody enrolled.
 ``N_g`` is the smaller of the two.
 
 **Rule.** Distances are scale-like, so the threshold is placed on a log scale between them:
@@ -113,10 +115,10 @@ def segment_distances(
     closures: list[float] = []
     sizes: list[float] = []
     for k in range(len(units)):
-        for first, _ in candidate_spans(units[: k + 1], spotter.max_units, spotter.max_duration,
+        for first, n in candidate_spans(units[: k + 1], spotter.max_units, spotter.max_duration,
                                         spotter.max_pause, -1, spotter.pause_ratio,
                                         spotter.min_pause):
-            i = units.index(first)
+            i = k + 1 - n
             if i > 0 and first.start_t - units[i - 1].end_t < spotter.rest_before:
                 continue  # starts in the middle of a motion, as the spotter would not take it
             t, P = seg.buffer.slice(first.start - spotter.margin, units[k].end + spotter.margin)
