@@ -49,6 +49,11 @@ class RecognizerConfig:
     noise_factor, peak_fraction : float
         Rest level = max(noise_factor × the models' noise floor, peak_fraction × their smallest
         stroke peak) (:func:`~framefree.online.segmentation.speed_levels`).
+    move_factor : float
+        Move level = move_factor × rest level (1.5; 2 before v8). The rest level already lies
+        three times above the noise floor, so a narrower hysteresis starts no unit on noise, and
+        a small, slow person's stroke (peak speed 0.12 m/s where the slowest demonstration
+        peaks at 0.31) still becomes a unit.
     valley_ratio : float
         A speed minimum below this fraction of the stroke's peak splits two strokes (0.5).
     max_units, max_duration, max_pause, pause_ratio : int, float, float, float or None
@@ -212,6 +217,7 @@ class RecognizerConfig:
     stop_instant: float = 1.6
     rest_speed: float | None = None
     move_speed: float | None = None
+    move_factor: float = 1.5
     closure_limits: dict[str, float] | None = None
     opening_limits: dict[str, float] | None = None
     size_limits: dict[str, tuple[float, float]] | None = None
@@ -236,6 +242,8 @@ class RecognizerConfig:
             raise ValueError(f"n_samples must be at least 5, got {self.n_samples}")
         if not 0 < self.valley_ratio < 1:
             raise ValueError(f"valley_ratio must be in (0, 1), got {self.valley_ratio}")
+        if not self.move_factor > 1:
+            raise ValueError(f"move_factor must be above 1 (a hysteresis), got {self.move_factor}")
         if self.threshold is not None and not self.threshold > 0:
             raise ValueError(f"threshold must be positive, got {self.threshold}")
         if self.stop_threshold is not None and not self.stop_threshold > 0:

@@ -100,7 +100,8 @@ def resolve_config(
     c = config
     gestures = list(dict.fromkeys(labels))
     if c.rest_speed is None or c.move_speed is None:
-        lv = speed_levels(trajectories, c.L, c.dt, c.speed_lag, c.noise_factor, c.peak_fraction)
+        lv = speed_levels(trajectories, c.L, c.dt, c.speed_lag, c.noise_factor, c.peak_fraction,
+                          c.move_factor)
         c = c.replace(rest_speed=c.rest_speed or lv.rest, move_speed=c.move_speed or lv.move)
     levels = SpeedLevels(c.rest_speed, c.move_speed)
     if None in (c.max_units, c.max_duration, c.max_pause, c.pause_ratio):

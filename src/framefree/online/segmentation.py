@@ -256,13 +256,15 @@ def speed_levels(
     lag: int = 5,
     noise_factor: float = 3.0,
     peak_fraction: float = 0.05,
+    move_factor: float = 1.5,
 ) -> SpeedLevels:
     """Rest and move levels from model recordings (each a gesture between rests).
 
     The noise floor of a recording is the 10th percentile of its motion speed (its rests make up
     well over a tenth of it); the rest level is ``noise_factor`` × the largest floor, but at least
     ``peak_fraction`` × the smallest stroke peak of any recording so that a noiseless recording still
-    separates strokes; the move level is twice the rest level.
+    separates strokes; the move level is ``move_factor`` × the rest level (the hysteresis that
+    keeps noise around the rest level from starting units).
 
     Parameters
     ----------
@@ -282,7 +284,7 @@ def speed_levels(
     if not peaks:
         raise ValueError("no model recording is long enough to measure its motion speed")
     rest = max(noise_factor * max(floors), peak_fraction * min(peaks))
-    return SpeedLevels(rest=rest, move=2.0 * rest)
+    return SpeedLevels(rest=rest, move=move_factor * rest)
 
 
 class MotionSegmenter:
