@@ -138,6 +138,12 @@ class RecognizerConfig:
         People make a gesture up to this factor smaller or larger than the demonstrations (1.5:
         the population's ±30 % with room; development people: 2.0 accepted 9 more turns of the
         tracker in the hand as *go down*).
+    size_reach : float
+        Where nothing that is no gesture looks like a gesture at smaller sizes (re-grips
+        included), its lower size limit reaches down to this factor below the smallest
+        demonstration instead (2.0: people make a gesture up to half the size; 1: never;
+        :func:`~framefree.online.thresholds.reach_down`). A circle drawn small is still a
+        circle; a forearm turned out and back by less is a re-grip.
     stop_threshold : float or None
         Stop detector threshold on the windowed angular speed [rad/s]; ``None``: ``stop_margin`` ×
         the fastest sustained rotation of any model recording, at least ``stop_floor``.
@@ -205,6 +211,7 @@ class RecognizerConfig:
     return_error: float = 0.05
     size: bool = True
     size_factor: float = 1.5
+    size_reach: float = 2.0
     stop_threshold: float | None = None
     stop_margin: float = 1.3
     stop_floor: float = 3.0

@@ -12,6 +12,13 @@ Families (``kinds``), all measured in the recordings themselves, never in a test
     a few unhurried via-point moves (minimum-jerk screw interpolation) from the recording's start
     pose to nearby random poses (±12 cm, up to 60°), with short holds and the same noise:
     repositioning, reaching, re-gripping;
+``regrip``
+    the tracker turning in the hand while the hand stays still (:func:`_regrip`): by 20–180°
+    about a random axis through a point within 6 cm of it, half of the time turned back again,
+    with holds and the same noise. A forearm rotation (*go down*, a gripper gesture) turns the
+    tracker the same way, by a set amount: what tells them apart is how far it turns. Not part
+    of ``N_g``; the calibration uses them to judge how small a gesture may be
+    (:func:`~framefree.online.thresholds.reach_down`);
 ``drawn``
     random shapes drawn in the air from the recording's start and end pose, as large and as fast
     as the recording (:mod:`framefree.online.scribbles`), with the same noise: the unknown
@@ -111,6 +118,40 @@ def _via_point_moves(T0: np.ndarray, rng: np.random.Generator, dt: float, n_move
     return np.concatenate(pieces)
 
 
+def _turn(T0: np.ndarray, pivot: np.ndarray, rotvec: np.ndarray, rng: np.random.Generator,
+          dt: float) -> np.ndarray:
+    """Poses (n, 4, 4) turning ``T0`` by ``rotvec`` [rad] about ``pivot`` (3,) [m]: minimum jerk,
+    unhurried (about 2 rad/s on average)."""
+    angle = float(np.linalg.norm(rotvec))
+    dur = (0.4 + angle / 2.0) * rng.uniform(0.8, 1.25)
+    x = min_jerk(np.linspace(0.0, 1.0, max(round(dur / dt), 2))[1:])
+    R = se3.rotation_from_vector(x[:, None] * rotvec[None])  # (n, 3, 3)
+    P = np.repeat(T0[None], x.size, axis=0)
+    P[:, :3, :3] = R @ T0[:3, :3]
+    P[:, :3, 3] = pivot + np.einsum("nij,j->ni", R, T0[:3, 3] - pivot)
+    return P
+
+
+def _regrip(T0: np.ndarray, rng: np.random.Generator, dt: float) -> np.ndarray:
+    """Poses (n, 4, 4) of the tracker turning in the hand from ``T0``: by 20–180° about a random
+    axis through a point within 6 cm of the tracker; half of the time it is turned back again
+    (within 15°), as a person does who adjusts a grip and returns to their usual one. Holds of
+    0.3–0.8 s before, between and after."""
+    axis = rng.standard_normal(3)
+    axis /= np.linalg.norm(axis)
+    offset = rng.standard_normal(3)
+    pivot = T0[:3, 3] + offset * rng.uniform(0.0, 0.06) / np.linalg.norm(offset)
+    turn = axis * rng.uniform(np.radians(20.0), np.pi)
+    pieces = [np.repeat(T0[None], round(rng.uniform(0.3, 0.8) / dt), axis=0)]
+    pieces.append(_turn(T0, pivot, turn, rng, dt))
+    if rng.random() < 0.5:
+        back = -turn + rng.normal(0.0, np.radians(15.0) / np.sqrt(3.0), 3)
+        pieces.append(np.repeat(pieces[-1][-1][None], round(rng.uniform(0.1, 0.5) / dt), axis=0))
+        pieces.append(_turn(pieces[-1][-1], pivot, back, rng, dt))
+    pieces.append(np.repeat(pieces[-1][-1][None], round(rng.uniform(0.3, 0.8) / dt), axis=0))
+    return np.concatenate(pieces)
+
+
 def non_gesture_motions(
     trajectories: Sequence[Trajectory],
     labels: Sequence[str],
@@ -127,7 +168,7 @@ def non_gesture_motions(
     L : float
         Scale length [m] (to cut pieces by screw path).
     kinds : sequence of str
-        Families to build among ``rest``, ``moves``, ``drawn``, ``head``, ``middle``, ``tail``,
+        Families to build among ``rest``, ``moves``, ``regrip``, ``drawn``, ``head``, ``middle``, ``tail``,
         ``splice`` (``cross`` needs no sequence: the recordings themselves are used).
     seed : int
         Seed of the random via points and noise (the calibration is deterministic).
@@ -136,6 +177,7 @@ def non_gesture_motions(
     n = len(trajectories)
     rng = np.random.default_rng(seed)
     drawing = np.random.default_rng([seed, 1])  # its own stream: the other families stay as they were
+    handling = np.random.default_rng([seed, 2])  # the same for re-grips
     for r, tr in enumerate(trajectories):
         if len(tr) < 8:
             continue
@@ -152,6 +194,11 @@ def non_gesture_motions(
                 P = _via_point_moves(T0, rng, dt, int(rng.integers(2, 5)))
                 out.append(("moves", _noisy(dt * np.arange(P.shape[0]), P, sp, sr, rng,
                                             f"moves from {tr.source}")))
+        if "regrip" in kinds:
+            for T0 in (T[0], T[-1]):
+                P = _regrip(T0, handling, dt)
+                out.append(("regrip", _noisy(dt * np.arange(P.shape[0]), P, sp, sr, handling,
+                                             f"re-grip from {tr.source}")))
         if "drawn" in kinds:
             for T0 in (T[0], T[-1]):
                 P = scribble(tr, drawing, T0)

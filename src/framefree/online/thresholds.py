@@ -49,6 +49,7 @@ __all__ = [
     "gesture_geometry",
     "opening_limit",
     "pooled_closures",
+    "reach_down",
     "segment_distances",
     "size_limits",
 ]
@@ -68,12 +69,16 @@ class SegmentThresholds:
         ``N_g``: the low quantile of the non-gesture episodes' distances to the models of ``g``.
     separated : dict of str to bool
         ``P_g < N_g``.
+    smallest_sizes : dict of str to float
+        Lower size limit [m] of each gesture whose range may reach further down (see
+        :func:`reach_down`); gestures that keep theirs are not listed.
     """
 
     thresholds: dict[str, float]
     positives: dict[str, list[float]]
     negatives: dict[str, float]
     separated: dict[str, bool] = field(default_factory=dict)
+    smallest_sizes: dict[str, float] = field(default_factory=dict)
 
     def summary(self) -> dict:
         """JSON-friendly summary."""
@@ -85,6 +90,7 @@ class SegmentThresholds:
             "positives_max": {g: float(max(v)) for g, v in self.positives.items()},
             "negatives_quantile": dict(self.negatives),
             "separated": dict(self.separated),
+            "smallest_sizes": dict(self.smallest_sizes),
         }
 
 
@@ -216,6 +222,45 @@ def pooled_closures(largest: dict[str, float]) -> dict[str, float]:
     return {g: (pooled if v < 0.5 else v) for g, v in largest.items()}
 
 
+def reach_down(
+    records: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]],
+    own: np.ndarray,
+    model: int,
+    threshold: float,
+    spotter: Spotter,
+    reach: float,
+) -> float | None:
+    """A lower size limit [m] further down, if nothing that is no gesture looks like the gesture
+    at those sizes; ``None`` to keep the limit.
+
+    The band below the gesture's lower size limit ``lo`` down to ``lo / reach`` is open when no
+    candidate of the non-gesture episodes in it (``records``: per episode the distances (C, M),
+    closures (C,) and sizes (C,) of its candidates), with the gesture's closure and opening,
+    lies below ``threshold`` from the gesture's models (``own``, (M,) bool). A circle drawn
+    smaller than the demonstrations is still a circle; a forearm turned out and back by less is
+    a re-grip.
+
+    Parameters
+    ----------
+    model : int
+        Index of one of the gesture's models (whose limits ``spotter`` holds).
+    reach : float
+        How much further down the limit may go (≥ 1).
+    """
+    lo = float(spotter.size_limits[model, 0])
+    if not (reach > 1.0 and lo > 0.0):
+        return None
+    floor = lo / reach
+    for D, c, size in records:
+        band = (size >= floor) & (size < lo)
+        if not band.any():
+            continue
+        shaped = spotter.admissible(model, c[band], np.full(int(band.sum()), lo))
+        if shaped.any() and float(D[band][shaped][:, own].min()) < threshold:
+            return None
+    return floor
+
+
 def _quantile(values: list[float], q: float) -> float:
     """The ``q`` quantile; with infinite values one of the values (no interpolation into inf)."""
     if not values:
@@ -243,6 +288,7 @@ def calibrate_segment_thresholds(
     gated: bool = True,
     rivals: bool = True,
     drawn: bool = True,
+    size_reach: float = 1.0,
 ) -> SegmentThresholds:
     """τ_g for every gesture (see the module docstring).
 
@@ -275,6 +321,11 @@ def calibrate_segment_thresholds(
     drawn : bool
         Also count random shapes drawn in the air (the ``drawn`` family of
         :func:`~framefree.online.negatives.non_gesture_motions`) among the generic episodes.
+    size_reach : float
+        How much further down than its lower size limit a gesture's size range may reach where
+        no non-gesture episode (re-grips included) looks like it (:func:`reach_down`; 1: never).
+        Re-grips take no part in ``N_g``: a forearm turned out and back is a re-grip with a
+        return, told apart by its amount alone, which the size limits judge.
     """
     labels_arr = np.asarray(labels)
     gestures = list(dict.fromkeys(labels))
@@ -297,8 +348,14 @@ def calibrate_segment_thresholds(
             positives[labels[r]].append(score)
     episodes: dict[str, list[float]] = {g: [] for g in gestures}
     kinds = ("rest", "moves", "drawn") if drawn else ("rest", "moves")
-    for _, neg in non_gesture_motions(trajectories, labels, L, kinds=kinds, seed=seed):
+    records = []
+    reaching = size_reach > 1.0
+    for kind, neg in non_gesture_motions(trajectories, labels, L, seed=seed,
+                                         kinds=(*kinds, "regrip") if reaching else kinds):
         D, c, size = segment_distances(neg, classifier, levels, spotter, L)
+        records.append((D, c, size))
+        if kind == "regrip":
+            continue
         for g in gestures:
             ok = admissible(first[g], c, size)
             if ok.any():
@@ -325,4 +382,9 @@ def calibrate_segment_thresholds(
             thresholds[g] = 0.5 * N
         else:
             raise ValueError(f"cannot calibrate gesture {g!r}: no positive and no negative score")
-    return SegmentThresholds(thresholds, positives, negatives, separated)
+    smallest = {}
+    for g in gestures if reaching else ():
+        floor = reach_down(records, labels_arr == g, first[g], thresholds[g], spotter, size_reach)
+        if floor is not None:
+            smallest[g] = floor
+    return SegmentThresholds(thresholds, positives, negatives, separated, smallest)
