@@ -275,6 +275,34 @@ def _quantile(values: list[float], q: float) -> float:
 ONE_TAKE_SIZE = 1.3
 
 
+def _positive_scores(
+    trajectories: Sequence[Trajectory],
+    labels: Sequence[str],
+    classifier: SegmentClassifier,
+    levels: SpeedLevels,
+    spotter: Spotter,
+    L: float,
+) -> dict[str, list[float]]:
+    """Leave-one-out score of every recording, per gesture: the best distance of its admissible
+    candidates to the other recordings of its gesture (a single demonstration: of its copies
+    scaled by ``1/ONE_TAKE_SIZE`` and ``ONE_TAKE_SIZE`` to itself)."""
+    labels_arr = np.asarray(labels)
+    positives: dict[str, list[float]] = {g: [] for g in dict.fromkeys(labels)}
+    for r, tr in enumerate(trajectories):
+        same = labels_arr == labels[r]
+        same[r] = False
+        if not same.any():  # a single demonstration: another person's, larger and smaller
+            same[r] = True
+            copies = [tr.path_scaled(k) for k in (1 / ONE_TAKE_SIZE, ONE_TAKE_SIZE)]
+        else:
+            copies = [tr]
+        for copy in copies:
+            D, c, size = segment_distances(copy, classifier, levels, spotter, L)
+            ok = spotter.admissible(r, c, size)
+            positives[labels[r]].append(float(D[ok][:, same].min()) if ok.any() else np.inf)
+    return positives
+
+
 def calibrate_segment_thresholds(
     trajectories: Sequence[Trajectory],
     labels: Sequence[str],
@@ -332,20 +360,7 @@ def calibrate_segment_thresholds(
     admissible = spotter.admissible
 
     first = {g: int(np.flatnonzero(labels_arr == g)[0]) for g in gestures}
-    positives: dict[str, list[float]] = {g: [] for g in gestures}
-    for r, tr in enumerate(trajectories):
-        same = labels_arr == labels[r]
-        same[r] = False
-        if not same.any():  # a single demonstration: another person's, larger and smaller
-            same[r] = True
-            copies = [tr.path_scaled(k) for k in (1 / ONE_TAKE_SIZE, ONE_TAKE_SIZE)]
-        else:
-            copies = [tr]
-        for copy in copies:
-            D, c, size = segment_distances(copy, classifier, levels, spotter, L)
-            ok = admissible(r, c, size)
-            score = float(D[ok][:, same].min()) if ok.any() else np.inf
-            positives[labels[r]].append(score)
+    positives = _positive_scores(trajectories, labels, classifier, levels, spotter, L)
     episodes: dict[str, list[float]] = {g: [] for g in gestures}
     kinds = ("rest", "moves", "drawn") if drawn else ("rest", "moves")
     records = []
