@@ -133,7 +133,7 @@ def resolve_config(
             trajectories, labels, classifier, levels, spotter, c.L, c.negative_quantile,
             c.threshold_position, gated=c.gated_negatives, rivals=c.rival_negatives,
             drawn=c.drawn_negatives,
-            size_reach=c.size_reach / c.size_factor if c.size and config.size_limits is None else 1.0)
+            reach=c.size_reach / c.size_factor if c.size and config.size_limits is None else 1.0)
         c = c.replace(gesture_thresholds=calibration.thresholds)
         if calibration.smallest_sizes:
             c = c.replace(size_limits={g: (calibration.smallest_sizes.get(g, lo), hi)

@@ -316,7 +316,7 @@ def calibrate_segment_thresholds(
     gated: bool = True,
     rivals: bool = True,
     drawn: bool = True,
-    size_reach: float = 1.0,
+    reach: float = 1.0,
 ) -> SegmentThresholds:
     """τ_g for every gesture (see the module docstring).
 
@@ -349,9 +349,10 @@ def calibrate_segment_thresholds(
     drawn : bool
         Also count random shapes drawn in the air (the ``drawn`` family of
         :func:`~framefree.online.negatives.non_gesture_motions`) among the generic episodes.
-    size_reach : float
-        How much further down than its lower size limit a gesture's size range may reach where
-        no non-gesture episode (re-grips included) looks like it (:func:`reach_down`; 1: never).
+    reach : float
+        How many times further down than ``spotter``'s lower size limit a gesture's size range
+        may reach where no non-gesture episode (re-grips included) looks like it
+        (:func:`reach_down`; 1: never).
         Re-grips take no part in ``N_g``: a forearm turned out and back is a re-grip with a
         return, told apart by its amount alone, which the size limits judge.
     """
@@ -363,12 +364,13 @@ def calibrate_segment_thresholds(
     positives = _positive_scores(trajectories, labels, classifier, levels, spotter, L)
     episodes: dict[str, list[float]] = {g: [] for g in gestures}
     kinds = ("rest", "moves", "drawn") if drawn else ("rest", "moves")
-    records = []
-    reaching = size_reach > 1.0
+    records = []  # every episode's candidates, for the size reach
+    reaching = reach > 1.0
     for kind, neg in non_gesture_motions(trajectories, labels, L, seed=seed,
                                          kinds=(*kinds, "regrip") if reaching else kinds):
         D, c, size = segment_distances(neg, classifier, levels, spotter, L)
-        records.append((D, c, size))
+        if reaching:
+            records.append((D, c, size))
         if kind == "regrip":
             continue
         for g in gestures:
@@ -399,7 +401,7 @@ def calibrate_segment_thresholds(
             raise ValueError(f"cannot calibrate gesture {g!r}: no positive and no negative score")
     smallest = {}
     for g in gestures if reaching else ():
-        floor = reach_down(records, labels_arr == g, first[g], thresholds[g], spotter, size_reach)
+        floor = reach_down(records, labels_arr == g, first[g], thresholds[g], spotter, reach)
         if floor is not None:
             smallest[g] = floor
     return SegmentThresholds(thresholds, positives, negatives, separated, smallest)
