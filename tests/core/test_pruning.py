@@ -127,3 +127,63 @@ def test_live_events_are_the_same_with_and_without_pruning():
         runs[prune] = ([(e.label, e.time, e.dissimilarity) for e in events], dict(rec.stats))
     assert runs[True][0] == runs[False][0] and len(runs[True][0]) > 5
     assert runs[True][1]["dtw_cells"] <= runs[True][1]["dtw_cells_unpruned"]
+
+
+@st.composite
+def clustered_vocabularies(draw):
+    """Many models around a few shapes (as a vocabulary of many people is), thresholds of which
+    some are zero (gestures that do not admit the candidate) — where models are deferred."""
+    mode = draw(st.sampled_from(sorted(MODES)))
+    lo, hi, width = MODES[mode]
+    spec = DistanceSpec(lo, hi, mode, draw(st.booleans()))
+    rng = np.random.default_rng(draw(st.integers(0, 2**31 - 1)))
+    shapes = [rng.normal(size=(int(rng.integers(3, 16)), width)) for _ in range(3)]
+    models = [s + rng.normal(scale=rng.uniform(0.0, 0.5), size=s.shape)
+              for s in shapes for _ in range(int(rng.integers(1, 7)))]
+    k = int(rng.integers(len(shapes)))
+    query = shapes[k] + rng.normal(scale=rng.uniform(0.0, 0.5), size=shapes[k].shape)
+    if mode != POINTWISE_EUCLIDEAN:
+        for seq in (*models, query):
+            seq[:, 18:24] = bound_features(seq, spec)
+    admits = rng.random(len(models)) < 0.7
+    return spec, models, query, admits, draw(st.floats(0.0, 2.0))
+
+
+@given(vocab=clustered_vocabularies(), chunk=st.integers(1, 9))
+def test_deferred_models_keep_rejection_exact(vocab, chunk):
+    """While the best model so far cannot be accepted, models that cannot be accepted either are
+    put off; if an acceptable one turns up, the put-off ones that may be nearer are searched."""
+    spec, models, query, admits, scale = vocab
+    full = _full(models, query, spec)
+    tau = np.where(admits, scale * np.median(full), 0.0)
+    found = pruned_nearest(query, ModelBank(models, spec), chunk=chunk, accept_below=tau)
+    j_full, j = int(np.argmin(full)), found.nearest
+    accepted_full = full[j_full] < tau[j_full]
+    assert (found.values[j] < tau[j]) == accepted_full
+    assert np.all(found.values <= full)
+    assert np.array_equal(found.values[found.exact], full[found.exact])
+    if accepted_full:
+        assert j == j_full and found.values[j] == full[j_full]
+
+
+@pytest.mark.slow
+def test_searching_later_candidates_only_for_a_better_one_changes_no_event():
+    from framefree.datasets.layout import load_model_recordings
+    from framefree.datasets.stream_files import load_stream
+    from framefree.online import Recognizer
+    from framefree.replica import replica_path
+
+    root = replica_path(0)
+    trajs, labels = load_model_recordings(root, "original_1")
+    stream, _ = load_stream(root / "streams" / "stream_2.csv")
+    rec = Recognizer.from_trajectories(trajs, labels)
+    runs = {}
+    for tighten in (False, True):
+        rec.reset()
+        rec.spotter.tighten = tighten
+        events = []
+        for k in range(len(stream)):
+            events += rec.push(stream.t[k], stream.p[k], stream.q[k])
+        runs[tighten] = ([(e.label, e.time, e.dissimilarity) for e in events], rec.stats["dtw_cells"])
+    assert runs[True][0] == runs[False][0] and len(runs[True][0]) > 5
+    assert runs[True][1] < runs[False][1]

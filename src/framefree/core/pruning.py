@@ -45,9 +45,13 @@ from .dtw import (
     POINTWISE_EUCLIDEAN,
     POINTWISE_KABSCH,
     POINTWISE_SQUARED,
+    accumulated_cost_kernel,
+    open_end_row,
     pack_sequences,
     path_distance_kernel,
+    traceback_step,
 )
+from .kabsch import residual_columns
 
 __all__ = [
     "DistanceSpec",
@@ -199,70 +203,197 @@ def _lower_bounds_kernel(sdata, soff, qS, squared, open_end):
     return out
 
 
+@njit(cache=True, nogil=True)
+def _bounded_distance(X, Y, FX, FY, lo, hi, mode, open_end, cutoff):
+    """:func:`~framefree.core.dtw.path_distance_kernel`, abandoned as soon as the distance is
+    known to exceed ``cutoff``: first from the bound features ``FX`` (n, k) and ``FY`` (m, k)
+    summed along the alignment path (each cell's bound is at most its cost), then from the cost
+    summed along the path back from its end (every cell cost is non-negative). Returns the
+    distance, or a lower bound above ``cutoff``, and whether it is exact."""
+    if mode == POINTWISE_EUCLIDEAN:
+        return path_distance_kernel(X, Y, lo, hi, mode, open_end), True
+    C = accumulated_cost_kernel(X, Y, lo, hi)
+    m = Y.shape[0]
+    n = open_end_row(C) + 1 if open_end else X.shape[0]
+    divisor = n + m - 1
+    limit = cutoff * divisor
+    bound = 0.0
+    i = n - 1
+    j = m - 1
+    while True:
+        for f in range(FX.shape[1]):
+            diff = FX[i, f] - FY[j, f]
+            bound += diff * diff
+        if i == 0 and j == 0:
+            break
+        i, j = traceback_step(C, i, j)
+    bound *= 1.0 - _SLACK
+    if bound > limit:
+        return bound / divisor, False
+    total = 0.0
+    i = n - 1
+    j = m - 1
+    while True:
+        if mode == POINTWISE_SQUARED:  # summed as path_distance_kernel does, to the last bit
+            d = 0.0
+            for f in range(18):
+                diff = X[i, f] - Y[j, f]
+                d += diff * diff
+            total += d
+        else:
+            total += residual_columns(X[i], Y[j], 6)
+        if total > limit:
+            return max(total, bound) / divisor, False
+        if i == 0 and j == 0:
+            break
+        i, j = traceback_step(C, i, j)
+    return total / divisor, True
+
+
 @njit(cache=True, parallel=True)
-def _exact_chunk(qdata, qS, idx, cutoff, sdata, soff, mdata, moff, lo, hi, mode, open_end):
-    """For each model of ``idx`` (in parallel): its merge bound, and, unless that exceeds
-    ``cutoff``, its exact distance. Returns the values and which are exact."""
+def _exact_chunk(qdata, qF, qS, idx, cutoffs, sdata, soff, fdata, mdata, moff, lo, hi, mode,
+                 open_end, merge):
+    """For each model of ``idx`` (in parallel): its merge bound (if ``merge``), and, unless that
+    exceeds its ``cutoffs`` entry, its distance, abandoned past the cutoff. Returns the values
+    (exact, or a lower bound above the cutoff), which are exact, and which were aligned (DTW cells
+    computed)."""
     out = np.empty(idx.shape[0])
     exact = np.zeros(idx.shape[0], dtype=np.bool_)
+    aligned = np.zeros(idx.shape[0], dtype=np.bool_)
     squared = mode != POINTWISE_EUCLIDEAN
     for k in prange(idx.shape[0]):
         j = idx[k]
-        out[k] = _lower_bound(sdata[:, soff[j]:soff[j + 1]], qS, squared, open_end)
-        if out[k] <= cutoff:
-            out[k] = path_distance_kernel(mdata[moff[j]:moff[j + 1]], qdata, lo, hi, mode,
-                                          open_end)
-            exact[k] = True
-    return out, exact
+        bound = _lower_bound(sdata[:, soff[j]:soff[j + 1]], qS, squared, open_end) if merge else 0.0
+        out[k] = bound
+        if bound <= cutoffs[k]:
+            aligned[k] = True
+            value, exact[k] = _bounded_distance(mdata[moff[j]:moff[j + 1]], qdata,
+                                                fdata[moff[j]:moff[j + 1]], qF, lo, hi, mode,
+                                                open_end, cutoffs[k])
+            out[k] = value if exact[k] else max(value, bound)
+    return out, exact, aligned
 
 
 @njit(cache=True, nogil=True)
-def _search(qdata, qS, bounds, sdata, soff, mdata, moff, lo, hi, mode, open_end, chunk,
-            accept_below):
-    """Exact distances in the order of the cheap envelope ``bounds``, ``chunk`` at a time (in
-    parallel), until every remaining bound exceeds the best distance so far — or, with acceptance
-    thresholds, until the best so far cannot be accepted and no remaining model could be (its
-    bound is at or above the largest threshold). A model the envelope does not rule out gets its
-    tighter merge bound (:func:`_lower_bound`) in the parallel chunk, and its exact distance only
-    if that bound does not rule it out either. Returns the values (exact, or a lower bound),
-    which are exact, and the DTW cells computed."""
+def _cutoff(j, best, values, accept_below, reject):
+    """Largest bound at which model ``j`` still needs its distance: the best distance so far, and,
+    while that best cannot be accepted, also below ``j``'s own threshold (a model that cannot be
+    accepted cannot turn a rejection into an acceptance; it is deferred, see :func:`_search`)."""
+    if best < 0:
+        return np.inf
+    cut = values[best]
+    if reject and values[best] >= accept_below[best]:
+        below = np.nextafter(accept_below[j], -np.inf)
+        if below < cut:
+            cut = below
+    return cut
+
+
+@njit(cache=True, nogil=True)
+def _select(queue, k, size, first_pass, best, values, accept_below, reject, todo, cutoffs,
+            deferred, n_deferred):
+    """The next models of ``queue`` from position ``k`` to search (up to ``size``, into ``todo``
+    with their ``cutoffs``), deferring those only their own threshold rules out. Returns the new
+    position (``len(queue)`` once no later model can be nearer), how many were chosen and how
+    many are deferred in all."""
+    Q = queue.shape[0]
+    n_todo = 0
+    while k < Q and n_todo < size:
+        j = queue[k]
+        if best >= 0 and values[j] > values[best]:
+            return Q, n_todo, n_deferred  # bounds ascend: no later model can be nearer
+        k += 1
+        cut = _cutoff(j, best, values, accept_below, reject) if first_pass else values[best]
+        if values[j] > cut:  # only possible through its threshold: defer it
+            deferred[n_deferred] = j
+            n_deferred += 1
+            continue
+        todo[n_todo] = j
+        cutoffs[n_todo] = cut
+        n_todo += 1
+    return k, n_todo, n_deferred
+
+
+@njit(cache=True, nogil=True)
+def _record(todo, d, computed, aligned, first_pass, best, values, exact, deferred, n_deferred,
+            moff):
+    """Take a chunk's results into ``values`` and ``exact``; a model ruled out only by its
+    threshold (not by the best so far) is deferred. Returns the best model so far, how many are
+    deferred, and the model samples aligned (times the query length: DTW cells)."""
+    samples = 0
+    for t in range(todo.shape[0]):
+        j = todo[t]
+        values[j] = max(values[j], d[t]) if not computed[t] else d[t]
+        if aligned[t]:
+            samples += moff[j + 1] - moff[j]
+        if not computed[t]:
+            if first_pass and best >= 0 and d[t] <= values[best]:
+                deferred[n_deferred] = j  # above its threshold, not the best
+                n_deferred += 1
+            continue
+        exact[j] = True
+        if best < 0 or d[t] < values[best] or (d[t] == values[best] and j < best):
+            best = j
+    return best, n_deferred, samples
+
+
+@njit(cache=True, nogil=True)
+def _search(qdata, qF, qS, bounds, sdata, soff, fdata, mdata, moff, lo, hi, mode, open_end,
+            chunk, accept_below):
+    """Exact distances in the order of the cheap envelope ``bounds``, in parallel chunks that
+    grow from ``chunk`` (more cores busy once the best is close), until every remaining bound
+    exceeds the best distance so far — or, with acceptance thresholds, until the best so far
+    cannot be accepted and no remaining model could be (its bound is at or above the largest
+    threshold). A model the envelope does not rule out gets its tighter merge bound
+    (:func:`_lower_bound`) and its distance only if that bound does not rule it out either; the
+    distance is abandoned once it exceeds the best so far.
+
+    While the best so far cannot be accepted, a model whose bound reaches its own threshold is
+    *deferred*: it cannot be accepted, so it matters only if an acceptable model turns up that it
+    might be nearer than (then the query is rejected after all). Deferred models get the plain
+    rule after the main pass if the best by then is acceptable. Returns the values (exact, or a
+    lower bound), which are exact, and the DTW cells computed."""
     M = bounds.shape[0]
     reject = accept_below.shape[0] == M
     top = accept_below.max() if reject and M > 0 else np.inf
     values = bounds.copy()
     exact = np.zeros(M, dtype=np.bool_)
     order = np.argsort(bounds, kind="mergesort")
+    deferred = np.empty(M, dtype=np.int64)
+    n_deferred = 0
     cells = 0
-    k = 0
-    todo = np.empty(chunk, dtype=np.int64)
     best = -1  # index of the nearest model so far
-    while k < M:
-        if reject and bounds[order[k]] >= top and (best < 0 or values[best] >= accept_below[best]):
-            break  # the nearest model, whichever it is, cannot be accepted
-        n_todo = 0
-        while k < M and n_todo < chunk:
-            j = order[k]
-            if best >= 0 and bounds[j] > values[best]:
-                k = M  # bounds ascend: no later model can be nearer
-                break
-            k += 1
-            todo[n_todo] = j
-            n_todo += 1
-        if n_todo == 0:
-            break
-        cutoff = np.inf if best < 0 else values[best]
-        d, computed = _exact_chunk(qdata, qS, todo[:n_todo], cutoff, sdata, soff, mdata, moff, lo,
-                                   hi, mode, open_end)
-        for t in range(n_todo):
-            j = todo[t]
-            if not computed[t]:  # ruled out by its merge bound
-                values[j] = max(values[j], d[t])
+    todo = np.empty(M, dtype=np.int64)
+    cutoffs = np.empty(M)
+    size = chunk
+    tried = 0  # merge bounds computed, and how many of them ruled their model out
+    ruled_out = 0
+    for phase in range(2):
+        queue = order if phase == 0 else deferred[:n_deferred][np.argsort(values[deferred[:n_deferred]],
+                                                                         kind="mergesort")]
+        if phase == 1 and (best < 0 or values[best] >= accept_below[best]):
+            break  # the best cannot be accepted: deferred models cannot change that
+        k = 0
+        while k < queue.shape[0]:
+            if (phase == 0 and reject and bounds[queue[k]] >= top
+                    and (best < 0 or values[best] >= accept_below[best])):
+                break  # the nearest model, whichever it is, cannot be accepted
+            k, n_todo, n_deferred = _select(queue, k, size, phase == 0, best, values, accept_below,
+                                            reject, todo, cutoffs, deferred, n_deferred)
+            if n_todo == 0:
                 continue
-            values[j] = d[t]
-            exact[j] = True
-            cells += (moff[j + 1] - moff[j]) * qdata.shape[0]
-            if best < 0 or d[t] < values[best] or (d[t] == values[best] and j < best):
-                best = j
+            merge = tried < 64 or 2 * ruled_out >= tried
+            d, computed, aligned = _exact_chunk(qdata, qF, qS, todo[:n_todo], cutoffs[:n_todo],
+                                                sdata, soff, fdata, mdata, moff, lo, hi, mode,
+                                                open_end, merge)
+            if merge:
+                tried += n_todo
+                ruled_out += n_todo - int(aligned[:n_todo].sum())
+            best, n_deferred, added = _record(todo[:n_todo], d, computed, aligned, phase == 0, best,
+                                              values, exact, deferred, n_deferred, moff)
+            cells += added * qdata.shape[0]
+            if size < 256:
+                size *= 2
     return values, exact, cells
 
 
@@ -282,6 +413,8 @@ class ModelBank:
         spec = spec.resolved(self.mdata.shape[1])
         self.spec = spec
         bounds = [bound_features(m, spec) for m in models]
+        #: every sample's bound features, unsorted (Σn_j, k), rows as in ``mdata``
+        self.fdata = np.ascontiguousarray(np.concatenate(bounds))
         self.sdata = np.ascontiguousarray(np.concatenate([_sorted_columns(b) for b in bounds], axis=1))
         self.soff = np.concatenate([[0], np.cumsum([b.shape[0] for b in bounds])]).astype(np.int64)
         #: each model's per-feature range of bound features (M, k) and its length (M,)
@@ -368,8 +501,9 @@ def pruned_nearest(query: np.ndarray, bank: ModelBank, chunk: int = 8,
     tau = np.zeros(0) if accept_below is None else np.ascontiguousarray(accept_below, dtype=np.float64)
     if tau.size and tau.shape != (len(bank),):
         raise ValueError(f"accept_below needs one threshold per model ({len(bank)}), got {tau.shape}")
-    qS = _sorted_columns(bound_features(q, s))
-    values, exact, cells = _search(q, qS, _envelope(qS, bank), bank.sdata, bank.soff, bank.mdata, bank.moff,
-                                   s.align_lo, s.align_hi, s.mode, s.open_end, max(1, int(chunk)),
-                                   tau)
+    qF = bound_features(q, s)
+    qS = _sorted_columns(qF)
+    values, exact, cells = _search(q, qF, qS, _envelope(qS, bank), bank.sdata, bank.soff, bank.fdata,
+                                   bank.mdata, bank.moff, s.align_lo, s.align_hi, s.mode, s.open_end,
+                                   max(1, int(chunk)), tau)
     return SearchResult(values, exact, int(cells), int(bank.dtw_cells * q.shape[0]))

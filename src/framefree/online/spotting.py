@@ -249,6 +249,8 @@ class Spotter:
         rest_before: float = 0.0,
     ) -> None:
         self.classifier = classifier
+        #: search the candidates after an accepted one only for a better one (False: each in full)
+        self.tighten = True
         self.fire_on_motion = bool(fire_on_motion)
         self.rest_before = float(rest_before)
         self.return_error = float(return_error)
@@ -294,8 +296,15 @@ class Spotter:
             self.rests.popleft()
 
     def candidates(self, buffer: PoseBuffer) -> list[Candidate]:
-        """Classify every candidate that ends with the latest unit."""
+        """Classify every candidate that ends with the latest unit.
+
+        Unless the pending candidate may fire on motion (``fire_on_motion``, which looks at every
+        accepted candidate), only the best accepted one of them matters: once one is accepted with
+        ratio ρ, a later one is accepted only below ρ (a tie goes to the earlier one, as
+        ``min`` does), so its search may stop as soon as it cannot beat ρ. The candidate chosen
+        is the one the full search chooses."""
         out: list[Candidate] = []
+        bar = 1.0  # ratio a candidate must stay below to be accepted
         last = self.units[-1]
         after = max(self.consumed, buffer.oldest + self.margin - 1)
         for first, n in candidate_spans(list(self.units), self.max_units, self.max_duration,
@@ -307,22 +316,24 @@ class Spotter:
             # the margin after the unit may not be in the buffer yet: cut the unit out exactly
             inner = first.start - lo_index
             c = closure(poses[inner:inner + last.end - first.start + 1], self.L)
-            d, size = self._classify(times, poses, c)
+            d, size = self._classify(times, poses, c, bar)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
             ratio = float(d[j] / self.model_thresholds[j])
-            ok = ratio < 1.0 and bool(self.admissible(j, np.array([c]), np.array([size]))[0])
+            ok = ratio < bar and bool(self.admissible(j, np.array([c]), np.array([size]))[0])
+            if ok and self.tighten and not self.fire_on_motion:
+                bar = ratio
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
                                  ratio, n, c, size, ok))
         return out
 
-    def _classify(self, times: np.ndarray, poses: np.ndarray, closure_: float
+    def _classify(self, times: np.ndarray, poses: np.ndarray, closure_: float, bar: float = 1.0
                   ) -> tuple[np.ndarray, float]:
         """Distances (M,) of a candidate to the models and its size [m]. Pruned, only models
         whose gesture admits the candidate's closure and size can accept it, so the others get
-        threshold 0, and a candidate that no gesture admits is not searched at all (distances
-        ``inf``). Either way the decision is the full search's."""
+        threshold 0, the others ``bar`` times theirs, and a candidate that no gesture admits is
+        not searched at all (distances ``inf``). Either way the decision is the full search's."""
         clf = self.classifier
         if not clf.pruning:
             return clf.distances(times, poses)
@@ -331,7 +342,8 @@ class Spotter:
             return np.full(len(clf.models), math.inf), 0.0
         descriptor, size = out
         admits = self.admitting_models(closure_, size)
-        return clf.search_described(descriptor, np.where(admits, self.model_thresholds, 0.0)), size
+        accept_below = np.where(admits, bar * self.model_thresholds, 0.0)
+        return clf.search_described(descriptor, accept_below), size
 
     def admitting_models(self, closure_: float, size: float) -> np.ndarray:
         """Which models' gestures admit a segment of this closure and size [m] (M,) bool: the
