@@ -106,25 +106,36 @@ def test_classifier_predicts_the_same_with_and_without_pruning(kettle_files, rea
             assert np.array_equal(a, b)
 
 
-@pytest.mark.slow
-def test_live_events_are_the_same_with_and_without_pruning():
+@pytest.fixture(scope="module")
+def replica_recognizer():
     from framefree.datasets.layout import load_model_recordings
-    from framefree.datasets.stream_files import load_stream
     from framefree.online import Recognizer
     from framefree.replica import replica_path
 
-    root = replica_path(0)
-    trajs, labels = load_model_recordings(root, "original_1")
-    stream, _ = load_stream(root / "streams" / "stream_1.csv")
-    rec = Recognizer.from_trajectories(trajs, labels)
+    return Recognizer.from_trajectories(*load_model_recordings(replica_path(0), "original_1"))
+
+
+def _live_events(rec, stream_name: str) -> list:
+    """Events of a replica session pushed through ``rec`` from a reset: (label, time,
+    dissimilarity)."""
+    from framefree.datasets.stream_files import load_stream
+    from framefree.replica import replica_path
+
+    stream, _ = load_stream(replica_path(0) / "streams" / stream_name)
+    rec.reset()
+    events = []
+    for k in range(len(stream)):
+        events += rec.push(stream.t[k], stream.p[k], stream.q[k])
+    return [(e.label, e.time, e.dissimilarity) for e in events]
+
+
+@pytest.mark.slow
+def test_live_events_are_the_same_with_and_without_pruning(replica_recognizer):
+    rec = replica_recognizer
     runs = {}
     for prune in (False, True):
-        rec.reset()
         rec.prune = prune
-        events = []
-        for k in range(len(stream)):
-            events += rec.push(stream.t[k], stream.p[k], stream.q[k])
-        runs[prune] = ([(e.label, e.time, e.dissimilarity) for e in events], dict(rec.stats))
+        runs[prune] = (_live_events(rec, "stream_1.csv"), dict(rec.stats))
     assert runs[True][0] == runs[False][0] and len(runs[True][0]) > 5
     assert runs[True][1]["dtw_cells"] <= runs[True][1]["dtw_cells_unpruned"]
 
@@ -167,23 +178,13 @@ def test_deferred_models_keep_rejection_exact(vocab, chunk):
 
 
 @pytest.mark.slow
-def test_searching_later_candidates_only_for_a_better_one_changes_no_event():
-    from framefree.datasets.layout import load_model_recordings
-    from framefree.datasets.stream_files import load_stream
-    from framefree.online import Recognizer
-    from framefree.replica import replica_path
-
-    root = replica_path(0)
-    trajs, labels = load_model_recordings(root, "original_1")
-    stream, _ = load_stream(root / "streams" / "stream_2.csv")
-    rec = Recognizer.from_trajectories(trajs, labels)
+def test_searching_later_candidates_only_for_a_better_one_changes_no_event(replica_recognizer):
+    rec = replica_recognizer
+    rec.prune = True
     runs = {}
     for tighten in (False, True):
-        rec.reset()
         rec.spotter.tighten = tighten
-        events = []
-        for k in range(len(stream)):
-            events += rec.push(stream.t[k], stream.p[k], stream.q[k])
-        runs[tighten] = ([(e.label, e.time, e.dissimilarity) for e in events], rec.stats["dtw_cells"])
+        runs[tighten] = (_live_events(rec, "stream_2.csv"), rec.stats["dtw_cells"])
+    rec.spotter.tighten = True
     assert runs[True][0] == runs[False][0] and len(runs[True][0]) > 5
     assert runs[True][1] < runs[False][1]

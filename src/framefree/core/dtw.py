@@ -181,18 +181,24 @@ def path_distance_kernel(X, Y, align_lo, align_hi, mode, open_end):
     i = n - 1
     j = m - 1
     while True:
-        if mode == POINTWISE_SQUARED:
-            d = 0.0
-            for f in range(18):
-                diff = X[i, f] - Y[j, f]
-                d += diff * diff
-            total += d
-        else:
-            total += residual_columns(X[i], Y[j], 6)
+        total += path_cell_cost(X, Y, i, j, mode)
         if i == 0 and j == 0:
             break
         i, j = traceback_step(C, i, j)
     return total / (n + m - 1)
+
+
+@njit(cache=True)
+def path_cell_cost(X, Y, i, j, mode):
+    """Cost of cell (i, j) on the path of :func:`path_distance_kernel` (``POINTWISE_SQUARED`` or
+    ``POINTWISE_KABSCH``): the squared difference of columns 0..17, or their Kabsch residual."""
+    if mode == POINTWISE_SQUARED:
+        d = 0.0
+        for f in range(18):
+            diff = X[i, f] - Y[j, f]
+            d += diff * diff
+        return d
+    return residual_columns(X[i], Y[j], 6)
 
 
 @njit(cache=True, parallel=True, nogil=True)

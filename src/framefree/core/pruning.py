@@ -48,10 +48,10 @@ from .dtw import (
     accumulated_cost_kernel,
     open_end_row,
     pack_sequences,
+    path_cell_cost,
     path_distance_kernel,
     traceback_step,
 )
-from .kabsch import residual_columns
 
 __all__ = [
     "DistanceSpec",
@@ -234,14 +234,7 @@ def _bounded_distance(X, Y, FX, FY, lo, hi, mode, open_end, cutoff):
     i = n - 1
     j = m - 1
     while True:
-        if mode == POINTWISE_SQUARED:  # summed as path_distance_kernel does, to the last bit
-            d = 0.0
-            for f in range(18):
-                diff = X[i, f] - Y[j, f]
-                d += diff * diff
-            total += d
-        else:
-            total += residual_columns(X[i], Y[j], 6)
+        total += path_cell_cost(X, Y, i, j, mode)  # as path_distance_kernel sums it
         if total > limit:
             return max(total, bound) / divisor, False
         if i == 0 and j == 0:
