@@ -3,8 +3,9 @@ thresholds, as bytes on disk. This module knows the layout and its versions only
 *is* (:class:`~framefree.library.GestureLibrary`) and how a recognizer is restored from one
 (:meth:`~framefree.online.Recognizer.restore`) live above it.
 
-File format (``FORMAT_VERSION`` 2; version 1 predates the recognizer's ``axis_prior`` setting,
-which changes the models' descriptors, so its thresholds would not fit): a ``.npz`` (zip) archive
+File format (``FORMAT_VERSION`` 3; version 1 predates the recognizer's ``axis_prior`` setting,
+which changes the models' descriptors, and version 2 its corner limits, which change which
+negatives the thresholds were calibrated on, so their thresholds would not fit): a ``.npz`` (zip) archive
 readable with ``numpy.load(path, allow_pickle=False)`` plus one JSON member; nothing in it executes
 code when loaded.
 
@@ -45,7 +46,7 @@ __all__ = [
 ]
 
 #: Version of the library file layout and of the meaning of its settings.
-FORMAT_VERSION = 2
+FORMAT_VERSION = 3
 #: Name of the JSON member (stable across format versions, so any version can be recognized).
 JSON_MEMBER = "library.json"
 

@@ -132,6 +132,16 @@ class RecognizerConfig:
         least consistent people stop up to about 4.5 cm and 13° from the start, 95 %; five precise
         demonstrations of a figure eight or a small circle otherwise give a limit that other
         people's smaller or sloppier performances miss). 0 turns it off.
+    corners : bool
+        Accept a candidate only with no more corners than its gesture's demonstrations have
+        (True; only where they agree). A *corner* is a turn of the hand's heading of more than
+        ``corner_angle`` between two movement units
+        (:func:`~framefree.online.segmentation.turn_angle`): people slow down where a path bends
+        sharply, so the units of a square drawn in the air meet at right angles, while a
+        hesitation on a circle leaves the heading nearly as it was.
+    corner_angle : float
+        Smallest turn [deg] that counts as a corner (45: half a right angle; a near-stop on a
+        smooth path turns the heading by the arc it creeps along, a corner by the angle drawn).
     size : bool
         Accept a candidate only within its gesture's size limits (True).
     size_factor : float
@@ -167,6 +177,10 @@ class RecognizerConfig:
         Smallest closure accepted per gesture (an open stroke must not come back to its start);
         ``None``: from the models (:func:`~framefree.online.thresholds.opening_limit`); a library
         saved before this field existed has none.
+    corner_limits : dict of str to int or None
+        Most corners accepted per gesture (a gesture not in it has no limit); ``None``: from the
+        models, for each gesture whose demonstrations agree on their number
+        (:func:`~framefree.online.thresholds.corner_limit`).
     size_limits : dict of str to (float, float) or None
         Smallest and largest size [m of screw path] accepted per gesture; ``None``: from the models
         (:func:`~framefree.online.thresholds.size_limits`).
@@ -209,6 +223,8 @@ class RecognizerConfig:
     closure_exponent: float = 0.65
     closure_pooled: bool = False
     return_error: float = 0.05
+    corners: bool = True
+    corner_angle: float = 45.0
     size: bool = True
     size_factor: float = 1.5
     size_reach: float = 2.0
@@ -227,6 +243,7 @@ class RecognizerConfig:
     move_factor: float = 1.5
     closure_limits: dict[str, float] | None = None
     opening_limits: dict[str, float] | None = None
+    corner_limits: dict[str, int] | None = None
     size_limits: dict[str, tuple[float, float]] | None = None
     max_bridge: float = 0.5
 
@@ -262,6 +279,11 @@ class RecognizerConfig:
         for name in ("closure_limits", "opening_limits"):
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, {str(g): float(v) for g, v in getattr(self, name).items()})
+        if self.corner_limits is not None:
+            object.__setattr__(self, "corner_limits",
+                               {str(g): int(v) for g, v in self.corner_limits.items()})
+        if not 0 <= self.corner_angle <= 180:
+            raise ValueError(f"corner_angle must be in [0, 180] degrees, got {self.corner_angle}")
         if self.size_limits is not None:
             object.__setattr__(self, "size_limits", {str(g): (float(v[0]), float(v[1]))
                                                      for g, v in self.size_limits.items()})

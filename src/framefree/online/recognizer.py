@@ -55,6 +55,7 @@ from .thresholds import (
     calibrate_segment_thresholds,
     candidate_limits,
     closure_limit,
+    corner_limit,
     gesture_geometry,
     opening_limit,
     pooled_closures,
@@ -110,9 +111,12 @@ def resolve_config(
         c = c.replace(max_units=c.max_units or units, max_duration=c.max_duration or duration,
                       max_pause=c.max_pause or pause,
                       pause_ratio=ratio if c.pause_ratio is None else c.pause_ratio)
-    if c.closure_limits is None or c.size_limits is None or c.opening_limits is None:
-        closed, sizes = gesture_geometry(trajectories, labels, classifier, levels, c.L, c.margin,
-                                         c.dt)
+    if None in (c.closure_limits, c.size_limits, c.opening_limits, c.corner_limits):
+        closed, sizes, corners = gesture_geometry(trajectories, labels, classifier, levels, c.L,
+                                                  c.margin, c.dt, c.corner_angle)
+        if c.corner_limits is None:
+            limits = {g: corner_limit(corners.get(g, [])) for g in gestures}
+            c = c.replace(corner_limits={g: k for g, k in limits.items() if k is not None})
         if c.closure_limits is None:
             largest = {g: hi for g, (_, hi) in closed.items()}
             largest = pooled_closures(largest) if c.closure_pooled else largest
@@ -147,18 +151,20 @@ def resolve_config(
 
 def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: RecognizerConfig,
              labels: list[str]) -> Spotter:
-    closures = openings = sizes = None
+    closures = openings = sizes = corners = None
     if c.closure and c.closure_limits is not None:
         closures = np.array([c.closure_limits.get(g, 1.0) for g in labels])
     if c.closure and c.opening_limits is not None:
         openings = np.array([c.opening_limits.get(g, 0.0) for g in labels])
     if c.size and c.size_limits is not None:
         sizes = np.array([c.size_limits.get(g, (0.0, np.inf)) for g in labels])
+    if c.corners and c.corner_limits is not None:
+        corners = np.array([c.corner_limits.get(g, np.inf) for g in labels], dtype=float)
     return Spotter(classifier, model_thresholds, c.max_units, c.max_duration, c.max_pause,
                    c.margin, c.confirm, c.max_wait, closures, c.L, sizes,
                    math.inf if c.pause_ratio is None else c.pause_ratio, c.min_pause,
                    c.return_error if c.closure else 0.0, openings, c.fire_on_motion,
-                   c.rest_before)
+                   c.rest_before, corners, c.corner_angle)
 
 
 class Recognizer(StreamingRecognizer):

@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 from collections import deque
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -44,8 +44,10 @@ __all__ = [
     "UniformResampler",
     "Unit",
     "closure",
+    "heading",
     "motion_speed",
     "speed_levels",
+    "turn_angle",
 ]
 
 
@@ -187,6 +189,10 @@ class Unit:
     rest_after : bool
         True if the hand came to rest after the unit, False if the next unit followed at a speed
         minimum.
+    heading_in, heading_out : ndarray, shape (6,), or None
+        Which way the hand moves where the unit first reaches, and last keeps, half its peak
+        speed (:func:`heading`): the direction it leaves the previous rest or minimum in, and
+        the one it comes into the next in. ``None`` when unknown.
     """
 
     start: int
@@ -195,6 +201,8 @@ class Unit:
     end_t: float
     peak: float
     rest_after: bool
+    heading_in: np.ndarray | None = field(default=None, compare=False, repr=False)
+    heading_out: np.ndarray | None = field(default=None, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -227,6 +235,28 @@ def motion_speed(poses: np.ndarray, dt: float, L: float, lag: int) -> np.ndarray
     for k in range(lag, n):
         v[k] = screw_path_increment(P[k - lag], P[k], L) / (lag * dt)
     return v
+
+
+def heading(A: np.ndarray, B: np.ndarray, L: float) -> np.ndarray:
+    """Which way the hand moves from pose ``A`` to pose ``B`` (4, 4): the twist-like vector (6,)
+    ``(L·φ, p_B − p_A)`` of the rotation vector φ [rad] of ``R_B R_Aᵀ`` (world axes) and the
+    tracker's displacement [m]. A change of world frame turns both halves alike, so the angle
+    between two headings (:func:`turn_angle`) does not depend on it; a tracker held off the
+    hand's centre of rotation adds the rotation's lever to the displacement."""
+    A = np.ascontiguousarray(A, dtype=np.float64)
+    B = np.ascontiguousarray(B, dtype=np.float64)
+    return np.concatenate([L * se3.rotation_increment_one(A, B), B[:3, 3] - A[:3, 3]])
+
+
+def turn_angle(a: np.ndarray | None, b: np.ndarray | None) -> float:
+    """Angle [deg] between two headings (6,): 0 when the hand goes on the same way, 180 when it
+    reverses; 0 when either is unknown or zero."""
+    if a is None or b is None:
+        return 0.0
+    norm = float(np.linalg.norm(a) * np.linalg.norm(b))
+    if not norm > 0:
+        return 0.0
+    return math.degrees(math.acos(min(1.0, max(-1.0, float(a @ b) / norm))))
 
 
 def closure(poses: np.ndarray, L: float) -> float:
@@ -382,7 +412,22 @@ class MotionSegmenter:
         return None
 
     def _close(self, end: int, rest_after: bool) -> Unit:
+        heading_in, heading_out = self._headings(self._start, end)
         unit = Unit(self._start, end, self.buffer.time(self._start), self.buffer.time(end),
-                    self._peak, rest_after)
+                    self._peak, rest_after, heading_in, heading_out)
         self.units.append(unit)
         return unit
+
+    def _headings(self, start: int, end: int) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """Headings over the speed's lag where the unit ``start..end`` (running indices of the
+        lag's middle) first reaches and last keeps half its peak speed."""
+        half = self.lag // 2
+        first = max(start, self.buffer.oldest + half)
+        last = min(end, self.buffer.count - 1 - (self.lag - half))
+        if last < first:
+            return None, None
+        window = [(self.buffer.pose(c - half), self.buffer.pose(c - half + self.lag))
+                  for c in range(first, last + 1)]
+        speeds = np.array([screw_path_increment(A, B, self.L) for A, B in window])
+        fast = np.flatnonzero(speeds >= 0.5 * speeds.max())
+        return (heading(*window[fast[0]], self.L), heading(*window[fast[-1]], self.L))

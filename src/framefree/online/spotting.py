@@ -31,7 +31,7 @@ from ..core.pruning import ModelBank, pruned_nearest
 from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor
 from ..errors import DegenerateMotionError
-from .segmentation import PoseBuffer, Unit, closure
+from .segmentation import PoseBuffer, Unit, closure, turn_angle
 
 __all__ = ["Candidate", "SegmentClassifier", "Spotter", "candidate_spans"]
 
@@ -131,7 +131,10 @@ class Candidate:
     size : float
         Total screw path [m] of its pre-smoothed poses.
     accepted : bool
-        Below the threshold and within the closure and size limits of its nearest model's gesture.
+        Below the threshold and within the closure, size and corner limits of its nearest
+        model's gesture.
+    corners : int
+        Turns sharper than the spotter's ``corner_angle`` between its units.
     """
 
     start: int
@@ -145,6 +148,7 @@ class Candidate:
     closure: float = 0.0
     size: float = 0.0
     accepted: bool = False
+    corners: int = 0
 
 
 def candidate_spans(
@@ -226,6 +230,13 @@ class Spotter:
     opening_limits : ndarray, shape (M,), optional
         Smallest closure a candidate may have to be accepted as each model's gesture: an open
         stroke's candidate must not come back to its start (default: no limit).
+    corner_limits : ndarray, shape (M,), optional
+        Most corners a candidate may have to be accepted as each model's gesture (default: no
+        limit). A *corner* is a turn of the hand's heading (:func:`~framefree.online.segmentation.turn_angle`)
+        of more than ``corner_angle`` degrees between two of the candidate's units: a square
+        drawn in the air has three, a circle none, whether or not its drawer hesitated.
+    corner_angle : float
+        Smallest turn [deg] between two units that counts as a corner.
     """
 
     def __init__(
@@ -247,8 +258,13 @@ class Spotter:
         opening_limits: np.ndarray | None = None,
         fire_on_motion: bool = True,
         rest_before: float = 0.0,
+        corner_limits: np.ndarray | None = None,
+        corner_angle: float = 45.0,
     ) -> None:
         self.classifier = classifier
+        self.corner_limits = (np.full(len(classifier.models), np.inf) if corner_limits is None
+                              else np.asarray(corner_limits, dtype=np.float64))
+        self.corner_angle = float(corner_angle)
         #: search the candidates after an accepted one only for a better one (False: each in full)
         self.tighten = True
         self.fire_on_motion = bool(fire_on_motion)
@@ -273,13 +289,16 @@ class Spotter:
                             else np.asarray(size_limits, dtype=np.float64).reshape(n_models, 2))
         self.units: deque[Unit] = deque(maxlen=max(1, self.max_units))
         self.rests: deque[float] = deque(maxlen=max(1, self.max_units))  # rest [s] before each unit
+        self.turns: deque[float] = deque(maxlen=max(1, self.max_units))  # turn [deg] before each unit
         self.reset()
 
     def reset(self) -> None:
         """Forget units and the pending candidate."""
         self.units.clear()
         self.rests.clear()
+        self.turns.clear()
         self._last_end_t = -math.inf
+        self._last_heading: np.ndarray | None = None
         self.pending: Candidate | None = None
         self.consumed = -1  # candidates must start after this running index
         self.last_distances: np.ndarray | None = None
@@ -294,6 +313,7 @@ class Spotter:
         while self.units and self.units[0].start < index:
             self.units.popleft()
             self.rests.popleft()
+            self.turns.popleft()
 
     def candidates(self, buffer: PoseBuffer) -> list[Candidate]:
         """Classify every candidate that ends with the latest unit.
@@ -316,22 +336,29 @@ class Spotter:
             # the margin after the unit may not be in the buffer yet: cut the unit out exactly
             inner = first.start - lo_index
             c = closure(poses[inner:inner + last.end - first.start + 1], self.L)
-            d, size = self._classify(times, poses, c, bar)
+            corners = self.corners(n)
+            d, size = self._classify(times, poses, c, bar, corners)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
             ratio = float(d[j] / self.model_thresholds[j])
-            ok = ratio < bar and bool(self.admissible(j, np.array([c]), np.array([size]))[0])
+            ok = ratio < bar and bool(self.admissible(j, np.array([c]), np.array([size]),
+                                                      corners)[0])
             if ok and self.tighten and not self.fire_on_motion:
                 bar = ratio
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
-                                 ratio, n, c, size, ok))
+                                 ratio, n, c, size, ok, corners))
         return out
 
-    def _classify(self, times: np.ndarray, poses: np.ndarray, closure_: float, bar: float = 1.0
-                  ) -> tuple[np.ndarray, float]:
+    def corners(self, n: int) -> int:
+        """Corners between the last ``n`` units: turns sharper than :attr:`corner_angle`."""
+        turns = list(self.turns)[len(self.turns) - n + 1:] if n > 1 else []
+        return sum(t > self.corner_angle for t in turns)
+
+    def _classify(self, times: np.ndarray, poses: np.ndarray, closure_: float, bar: float = 1.0,
+                  corners: int = 0) -> tuple[np.ndarray, float]:
         """Distances (M,) of a candidate to the models and its size [m]. Pruned, only models
-        whose gesture admits the candidate's closure and size can accept it, so the others get
+        whose gesture admits the candidate's closure, size and corners can accept it, so the others get
         threshold 0, the others ``bar`` times theirs, and a candidate that no gesture admits is
         not searched at all (distances ``inf``). Either way the decision is the full search's."""
         clf = self.classifier
@@ -341,33 +368,39 @@ class Spotter:
         if out is None:
             return np.full(len(clf.models), math.inf), 0.0
         descriptor, size = out
-        admits = self.admitting_models(closure_, size)
+        admits = self.admitting_models(closure_, size, corners)
         accept_below = np.where(admits, bar * self.model_thresholds, 0.0)
         return clf.search_described(descriptor, accept_below), size
 
-    def admitting_models(self, closure_: float, size: float) -> np.ndarray:
-        """Which models' gestures admit a segment of this closure and size [m] (M,) bool: the
-        rule of :meth:`admissible`, for every model at once."""
-        return self._admits(slice(None), closure_, size)
+    def admitting_models(self, closure_: float, size: float, corners: int = 0) -> np.ndarray:
+        """Which models' gestures admit a segment of this closure, size [m] and number of corners
+        (M,) bool: the rule of :meth:`admissible`, for every model at once."""
+        return self._admits(slice(None), closure_, size, corners)
 
-    def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray) -> np.ndarray:
-        """Which segments (closures (n,), sizes (n,) [m]) may be model ``j``'s gesture: within its
-        size range, no more closed than its opening limit, and within its closure limit or ending
-        within :attr:`return_error` of their start (closure × size)."""
-        return self._admits(j, np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float))
+    def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray,
+                   corners: np.ndarray | int = 0) -> np.ndarray:
+        """Which segments (closures (n,), sizes (n,) [m], corners (n,)) may be model ``j``'s
+        gesture: within its size range, no more closed than its opening limit, within its closure
+        limit or ending within :attr:`return_error` of their start (closure × size), and with no
+        more corners than its corner limit."""
+        return self._admits(j, np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float),
+                            np.asarray(corners, dtype=float))
 
-    def _admits(self, j: int | slice, closures: Any, sizes: Any) -> np.ndarray:
+    def _admits(self, j: int | slice, closures: Any, sizes: Any, corners: Any) -> np.ndarray:
         """The admissibility rule for model(s) ``j`` (broadcast against the segments)."""
         lo, hi = self.size_limits[j, 0], self.size_limits[j, 1]
         closes = (closures <= self.closure_limits[j]) | (closures * sizes <= self.return_error)
         opens = closures >= self.opening_limits[j]
-        return closes & opens & (sizes >= lo) & (sizes <= hi)
+        cornered = corners <= self.corner_limits[j]
+        return closes & opens & cornered & (sizes >= lo) & (sizes <= hi)
 
     def add_unit(self, unit: Unit) -> None:
         """Keep a unit that ended, with the rest [s] the hand held before it."""
         self.units.append(unit)
         self.rests.append(unit.start_t - self._last_end_t)
+        self.turns.append(turn_angle(self._last_heading, unit.heading_in))
         self._last_end_t = unit.end_t
+        self._last_heading = unit.heading_out
 
     def on_unit(self, unit: Unit, buffer: PoseBuffer) -> Candidate | None:
         """A unit ended: update the pending candidate; return a candidate to fire now, if any."""

@@ -38,7 +38,7 @@ import numpy as np
 
 from ..core.trajectory import Trajectory
 from .negatives import non_gesture_motions
-from .segmentation import MotionSegmenter, SpeedLevels, Unit, closure
+from .segmentation import MotionSegmenter, SpeedLevels, Unit, closure, turn_angle
 from .spotting import SegmentClassifier, Spotter, candidate_spans
 
 __all__ = [
@@ -46,6 +46,8 @@ __all__ = [
     "calibrate_segment_thresholds",
     "candidate_limits",
     "closure_limit",
+    "corner_count",
+    "corner_limit",
     "gesture_geometry",
     "opening_limit",
     "pooled_closures",
@@ -102,6 +104,11 @@ def _units(traj: Trajectory, levels: SpeedLevels, L: float, dt: float
     return seg, units
 
 
+def corner_count(units: Sequence[Unit], angle: float) -> int:
+    """Corners between consecutive units: turns of the heading sharper than ``angle`` [deg]."""
+    return sum(turn_angle(a.heading_out, b.heading_in) > angle for a, b in itertools.pairwise(units))
+
+
 def segment_distances(
     traj: Trajectory,
     classifier: SegmentClassifier,
@@ -109,9 +116,9 @@ def segment_distances(
     spotter: Spotter,
     L: float,
     dt: float = 0.02,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Distances (C, M) of every candidate segment of a recording to every model, and the closure
-    (C,) and size (C,) [m] of each candidate.
+    (C,), size (C,) [m] and corners (C,) of each candidate.
 
     The recording is resampled on the uniform grid, cut by :class:`MotionSegmenter` and its
     candidates formed with the limits of ``spotter`` (no threshold is applied).
@@ -120,6 +127,7 @@ def segment_distances(
     rows: list[np.ndarray] = []
     closures: list[float] = []
     sizes: list[float] = []
+    corners: list[int] = []
     for k in range(len(units)):
         for first, n in candidate_spans(units[: k + 1], spotter.max_units, spotter.max_duration,
                                         spotter.max_pause, -1, spotter.pause_ratio,
@@ -132,24 +140,28 @@ def segment_distances(
             rows.append(d)
             sizes.append(size)
             closures.append(closure(P[spotter.margin:P.shape[0] - spotter.margin], L))
+            corners.append(corner_count(units[i:k + 1], spotter.corner_angle))
     if not rows:
-        return np.full((0, len(classifier.models)), np.inf), np.zeros(0), np.zeros(0)
-    return np.vstack(rows), np.array(closures), np.array(sizes)
+        return np.full((0, len(classifier.models)), np.inf), np.zeros(0), np.zeros(0), np.zeros(0)
+    return np.vstack(rows), np.array(closures), np.array(sizes), np.array(corners)
 
 
 def gesture_geometry(
     trajectories: Sequence[Trajectory], labels: Sequence[str], classifier: SegmentClassifier,
-    levels: SpeedLevels, L: float, margin: int = 5, dt: float = 0.02,
-) -> tuple[dict[str, tuple[float, float]], dict[str, tuple[float, float]]]:
-    """Closure range and size range [m] of each gesture's recordings, measured on the whole
-    gesture (first unit's start to last unit's end; the size with ``margin`` samples around it, as
-    a live candidate is cut): ``({g: (smallest, largest closure)}, {g: (smallest, largest size)})``."""
+    levels: SpeedLevels, L: float, margin: int = 5, dt: float = 0.02, corner_angle: float = 45.0,
+) -> tuple[dict[str, tuple[float, float]], dict[str, tuple[float, float]], dict[str, list[int]]]:
+    """Closure range, size range [m] and corners of each gesture's recordings, measured on the
+    whole gesture (first unit's start to last unit's end; the size with ``margin`` samples around
+    it, as a live candidate is cut): ``({g: (smallest, largest closure)}, {g: (smallest, largest
+    size)}, {g: [corners of each recording]})``, corners as in :func:`corner_count`."""
     closures: dict[str, tuple[float, float]] = {}
     sizes: dict[str, tuple[float, float]] = {}
+    corners: dict[str, list[int]] = {}
     for tr, g in zip(trajectories, labels, strict=True):
         seg, units = _units(tr, levels, L, dt)
         if not units:
             continue
+        corners.setdefault(g, []).append(corner_count(units, corner_angle))
         _, P = seg.buffer.slice(units[0].start, units[-1].end)
         c = closure(P, L)
         lo, hi = closures.get(g, (np.inf, 0.0))
@@ -158,7 +170,7 @@ def gesture_geometry(
         _, size = classifier.distances(t, P)
         lo, hi = sizes.get(g, (np.inf, 0.0))
         sizes[g] = (min(lo, size), max(hi, size))
-    return closures, sizes
+    return closures, sizes, corners
 
 
 def size_limits(smallest: float, largest: float, factor: float) -> tuple[float, float]:
@@ -194,6 +206,17 @@ def candidate_limits(
     if longest == 0.0:
         raise ValueError("no movement found in the model recordings")
     return 2 * most + 1, span_factor * longest, span_factor * pause, pause_factor * ratio
+
+
+def corner_limit(counts: Sequence[int]) -> int | None:
+    """Most corners accepted for a gesture whose recordings have ``counts`` corners: their common
+    number when at least two recordings all agree, else ``None`` (no limit). A square's corners
+    are part of its shape, and every take has them; a smooth curve of varying bend (a wave) slows
+    down, and may count a corner, where it bends most, in some takes and not in others: there the
+    number says nothing about another person's performance."""
+    if len(counts) < 2 or len(set(counts)) > 1:
+        return None
+    return int(counts[0])
 
 
 def closure_limit(largest: float, exponent: float = 0.5) -> float:
@@ -235,7 +258,8 @@ def reach_down(
 
     The band below the gesture's lower size limit ``lo`` down to ``lo / reach`` is open when no
     candidate of the non-gesture episodes in it (``records``: per episode the distances (C, M),
-    closures (C,) and sizes (C,) of its candidates), with the gesture's closure and opening,
+    closures (C,), sizes (C,) and corners (C,) of its candidates), with the gesture's closure,
+    opening and corners,
     lies below ``threshold`` from the gesture's models (``own``, (M,) bool). A circle drawn
     smaller than the demonstrations is still a circle; a forearm turned out and back by less is
     a re-grip.
@@ -251,11 +275,11 @@ def reach_down(
     if not (reach > 1.0 and lo > 0.0):
         return None
     floor = lo / reach
-    for D, c, size in records:
+    for D, c, size, corners in records:
         band = (size >= floor) & (size < lo)
         if not band.any():
             continue
-        shaped = spotter.admissible(model, c[band], np.full(int(band.sum()), lo))
+        shaped = spotter.admissible(model, c[band], np.full(int(band.sum()), lo), corners[band])
         if shaped.any() and float(D[band][shaped][:, own].min()) < threshold:
             return None
     return floor
@@ -297,8 +321,8 @@ def _positive_scores(
         else:
             copies = [tr]
         for copy in copies:
-            D, c, size = segment_distances(copy, classifier, levels, spotter, L)
-            ok = spotter.admissible(r, c, size)
+            D, c, size, corners = segment_distances(copy, classifier, levels, spotter, L)
+            ok = spotter.admissible(r, c, size, corners)
             positives[labels[r]].append(float(D[ok][:, same].min()) if ok.any() else np.inf)
     return positives
 
@@ -368,13 +392,13 @@ def calibrate_segment_thresholds(
     reaching = reach > 1.0
     for kind, neg in non_gesture_motions(trajectories, labels, L, seed=seed,
                                          kinds=(*kinds, "regrip") if reaching else kinds):
-        D, c, size = segment_distances(neg, classifier, levels, spotter, L)
+        D, c, size, corners = segment_distances(neg, classifier, levels, spotter, L)
         if reaching:
-            records.append((D, c, size))
+            records.append((D, c, size, corners))
         if kind == "regrip":
             continue
         for g in gestures:
-            ok = admissible(first[g], c, size)
+            ok = admissible(first[g], c, size, corners)
             if ok.any():
                 episodes[g].append(float(D[ok][:, labels_arr == g].min()))
             elif gated:

@@ -1,0 +1,164 @@
+"""Corners: a square drawn in the air is not a circle, whatever the frame and however hesitant.
+
+A corner is a turn of the hand's heading of more than ``corner_angle`` between two movement units.
+The tests draw polylines and circles stroke by stroke (minimum-jerk strokes, the hand slowing
+down at every corner), cut them with the live segmenter and count corners, in random world
+frames; then check the recognizer's corner limits and admissibility rule.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from framefree.core import se3
+from framefree.datasets.layout import load_model_recordings
+from framefree.online import Recognizer, RecognizerConfig
+from framefree.online.segmentation import MotionSegmenter, SpeedLevels, heading, turn_angle
+from framefree.online.thresholds import corner_count, corner_limit
+from framefree.replica import replica_path
+
+DT = 0.02
+LEVELS = SpeedLevels(rest=0.03, move=0.045)
+
+
+def _min_jerk(n: int) -> np.ndarray:
+    x = np.linspace(0.0, 1.0, n)
+    return x**3 * (10 - 15 * x + 6 * x**2)
+
+
+def _drawn(points: np.ndarray, stroke_s: float = 0.6, hold_s: float = 0.0) -> np.ndarray:
+    """Positions (n, 3) of a polyline through ``points`` (k, 3), one minimum-jerk stroke per side
+    with ``hold_s`` of stillness at each inner corner, and a second of rest at either end."""
+    parts = [np.repeat(points[:1], round(1.0 / DT), axis=0)]
+    for a, b in itertools.pairwise(points):
+        parts.append(a + _min_jerk(round(stroke_s / DT))[:, None] * (b - a))
+        parts.append(np.repeat(b[None], round(hold_s / DT), axis=0))
+    parts.append(np.repeat(points[-1:], round(1.0 / DT), axis=0))
+    return np.concatenate(parts)
+
+
+def _circle(radius: float = 0.12, duration: float = 2.0, pause_at: float | None = None,
+            pause_s: float = 0.4, creep: float = 0.08) -> np.ndarray:
+    """Positions (n, 3) of one turn of a circle in a minimum-jerk sweep; with ``pause_at`` (a
+    fraction of the turn) the hand nearly stops there for ``pause_s``, creeping on at ``creep`` of
+    its speed, then goes on: a hesitation."""
+    n = round(duration / DT)
+    angle = 2 * math.pi * _min_jerk(n)
+    if pause_at is not None:
+        k = int(np.searchsorted(angle, 2 * math.pi * pause_at))
+        step = creep * (angle[k + 1] - angle[k])
+        slow = angle[k] + step * np.arange(1, round(pause_s / DT) + 1)
+        angle = np.concatenate([angle[:k + 1], slow, angle[k + 1:] + (slow[-1] - angle[k])])
+        # slow down into the near-stop and speed up out of it over a fifth of a second
+        w = round(0.2 / DT)
+        angle = np.convolve(np.pad(angle, w, mode="edge"), np.ones(w) / w, mode="same")[w:-w]
+    rest = round(1.0 / DT)
+    angle = np.concatenate([np.zeros(rest), angle, np.full(rest, angle[-1])])
+    return np.stack([radius * np.sin(angle), radius * (1 - np.cos(angle)), np.zeros_like(angle)], 1)
+
+
+def _poses(positions: np.ndarray, X: np.ndarray) -> np.ndarray:
+    """Poses (n, 4, 4) of a tracker at ``positions`` (palm down, not turning), seen in world
+    frame ``X`` (4, 4)."""
+    P = np.repeat(np.eye(4)[None], positions.shape[0], axis=0)
+    P[:, :3, 3] = positions
+    return X @ P
+
+
+def _corners(positions: np.ndarray, X: np.ndarray | None = None, angle: float = 45.0) -> int:
+    X = np.eye(4) if X is None else X
+    seg = MotionSegmenter(LEVELS, L=0.1, dt=DT)
+    poses = _poses(positions, X)
+    units = [u for k, T in enumerate(poses) if (u := seg.push(DT * k, T)) is not None]
+    return corner_count(units, angle)
+
+
+SQUARE = np.array([[0, 0, 0], [0.18, 0, 0], [0.18, -0.18, 0], [0, -0.18, 0], [0, 0, 0]], float)
+ZIGZAG = np.array([[0, 0, 0], [0.24, 0, 0], [0, -0.18, 0], [0.24, -0.18, 0]], float)
+OUT_AND_BACK = np.array([[0, 0, 0], [0.3, 0, 0], [0, 0, 0]], float)
+
+frames = st.builds(lambda xi: se3.pose_from_twist(np.asarray(xi)),
+                   st.lists(st.floats(-3.0, 3.0), min_size=6, max_size=6))
+
+
+@settings(max_examples=25, deadline=None)
+@given(X=frames)
+def test_headings_turn_with_the_world_frame_and_their_angles_do_not(X):
+    rng = np.random.default_rng(0)
+    A, B, C = (se3.pose_from_twist(rng.normal(0, 0.3, 6)) for _ in range(3))
+    R = X[:3, :3]
+    h = heading(A, B, 0.1)
+    assert heading(X @ A, X @ B, 0.1) == pytest.approx(np.concatenate([R @ h[:3], R @ h[3:]]), abs=1e-9)
+    assert turn_angle(heading(X @ A, X @ B, 0.1), heading(X @ B, X @ C, 0.1)) == pytest.approx(
+        turn_angle(h, heading(B, C, 0.1)), abs=1e-6)
+
+
+def test_turn_angle_of_going_on_reversing_and_turning_square():
+    east, north = np.array([0, 0, 0, 1.0, 0, 0]), np.array([0, 0, 0, 0, 1.0, 0])
+    assert turn_angle(east, 2 * east) == pytest.approx(0.0, abs=1e-6)
+    assert turn_angle(east, -east) == pytest.approx(180.0)
+    assert turn_angle(east, north) == pytest.approx(90.0)
+    assert turn_angle(None, east) == 0.0 and turn_angle(east, np.zeros(6)) == 0.0
+
+
+@settings(max_examples=15, deadline=None)
+@given(X=frames, hold=st.sampled_from([0.0, 0.06, 0.3]))
+def test_drawn_polylines_have_their_corners_in_any_world_frame(X, hold):
+    assert _corners(_drawn(SQUARE, hold_s=hold), X) == 3  # the fourth corner is the end
+    assert _corners(_drawn(ZIGZAG, hold_s=hold), X) == 2
+    assert _corners(_drawn(OUT_AND_BACK, hold_s=hold), X) == 1  # a reversal is a corner too
+
+
+@pytest.mark.parametrize("pause_at", [None, 0.3, 0.5, 0.7])
+def test_a_circle_has_no_corner_even_when_the_hand_nearly_stops_on_it(pause_at):
+    positions = _circle(pause_at=pause_at)
+    seg = MotionSegmenter(LEVELS, L=0.1, dt=DT)
+    units = [u for k, T in enumerate(_poses(positions, np.eye(4))) if (u := seg.push(DT * k, T))]
+    assert len(units) == (1 if pause_at is None else 2)  # the near-stop does cut it
+    assert corner_count(units, 45.0) == 0
+
+
+def test_a_sharper_corner_angle_counts_fewer_corners():
+    square = _drawn(SQUARE)
+    assert _corners(square, angle=80.0) == 3
+    assert _corners(square, angle=100.0) == 0
+
+
+@pytest.fixture(scope="module")
+def models():
+    return load_model_recordings(replica_path(0), "original_1")
+
+
+def test_corner_limits_come_from_the_demonstrations(models):
+    rec = Recognizer.from_trajectories(*models)
+    limits = rec.config.corner_limits
+    assert limits["go_right"] == 0  # one turn of a circle
+    assert all(limits[g] == 1 for g in limits if g != "go_right")  # out, reverse, back
+    sp = rec.spotter
+    j = rec.labels.index("go_right")
+    lo, hi = sp.size_limits[j]
+    size = 0.5 * (lo + hi)
+    closes = np.full(4, 0.5 * (sp.opening_limits[j] + sp.closure_limits[j]))
+    ok = sp.admissible(j, closes, np.full(4, size), np.arange(4))
+    assert list(ok) == [True, False, False, False]
+    off = Recognizer.from_trajectories(*models, corners=False).spotter
+    assert off.admissible(j, closes, np.full(4, size), np.arange(4)).all()
+
+
+def test_corner_angle_is_checked():
+    with pytest.raises(ValueError, match="corner_angle"):
+        RecognizerConfig(corner_angle=200.0)
+
+
+def test_a_corner_limit_only_where_the_demonstrations_agree():
+    assert corner_limit([3, 3, 3, 3, 3]) == 3
+    assert corner_limit([0, 0]) == 0
+    assert corner_limit([0, 0, 1, 0, 0]) is None  # a curve that slows where it bends most
+    assert corner_limit([2]) is None  # one take says nothing about how others vary
+    assert corner_limit([]) is None
