@@ -71,7 +71,7 @@ def _poses(positions: np.ndarray, X: np.ndarray) -> np.ndarray:
     return X @ P
 
 
-def _corners(positions: np.ndarray, X: np.ndarray | None = None, angle: float = 45.0) -> int:
+def _corners(positions: np.ndarray, X: np.ndarray | None = None, angle: float = 60.0) -> int:
     X = np.eye(4) if X is None else X
     seg = MotionSegmenter(LEVELS, L=0.1, dt=DT)
     poses = _poses(positions, X)
@@ -121,7 +121,7 @@ def test_a_circle_has_no_corner_even_when_the_hand_nearly_stops_on_it(pause_at):
     seg = MotionSegmenter(LEVELS, L=0.1, dt=DT)
     units = [u for k, T in enumerate(_poses(positions, np.eye(4))) if (u := seg.push(DT * k, T))]
     assert len(units) == (1 if pause_at is None else 2)  # the near-stop does cut it
-    assert corner_count(units, 45.0) == 0
+    assert corner_count(units, 60.0) == 0
 
 
 def test_a_sharper_corner_angle_counts_fewer_corners():

@@ -38,6 +38,7 @@ from ..core.progress import progress_increments, screw_path_increment
 from ..core.trajectory import Trajectory
 
 __all__ = [
+    "HEADING_SPEED",
     "MotionSegmenter",
     "PoseBuffer",
     "SpeedLevels",
@@ -190,9 +191,10 @@ class Unit:
         True if the hand came to rest after the unit, False if the next unit followed at a speed
         minimum.
     heading_in, heading_out : ndarray, shape (6,), or None
-        Which way the hand moves where the unit first reaches, and last keeps, half its peak
-        speed (:func:`heading`): the direction it leaves the previous rest or minimum in, and
-        the one it comes into the next in. ``None`` when unknown.
+        Which way the hand moves (:func:`heading`, over the speed's lag) from where the unit
+        first reaches, and up to where it last keeps, :data:`HEADING_SPEED` × its peak speed:
+        the direction it leaves the previous rest or minimum in, and the one it comes into the
+        next in. ``None`` when unknown.
     """
 
     start: int
@@ -235,6 +237,13 @@ def motion_speed(poses: np.ndarray, dt: float, L: float, lag: int) -> np.ndarray
     for k in range(lag, n):
         v[k] = screw_path_increment(P[k - lag], P[k], L) / (lag * dt)
     return v
+
+
+#: Fraction of a unit's peak speed where its headings are taken: near the rests or minima around
+#: it, where a corner's straight sides still point their own way and a near-stop on a curve has
+#: crept along little of it (one fifth; on the replica's development people, half the peak
+#: counted corners in 12 of 99 figure eights whose hand nearly stopped at a tight bend).
+HEADING_SPEED = 0.2
 
 
 def heading(A: np.ndarray, B: np.ndarray, L: float) -> np.ndarray:
@@ -419,15 +428,17 @@ class MotionSegmenter:
         return unit
 
     def _headings(self, start: int, end: int) -> tuple[np.ndarray | None, np.ndarray | None]:
-        """Headings over the speed's lag where the unit ``start..end`` (running indices of the
-        lag's middle) first reaches and last keeps half its peak speed."""
-        half = self.lag // 2
-        first = max(start, self.buffer.oldest + half)
-        last = min(end, self.buffer.count - 1 - (self.lag - half))
+        """Headings of the unit ``start..end`` (running indices of the speed's middle) over one lag
+        from where it first reaches, and up to where it last keeps, :data:`HEADING_SPEED` × its
+        peak speed: the windows lie inside the unit, away from the rests or minima around it."""
+        half, buf = self.lag // 2, self.buffer
+        first = max(start, buf.oldest + half)
+        last = min(end, buf.count - 1 - (self.lag - half))
         if last < first:
             return None, None
-        window = [(self.buffer.pose(c - half), self.buffer.pose(c - half + self.lag))
-                  for c in range(first, last + 1)]
-        speeds = np.array([screw_path_increment(A, B, self.L) for A, B in window])
-        fast = np.flatnonzero(speeds >= 0.5 * speeds.max())
-        return (heading(*window[fast[0]], self.L), heading(*window[fast[-1]], self.L))
+        speeds = np.array([screw_path_increment(buf.pose(c - half), buf.pose(c - half + self.lag),
+                                                self.L) for c in range(first, last + 1)])
+        fast = first + np.flatnonzero(speeds >= HEADING_SPEED * speeds.max())
+        a, b = int(fast[0]), int(fast[-1])
+        return (heading(buf.pose(a), buf.pose(min(a + self.lag, buf.count - 1)), self.L),
+                heading(buf.pose(max(b - self.lag, buf.oldest)), buf.pose(b), self.L))

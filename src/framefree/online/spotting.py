@@ -259,7 +259,7 @@ class Spotter:
         fire_on_motion: bool = True,
         rest_before: float = 0.0,
         corner_limits: np.ndarray | None = None,
-        corner_angle: float = 45.0,
+        corner_angle: float = 60.0,
     ) -> None:
         self.classifier = classifier
         self.corner_limits = (np.full(len(classifier.models), np.inf) if corner_limits is None

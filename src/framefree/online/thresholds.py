@@ -148,7 +148,7 @@ def segment_distances(
 
 def gesture_geometry(
     trajectories: Sequence[Trajectory], labels: Sequence[str], classifier: SegmentClassifier,
-    levels: SpeedLevels, L: float, margin: int = 5, dt: float = 0.02, corner_angle: float = 45.0,
+    levels: SpeedLevels, L: float, margin: int = 5, dt: float = 0.02, corner_angle: float = 60.0,
 ) -> tuple[dict[str, tuple[float, float]], dict[str, tuple[float, float]], dict[str, list[int]]]:
     """Closure range, size range [m] and corners of each gesture's recordings, measured on the
     whole gesture (first unit's start to last unit's end; the size with ``margin`` samples around
