@@ -11,8 +11,8 @@ The path a user takes with ``framefree record / enroll``, in Python:
 3. held-out simulated people (:data:`framefree.replica.HELDOUT_PEOPLE`, never used to tune
    anything) perform sessions that include the new gesture and shapes nobody enrolled
    (``--distractors``: by default the development shapes, :data:`framefree.replica.DEV_SHAPES`;
-   ``--distractors heldout`` the shapes kept out of every choice); those are not labelled, so any
-   event during them is a false positive; every stream is run through the loaded recognizer
+   ``--distractors heldout`` and ``fresh`` the shapes kept out of every choice); those are not
+   labelled, so any event during them is a false positive; every stream is run through the loaded recognizer
    (:func:`framefree.online.evaluation.run_stream`);
 4. per-gesture precision, recall and F1 are printed and written as JSON, with the same for the
    seven-gesture library on the same streams (``--no-baseline`` skips it), to see whether the
@@ -43,6 +43,7 @@ from framefree.replica import (
     DEV_PEOPLE,
     DEV_SHAPES,
     FRESH_PEOPLE,
+    FRESH_SHAPES,
     HELDOUT_PEOPLE,
     HELDOUT_SHAPES,
     make_person_streams,
@@ -61,9 +62,9 @@ def recorded_takes(gesture: str, takes: int, seed: int, keep_all: bool = False) 
 
 
 def _distractors(name: str, gesture: str) -> list[str]:
-    if name in ("dev", "heldout"):
-        family = DEV_SHAPES if name == "dev" else HELDOUT_SHAPES
-        return [s for s in family if s != gesture]
+    families = {"dev": DEV_SHAPES, "heldout": HELDOUT_SHAPES, "fresh": FRESH_SHAPES}
+    if name in families:
+        return [s for s in families[name] if s != gesture]
     return [s for s in name.split(",") if s and s != gesture]
 
 
@@ -147,7 +148,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
                     help="enroll every move the recorder cut, the ways back included")
     ap.add_argument("--distractors", default="dev",
                     help="shapes performed but not enrolled: dev (DEV_SHAPES), heldout (HELDOUT_SHAPES), "
-                    "a comma-separated list, or '' for none")
+                    "fresh (FRESH_SHAPES), a comma-separated list, or '' for none")
     ap.add_argument("--demo-seed", type=int, default=0, help="seed of the demonstration recording")
     ap.add_argument("--people", type=int, default=3, help="number of held-out people")
     ap.add_argument("--first-person", type=int, default=0, help="index of the first one in the group")

@@ -9,7 +9,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from framefree.replica import DEV_SHAPES, DRAWN_SHAPES, HELDOUT_SHAPES, person, plan_gesture
+from framefree.replica import (
+    DEV_SHAPES,
+    DRAWN_SHAPES,
+    FRESH_SHAPES,
+    HELDOUT_SHAPES,
+    person,
+    plan_gesture,
+)
 from framefree.replica.motion import Motion, hesitant_stroke, stroke, translation_path
 from framefree.replica.people import POPULATION, STYLES, styled
 from framefree.replica.people_streams import take_session
@@ -85,15 +92,16 @@ def _closure(name: str, seed: int) -> float:
 
 @pytest.mark.parametrize("name", list(DRAWN_SHAPES))
 def test_drawn_shapes_close_or_stay_open_as_documented(name: str) -> None:
-    closes = name in ("triangle", "square", "diamond")
+    closes = name in ("triangle", "square", "diamond", "pentagon")
     for seed in range(3):
         c = _closure(name, seed)
         assert (c < 0.1) if closes else (c > 0.15), (name, seed, c)
 
 
 def test_shape_families_are_disjoint() -> None:
-    assert not set(DEV_SHAPES) & set(HELDOUT_SHAPES)
-    assert set(DEV_SHAPES) | set(HELDOUT_SHAPES) == set(DRAWN_SHAPES)
+    families = [set(DEV_SHAPES), set(HELDOUT_SHAPES), set(FRESH_SHAPES)]
+    assert sum(len(f) for f in families) == len(set.union(*families))
+    assert set.union(*families) == set(DRAWN_SHAPES)
 
 
 def test_a_take_session_has_every_performance_and_the_ways_back() -> None:

@@ -29,7 +29,7 @@ from .people import (
     person,
 )
 from .people_streams import PersonStream, make_person_streams, person_stream
-from .shapes import DEV_SHAPES, DRAWN_SHAPES, HELDOUT_SHAPES
+from .shapes import DEV_SHAPES, DRAWN_SHAPES, FRESH_SHAPES, HELDOUT_SHAPES
 from .streams import LivePerson, StreamItem, make_stream, save_stream
 
 __all__ = [
@@ -41,6 +41,7 @@ __all__ = [
     "DRAWN_SHAPES",
     "EXTRA_SHAPES",
     "FRESH_PEOPLE",
+    "FRESH_SHAPES",
     "HELDOUT_PEOPLE",
     "HELDOUT_SHAPES",
     "NOISE_POS_STD",

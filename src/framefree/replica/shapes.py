@@ -29,7 +29,14 @@ check_mark  down-right 8 cm across and 10 cm down, then up-right 22 cm across, 2
 letter_n    up 20 cm, diagonal down-right to 16 cm right, up 20 cm                    no
 diamond     corners right, bottom, left, top: 22 cm wide, 26 cm tall                  yes
 letter_s    two half circles of radius 7 cm, the second turning the other way         no
+pentagon    five sides of 14 cm, turning left                                         yes
+letter_m    up 20 cm, down-right to the middle 12 cm below, up-right, down 20 cm      no
+letter_c    three quarters of a circle of radius 9 cm, from its upper right round     no
+            the top and the left to its lower right
 ==========  ======================================================================  ========
+
+A third family (:data:`FRESH_SHAPES`: pentagon, letter M, letter C) was defined after v8, before
+any result of v9 on shapes nobody enrolled, and is only ever performed as unknown motion.
 """
 
 from __future__ import annotations
@@ -40,7 +47,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-__all__ = ["DEV_SHAPES", "DRAWN_SHAPES", "HELDOUT_SHAPES", "shape_strokes"]
+__all__ = ["DEV_SHAPES", "DRAWN_SHAPES", "FRESH_SHAPES", "HELDOUT_SHAPES", "shape_strokes"]
 
 #: A polyline's corners (k, 2) in (right, up) coordinates [m] of the nominal shape, or a curve
 #: ``s (n,) -> (n, 2)`` with ``s`` in [0, 1]; ``duration`` [s] per side, or of the curve.
@@ -57,12 +64,19 @@ DRAWN_SHAPES: dict[str, dict] = {
     "diamond": {"corners": [(0, 0), (-0.11, -0.13), (0, -0.26), (0.11, -0.13), (0, 0)],
                 "duration": 0.5},
     "letter_s": {"curve": "letter_s", "duration": 1.4},
+    "pentagon": {"corners": [(0, 0), (0.14, 0), (0.1833, 0.1331), (0.07, 0.2154), (-0.0433, 0.1331), (0, 0)],
+                 "duration": 0.45},
+    "letter_m": {"corners": [(0, 0), (0, 0.20), (0.09, 0.08), (0.18, 0.20), (0.18, 0)],
+                 "duration": 0.5},
+    "letter_c": {"curve": "letter_c", "duration": 1.2},
 }
 
 #: Shapes for development: to enroll as a new gesture and to tune rejection on.
 DEV_SHAPES = ("zigzag", "triangle", "letter_l", "wave", "square", "letter_v", "spiral")
 #: Shapes kept out of every choice: only ever performed as motions nobody enrolled.
 HELDOUT_SHAPES = ("check_mark", "letter_n", "diamond", "letter_s")
+#: A third family, defined after v8 and only ever performed as motions nobody enrolled.
+FRESH_SHAPES = ("pentagon", "letter_m", "letter_c")
 
 
 def _wave(s: np.ndarray) -> np.ndarray:
@@ -85,8 +99,14 @@ def _letter_s(s: np.ndarray) -> np.ndarray:
     return np.stack([0.07 * np.cos(a), cy + 0.07 * np.sin(a)], axis=1)
 
 
+def _letter_c(s: np.ndarray) -> np.ndarray:
+    # counter-clockwise from 45° round the top and the left to 315°
+    a = math.pi / 4 + 1.5 * math.pi * s
+    return np.stack([0.09 * np.cos(a), 0.09 * np.sin(a)], axis=1)
+
+
 _CURVES: dict[str, Callable[[np.ndarray], np.ndarray]] = {
-    "wave": _wave, "spiral": _spiral, "letter_s": _letter_s}
+    "wave": _wave, "spiral": _spiral, "letter_s": _letter_s, "letter_c": _letter_c}
 
 
 def shape_strokes(name: str) -> list[Callable[[np.ndarray], np.ndarray]]:
