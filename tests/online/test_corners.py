@@ -19,8 +19,14 @@ from hypothesis import strategies as st
 from framefree.core import se3
 from framefree.datasets.layout import load_model_recordings
 from framefree.online import Recognizer, RecognizerConfig
-from framefree.online.segmentation import MotionSegmenter, SpeedLevels, heading, turn_angle
-from framefree.online.thresholds import corner_count, corner_limit
+from framefree.online.segmentation import (
+    MotionSegmenter,
+    SpeedLevels,
+    corner_count,
+    heading,
+    turn_angle,
+)
+from framefree.online.thresholds import corner_limit
 from framefree.replica import replica_path
 
 DT = 0.02
@@ -138,15 +144,15 @@ def models():
 def test_corner_limits_come_from_the_demonstrations(models):
     rec = Recognizer.from_trajectories(*models)
     limits = rec.config.corner_limits
-    assert limits["go_right"] == 0  # one turn of a circle
-    assert all(limits[g] == 1 for g in limits if g != "go_right")  # out, reverse, back
+    assert limits["go_right"] == 1  # one turn of a circle, and a corner's slack
+    assert all(limits[g] == 2 for g in limits if g != "go_right")  # out, reverse, back
     sp = rec.spotter
     j = rec.labels.index("go_right")
     lo, hi = sp.size_limits[j]
     size = 0.5 * (lo + hi)
     closes = np.full(4, 0.5 * (sp.opening_limits[j] + sp.closure_limits[j]))
     ok = sp.admissible(j, closes, np.full(4, size), np.arange(4))
-    assert list(ok) == [True, False, False, False]
+    assert list(ok) == [True, True, False, False]  # a square (3) is no circle
     off = Recognizer.from_trajectories(*models, corners=False).spotter
     assert off.admissible(j, closes, np.full(4, size), np.arange(4)).all()
 
@@ -154,11 +160,14 @@ def test_corner_limits_come_from_the_demonstrations(models):
 def test_corner_angle_is_checked():
     with pytest.raises(ValueError, match="corner_angle"):
         RecognizerConfig(corner_angle=200.0)
+    with pytest.raises(ValueError, match="corner_slack"):
+        RecognizerConfig(corner_slack=-1)
 
 
 def test_a_corner_limit_only_where_the_demonstrations_agree():
-    assert corner_limit([3, 3, 3, 3, 3]) == 3
-    assert corner_limit([0, 0]) == 0
+    assert corner_limit([3, 3, 3, 3, 3], slack=0) == 3
+    assert corner_limit([3, 3, 3, 3, 3]) == 4  # another person may break one stroke more
+    assert corner_limit([0, 0]) == 1
     assert corner_limit([0, 0, 1, 0, 0]) is None  # a curve that slows where it bends most
     assert corner_limit([2]) is None  # one take says nothing about how others vary
     assert corner_limit([]) is None

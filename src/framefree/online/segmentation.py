@@ -26,6 +26,7 @@ See ``docs/online.md`` (Segment spotting).
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections import deque
 from collections.abc import Sequence
@@ -45,6 +46,7 @@ __all__ = [
     "UniformResampler",
     "Unit",
     "closure",
+    "corner_count",
     "heading",
     "motion_speed",
     "speed_levels",
@@ -242,7 +244,7 @@ def motion_speed(poses: np.ndarray, dt: float, L: float, lag: int) -> np.ndarray
 #: Fraction of a unit's peak speed where its headings are taken: near the rests or minima around
 #: it, where a corner's straight sides still point their own way and a near-stop on a curve has
 #: crept along little of it (one fifth; on the replica's development people, half the peak
-#: counted corners in 12 of 99 figure eights whose hand nearly stopped at a tight bend).
+#: counted corners in 11 of 99 figure eights whose hand nearly stopped at a tight bend).
 HEADING_SPEED = 0.2
 
 
@@ -266,6 +268,12 @@ def turn_angle(a: np.ndarray | None, b: np.ndarray | None) -> float:
     if not norm > 0:
         return 0.0
     return math.degrees(math.acos(min(1.0, max(-1.0, float(a @ b) / norm))))
+
+
+def corner_count(units: Sequence[Unit], angle: float) -> int:
+    """Corners of a span of consecutive units: turns of the heading sharper than ``angle`` [deg]
+    from one unit to the next (:func:`turn_angle`)."""
+    return sum(turn_angle(a.heading_out, b.heading_in) > angle for a, b in itertools.pairwise(units))
 
 
 def closure(poses: np.ndarray, L: float) -> float:
@@ -363,6 +371,8 @@ class MotionSegmenter:
         self.lag = int(lag)
         self.valley_ratio = float(valley_ratio)
         self.buffer = PoseBuffer(capacity)
+        # the speed of every buffered pose that is the middle of a lag (NaN where none was measured)
+        self._speeds = np.full(capacity, np.nan)
         self.speed = math.nan
         self.units: deque[Unit] = deque(maxlen=16)
         self.reset()
@@ -377,6 +387,7 @@ class MotionSegmenter:
         self._vmin = math.inf
         self._imin = 0
         self._last_rest = self.buffer.count
+        self._speeds[:] = np.nan
         self.speed = math.nan
 
     @property
@@ -395,6 +406,7 @@ class MotionSegmenter:
         v /= self.lag * self.dt
         self.speed = v
         c = k - self.lag // 2  # the speed describes the middle of the lag
+        self._speeds[c % self.buffer.capacity] = v
         lv = self.levels
         if not self.moving:
             if v > lv.move:
@@ -431,14 +443,14 @@ class MotionSegmenter:
         """Headings of the unit ``start..end`` (running indices of the speed's middle) over one lag
         from where it first reaches, and up to where it last keeps, :data:`HEADING_SPEED` × its
         peak speed: the windows lie inside the unit, away from the rests or minima around it."""
-        half, buf = self.lag // 2, self.buffer
-        first = max(start, buf.oldest + half)
-        last = min(end, buf.count - 1 - (self.lag - half))
-        if last < first:
+        buf = self.buffer
+        first = max(start, buf.oldest)
+        if end < first:
             return None, None
-        speeds = np.array([screw_path_increment(buf.pose(c - half), buf.pose(c - half + self.lag),
-                                                self.L) for c in range(first, last + 1)])
-        fast = first + np.flatnonzero(speeds >= HEADING_SPEED * speeds.max())
+        speeds = self._speeds[np.arange(first, end + 1) % buf.capacity]
+        if not np.isfinite(speeds).any():
+            return None, None
+        fast = first + np.flatnonzero(speeds >= HEADING_SPEED * np.nanmax(speeds))
         a, b = int(fast[0]), int(fast[-1])
         return (heading(buf.pose(a), buf.pose(min(a + self.lag, buf.count - 1)), self.L),
                 heading(buf.pose(max(b - self.lag, buf.oldest)), buf.pose(b), self.L))

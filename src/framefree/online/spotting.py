@@ -31,7 +31,7 @@ from ..core.pruning import ModelBank, pruned_nearest
 from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor
 from ..errors import DegenerateMotionError
-from .segmentation import PoseBuffer, Unit, closure, turn_angle
+from .segmentation import PoseBuffer, Unit, closure, corner_count
 
 __all__ = ["Candidate", "SegmentClassifier", "Spotter", "candidate_spans"]
 
@@ -289,16 +289,13 @@ class Spotter:
                             else np.asarray(size_limits, dtype=np.float64).reshape(n_models, 2))
         self.units: deque[Unit] = deque(maxlen=max(1, self.max_units))
         self.rests: deque[float] = deque(maxlen=max(1, self.max_units))  # rest [s] before each unit
-        self.turns: deque[float] = deque(maxlen=max(1, self.max_units))  # turn [deg] before each unit
         self.reset()
 
     def reset(self) -> None:
         """Forget units and the pending candidate."""
         self.units.clear()
         self.rests.clear()
-        self.turns.clear()
         self._last_end_t = -math.inf
-        self._last_heading: np.ndarray | None = None
         self.pending: Candidate | None = None
         self.consumed = -1  # candidates must start after this running index
         self.last_distances: np.ndarray | None = None
@@ -313,7 +310,6 @@ class Spotter:
         while self.units and self.units[0].start < index:
             self.units.popleft()
             self.rests.popleft()
-            self.turns.popleft()
 
     def candidates(self, buffer: PoseBuffer) -> list[Candidate]:
         """Classify every candidate that ends with the latest unit.
@@ -352,8 +348,7 @@ class Spotter:
 
     def corners(self, n: int) -> int:
         """Corners between the last ``n`` units: turns sharper than :attr:`corner_angle`."""
-        turns = list(self.turns)[len(self.turns) - n + 1:] if n > 1 else []
-        return sum(t > self.corner_angle for t in turns)
+        return corner_count(list(self.units)[len(self.units) - n:], self.corner_angle)
 
     def _classify(self, times: np.ndarray, poses: np.ndarray, closure_: float, bar: float = 1.0,
                   corners: int = 0) -> tuple[np.ndarray, float]:
@@ -398,9 +393,7 @@ class Spotter:
         """Keep a unit that ended, with the rest [s] the hand held before it."""
         self.units.append(unit)
         self.rests.append(unit.start_t - self._last_end_t)
-        self.turns.append(turn_angle(self._last_heading, unit.heading_in))
         self._last_end_t = unit.end_t
-        self._last_heading = unit.heading_out
 
     def on_unit(self, unit: Unit, buffer: PoseBuffer) -> Candidate | None:
         """A unit ended: update the pending candidate; return a candidate to fire now, if any."""
