@@ -1,0 +1,82 @@
+"""Do real people's corners agree? A corner limit set from one person's takes, checked on the others.
+
+The live recognizer accepts a candidate as a gesture only with no more corners (turns of the
+hand's heading of more than ``corner_angle`` between two movement units) than the gesture's
+demonstrations agree on, plus ``corner_slack``. This script asks the real recordings of
+``machete_vive`` (six people, two controllers, 11 whole-body gestures × 5) how often another
+person exceeds such a limit: for every controller, gesture and person whose five takes agree on
+their number of corners, every performance of the same gesture by the other five people is
+counted against it, for slacks 0, 1 and 2.
+
+Usage::
+
+    python benchmarks/real_corners.py [--data ../shared/data/machete_vive] [--json out.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from framefree.datasets.people_layout import load_people
+from framefree.online import RecognizerConfig
+from framefree.online.segmentation import MotionSegmenter, corner_count, speed_levels
+from framefree.online.thresholds import corner_limit
+
+
+def corners_of_every_recording(data: Path, angle: float, L: float, dt: float) -> dict:
+    """{(controller, person, gesture): [corners of each take]}; the segmenter's levels from all
+    recordings of that controller, as a recognizer takes them from its models."""
+    ds = load_people(data)
+    out: dict = {}
+    for tracker in range(2):
+        trajs = [r.sample.trackers[tracker] for r in ds]
+        levels = speed_levels(trajs, L, dt)
+        for r, tr in zip(ds, trajs, strict=True):
+            seg = MotionSegmenter(levels, L, dt, capacity=int(tr.duration / dt) + 64)
+            t, P = tr.uniform_poses(dt)
+            units = [u for k in range(t.size) if (u := seg.push(float(t[k]), P[k])) is not None]
+            out.setdefault((tracker, r.person, r.gesture), []).append(corner_count(units, angle))
+    return out
+
+
+def exceeded(corners: dict, slack: int) -> dict:
+    """How many of the other people's performances exceed each agreeing person's limit."""
+    limits = checked = over = 0
+    by_gesture: dict[str, int] = {}
+    for (tracker, person, gesture), counts in corners.items():
+        limit = corner_limit(counts, slack)
+        if limit is None:
+            continue
+        limits += 1
+        for (t2, p2, g2), others in corners.items():
+            if t2 == tracker and g2 == gesture and p2 != person:
+                checked += len(others)
+                n = sum(c > limit for c in others)
+                over += n
+                by_gesture[gesture] = by_gesture.get(gesture, 0) + n
+    return {"slack": slack, "limits": limits, "sets": len(corners), "checked": checked,
+            "exceeded": over, "fraction": over / max(checked, 1), "by_gesture": by_gesture}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--data", type=Path, default=Path("../shared/data/machete_vive"))
+    ap.add_argument("--json", type=Path)
+    args = ap.parse_args()
+    config = RecognizerConfig()
+    corners = corners_of_every_recording(args.data, config.corner_angle, config.L, config.dt)
+    rows = [exceeded(corners, slack) for slack in (0, 1, 2)]
+    for r in rows:
+        print(f"slack {r['slack']}: limits for {r['limits']} of {r['sets']} (controller, gesture, "
+              f"person) sets of takes; {r['exceeded']} of {r['checked']} other people's "
+              f"performances exceed them ({100 * r['fraction']:.1f} %)")
+    if args.json:
+        table = {f"{t}/{p}/{g}": c for (t, p, g), c in sorted(corners.items())}
+        args.json.write_text(json.dumps({"corner_angle": config.corner_angle, "L": config.L,
+                                         "rows": rows, "corners": table}, indent=1))
+
+
+if __name__ == "__main__":
+    main()
