@@ -152,9 +152,17 @@ class RecognizerConfig:
     size : bool
         Accept a candidate only within its gesture's size limits (True).
     size_factor : float
-        People make a gesture up to this factor smaller or larger than the demonstrations (1.5:
-        the population's ±30 % with room; development people: 2.0 accepted 9 more turns of the
-        tracker in the hand as *go down*).
+        People make a gesture up to this factor smaller than the demonstrations (1.5: the
+        population's ±30 % with room; development people: 2.0 accepted 9 more turns of the
+        tracker in the hand as *go down*). On six real people (``machete_vive``,
+        ``benchmarks/real_sizes.py``) 7.8 % of the other people's performances were smaller than
+        one person's smallest take by more; ``size_reach`` lets the limit down where that is safe.
+    size_growth : float
+        People make a gesture up to this factor larger than the demonstrations (2.5; 1.5 before
+        v10). On six real people, one person's largest take was exceeded by more than 1.5 times
+        by 6.9 % of the other people's performances, by more than 2.5 times by 0.9 %
+        (``benchmarks/real_sizes.py``). Development people: 2.0 and 2.5 alike took 9 more
+        performances of large, sloppy people and one reach more as *go left*.
     size_reach : float
         Where nothing that is no gesture looks like a gesture at smaller sizes (re-grips
         included), its lower size limit reaches down to this factor below the smallest
@@ -235,6 +243,7 @@ class RecognizerConfig:
     corner_slack: int = 1
     size: bool = True
     size_factor: float = 1.5
+    size_growth: float = 2.5
     size_reach: float = 2.0
     stop_threshold: float | None = None
     stop_margin: float = 1.3
@@ -256,7 +265,7 @@ class RecognizerConfig:
     max_bridge: float = 0.5
 
     def __post_init__(self) -> None:
-        positive = ("L", "ds_scale", "dt", "span_factor", "pause_factor", "size_factor",
+        positive = ("L", "ds_scale", "dt", "span_factor", "pause_factor", "size_factor", "size_growth",
                     "stop_margin", "stop_floor", "stop_window", "max_bridge", "max_wait")
         for name in positive:
             if not getattr(self, name) > 0:

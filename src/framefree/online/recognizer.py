@@ -126,7 +126,8 @@ def resolve_config(
             c = c.replace(opening_limits={g: opening_limit(closed.get(g, (0.0, 0.0))[0],
                                                            c.closure_exponent) for g in gestures})
         if c.size_limits is None:
-            c = c.replace(size_limits={g: size_limits(*sizes.get(g, (0.0, np.inf)), c.size_factor)
+            c = c.replace(size_limits={g: size_limits(*sizes.get(g, (0.0, np.inf)), c.size_factor,
+                                                               c.size_growth)
                                        for g in gestures})
     calibration = None
     if c.threshold is not None:

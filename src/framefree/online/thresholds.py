@@ -51,6 +51,7 @@ __all__ = [
     "opening_limit",
     "pooled_closures",
     "reach_down",
+    "recording_geometry",
     "segment_distances",
     "size_limits",
 ]
@@ -140,38 +141,53 @@ def segment_distances(
     return np.vstack(rows), np.array(closures), np.array(sizes), np.array(corners)
 
 
+def recording_geometry(
+    traj: Trajectory, classifier: SegmentClassifier, levels: SpeedLevels, L: float,
+    margin: int = 5, dt: float = 0.02, corner_angle: float = 60.0,
+) -> tuple[float, float, int] | None:
+    """Closure, size [m] and corners of one recording's gesture, measured on the whole gesture
+    (first unit's start to last unit's end; the size with ``margin`` samples around it, as a live
+    candidate is cut), corners as in :func:`~framefree.online.segmentation.corner_count`;
+    ``None`` if the recording has no movement unit."""
+    seg, units = _units(traj, levels, L, dt)
+    if not units:
+        return None
+    _, P = seg.buffer.slice(units[0].start, units[-1].end)
+    t, P_margin = seg.buffer.slice(units[0].start - margin, units[-1].end + margin)
+    described = classifier.describe(t, P_margin)
+    size = 0.0 if described is None else float(described[1])
+    return closure(P, L), size, corner_count(units, corner_angle)
+
+
 def gesture_geometry(
     trajectories: Sequence[Trajectory], labels: Sequence[str], classifier: SegmentClassifier,
     levels: SpeedLevels, L: float, margin: int = 5, dt: float = 0.02, corner_angle: float = 60.0,
 ) -> tuple[dict[str, tuple[float, float]], dict[str, tuple[float, float]], dict[str, list[int]]]:
-    """Closure range, size range [m] and corners of each gesture's recordings, measured on the
-    whole gesture (first unit's start to last unit's end; the size with ``margin`` samples around
-    it, as a live candidate is cut): ``({g: (smallest, largest closure)}, {g: (smallest, largest
-    size)}, {g: [corners of each recording]})``, corners as in
-    :func:`~framefree.online.segmentation.corner_count`."""
+    """Closure range, size range [m] and corners of each gesture's recordings
+    (:func:`recording_geometry`): ``({g: (smallest, largest closure)}, {g: (smallest, largest
+    size)}, {g: [corners of each recording]})``."""
     closures: dict[str, tuple[float, float]] = {}
     sizes: dict[str, tuple[float, float]] = {}
     corners: dict[str, list[int]] = {}
     for tr, g in zip(trajectories, labels, strict=True):
-        seg, units = _units(tr, levels, L, dt)
-        if not units:
+        measured = recording_geometry(tr, classifier, levels, L, margin, dt, corner_angle)
+        if measured is None:
             continue
-        corners.setdefault(g, []).append(corner_count(units, corner_angle))
-        _, P = seg.buffer.slice(units[0].start, units[-1].end)
-        c = closure(P, L)
+        c, size, n = measured
+        corners.setdefault(g, []).append(n)
         lo, hi = closures.get(g, (np.inf, 0.0))
         closures[g] = (min(lo, c), max(hi, c))
-        t, P = seg.buffer.slice(units[0].start - margin, units[-1].end + margin)
-        _, size = classifier.distances(t, P)
         lo, hi = sizes.get(g, (np.inf, 0.0))
         sizes[g] = (min(lo, size), max(hi, size))
     return closures, sizes, corners
 
 
-def size_limits(smallest: float, largest: float, factor: float) -> tuple[float, float]:
+def size_limits(smallest: float, largest: float, factor: float, growth: float | None = None
+                ) -> tuple[float, float]:
     """Sizes accepted for a gesture whose demonstrations span ``[smallest, largest]`` [m]: people
-    make the same gesture smaller or larger by up to ``factor``."""
-    return smallest / factor, largest * factor
+    make the same gesture smaller by up to ``factor`` and larger by up to ``growth`` (``None``:
+    ``factor``)."""
+    return smallest / factor, largest * (factor if growth is None else growth)
 
 
 def candidate_limits(

@@ -1,0 +1,84 @@
+"""How much larger or smaller do real people make a gesture than one person's takes?
+
+The live recognizer accepts a candidate as a gesture only within size limits set from the
+gesture's demonstrations: ``size_factor`` times smaller than the smallest, ``size_growth`` times
+larger than the largest. This script asks the real recordings of ``machete_vive`` (six people, two
+controllers, 11 whole-body gestures × 5) how often another person's performance falls outside
+such a range: for every controller, gesture and person, the sizes of the five takes (screw-path
+length of the whole gesture, measured as the recognizer measures its demonstrations) give a range,
+and every performance of the same gesture by the other five people is checked against it, for
+several factors.
+
+Usage::
+
+    python benchmarks/real_sizes.py [--data ../shared/data/machete_vive] [--json out.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from framefree.datasets.people_layout import load_people
+from framefree.online import RecognizerConfig
+from framefree.online.recognizer import segment_descriptor
+from framefree.online.segmentation import speed_levels
+from framefree.online.spotting import SegmentClassifier
+from framefree.online.thresholds import recording_geometry
+
+FACTORS = (1.25, 1.5, 2.0, 2.5, 3.0)
+
+
+def sizes_of_every_recording(data: Path, config: RecognizerConfig) -> dict:
+    """{(controller, person, gesture): [size [m] of each take]}; the segmenter's levels from all
+    recordings of that controller, as a recognizer takes them from its models."""
+    ds = load_people(data)
+    classifier = SegmentClassifier(segment_descriptor(config), [])
+    out: dict = {}
+    for tracker in range(2):
+        trajs = [r.sample.trackers[tracker] for r in ds]
+        levels = speed_levels(trajs, config.L, config.dt)
+        for r, tr in zip(ds, trajs, strict=True):
+            measured = recording_geometry(tr, classifier, levels, config.L, config.margin,
+                                          config.dt, config.corner_angle)
+            if measured is not None and measured[1] > 0.0:
+                out.setdefault((tracker, r.person, r.gesture), []).append(measured[1])
+    return out
+
+
+def outside(sizes: dict, factor: float) -> dict:
+    """How many of the other people's performances lie more than ``factor`` above the largest
+    or below the smallest of each person's takes."""
+    checked = above = below = 0
+    for (tracker, person, gesture), own in sizes.items():
+        lo, hi = min(own), max(own)
+        for (t2, p2, g2), others in sizes.items():
+            if (t2, g2) == (tracker, gesture) and p2 != person:
+                checked += len(others)
+                above += sum(s > hi * factor for s in others)
+                below += sum(s < lo / factor for s in others)
+    return {"factor": factor, "checked": checked, "above": above, "below": below,
+            "above_fraction": above / max(checked, 1), "below_fraction": below / max(checked, 1)}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--data", type=Path, default=Path("../shared/data/machete_vive"))
+    ap.add_argument("--json", type=Path)
+    args = ap.parse_args()
+    config = RecognizerConfig()
+    sizes = sizes_of_every_recording(args.data, config)
+    rows = [outside(sizes, f) for f in FACTORS]
+    print(f"{len(sizes)} (controller, person, gesture) sets of takes")
+    for r in rows:
+        print(f"factor {r['factor']:4}: {r['above']:4d} of {r['checked']} other people's "
+              f"performances larger ({100 * r['above_fraction']:.1f} %), {r['below']:4d} smaller "
+              f"({100 * r['below_fraction']:.1f} %)")
+    if args.json:
+        table = {f"{t}/{p}/{g}": s for (t, p, g), s in sorted(sizes.items())}
+        args.json.write_text(json.dumps({"L": config.L, "rows": rows, "sizes": table}, indent=1))
+
+
+if __name__ == "__main__":
+    main()
