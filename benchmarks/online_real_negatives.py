@@ -2,7 +2,10 @@
 
 Streams every recording of ``real_motions`` (pouring, scooping and free motions of hand-held
 objects, two tracker mountings, and their frame-changed copies) through the recognizer built
-from the replica's ``original_1`` models, and counts the events it fires.
+from the replica's ``original_1`` models, and counts the events it fires. The folder's synthetic
+motions (``syn_*``: a helix, and a pure rotation, a straight line and a circle, which the data's
+README keeps for "nothing crashes" tests) are streamed too but counted apart: they are no real
+motion, and a circle drawn in the air is the shape of *go right*.
 
     .venv/bin/python benchmarks/online_real_negatives.py
     .venv/bin/python benchmarks/online_real_negatives.py --set move_factor=2 --set size_reach=1
@@ -43,18 +46,22 @@ def main() -> None:
         traj = Trajectory.from_csv(path)
         rec.reset()
         events, _ = run_stream(rec, traj)
-        minutes += traj.duration / 60.0
+        if not path.name.startswith("syn_"):
+            minutes += traj.duration / 60.0
         fired[str(path.relative_to(args.data))] = [e.label for e in events]
-    n = sum(len(v) for v in fired.values())
-    print(f"{len(files)} recordings, {minutes:.1f} min of real non-gesture motion: {n} events "
+    real = {k: v for k, v in fired.items() if not Path(k).name.startswith("syn_")}
+    synthetic = {k: v for k, v in fired.items() if k not in real}
+    n = sum(len(v) for v in real.values())
+    print(f"{len(real)} real recordings, {minutes:.1f} min of non-gesture motion: {n} events "
           f"({n / max(minutes, 1e-9):.2f} per minute)")
     for name, labels in fired.items():
         if labels:
-            print(f"   {name}: {labels}")
+            print(f"   {name}{' (synthetic)' if name in synthetic else ''}: {labels}")
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)
-        args.json.write_text(json.dumps({"settings": _parse_set(args.set), "recordings": len(files),
-                                         "minutes": minutes, "events": n, "fired": fired}, indent=1))
+        args.json.write_text(json.dumps({"settings": _parse_set(args.set), "recordings": len(real),
+                                         "minutes": minutes, "events": n, "fired": real,
+                                         "synthetic_fired": synthetic}, indent=1))
 
 
 if __name__ == "__main__":
