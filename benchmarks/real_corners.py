@@ -19,26 +19,15 @@ import argparse
 import json
 from pathlib import Path
 
-from framefree.datasets.people_layout import load_people
+from framefree.benchmark.take_geometry import take_geometry
 from framefree.online import RecognizerConfig
-from framefree.online.segmentation import MotionSegmenter, corner_count, speed_levels
 from framefree.online.thresholds import corner_limit
 
 
-def corners_of_every_recording(data: Path, angle: float, L: float, dt: float) -> dict:
-    """{(controller, person, gesture): [corners of each take]}; the segmenter's levels from all
-    recordings of that controller, as a recognizer takes them from its models."""
-    ds = load_people(data)
-    out: dict = {}
-    for tracker in range(2):
-        trajs = [r.sample.trackers[tracker] for r in ds]
-        levels = speed_levels(trajs, L, dt)
-        for r, tr in zip(ds, trajs, strict=True):
-            seg = MotionSegmenter(levels, L, dt, capacity=int(tr.duration / dt) + 64)
-            t, P = tr.uniform_poses(dt)
-            units = [u for k in range(t.size) if (u := seg.push(float(t[k]), P[k])) is not None]
-            out.setdefault((tracker, r.person, r.gesture), []).append(corner_count(units, angle))
-    return out
+def corners_of_every_recording(data: Path, config: RecognizerConfig) -> dict:
+    """{(controller, person, gesture): [corners of each take]}
+    (:func:`~framefree.benchmark.take_geometry.take_geometry`)."""
+    return {key: [n for _, _, n in takes] for key, takes in take_geometry(data, config).items()}
 
 
 def exceeded(corners: dict, slack: int) -> dict:
@@ -66,7 +55,7 @@ def main() -> None:
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
     config = RecognizerConfig()
-    corners = corners_of_every_recording(args.data, config.corner_angle, config.L, config.dt)
+    corners = corners_of_every_recording(args.data, config)
     rows = [exceeded(corners, slack) for slack in (0, 1, 2)]
     for r in rows:
         print(f"slack {r['slack']}: limits for {r['limits']} of {r['sets']} (controller, gesture, "

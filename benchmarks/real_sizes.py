@@ -20,31 +20,17 @@ import argparse
 import json
 from pathlib import Path
 
-from framefree.datasets.people_layout import load_people
+from framefree.benchmark.take_geometry import take_geometry
 from framefree.online import RecognizerConfig
-from framefree.online.recognizer import segment_descriptor
-from framefree.online.segmentation import speed_levels
-from framefree.online.spotting import SegmentClassifier
-from framefree.online.thresholds import recording_geometry
 
 FACTORS = (1.25, 1.5, 2.0, 2.5, 3.0)
 
 
 def sizes_of_every_recording(data: Path, config: RecognizerConfig) -> dict:
-    """{(controller, person, gesture): [size [m] of each take]}; the segmenter's levels from all
-    recordings of that controller, as a recognizer takes them from its models."""
-    ds = load_people(data)
-    classifier = SegmentClassifier(segment_descriptor(config), [])
-    out: dict = {}
-    for tracker in range(2):
-        trajs = [r.sample.trackers[tracker] for r in ds]
-        levels = speed_levels(trajs, config.L, config.dt)
-        for r, tr in zip(ds, trajs, strict=True):
-            measured = recording_geometry(tr, classifier, levels, config.L, config.margin,
-                                          config.dt, config.corner_angle)
-            if measured is not None and measured[1] > 0.0:
-                out.setdefault((tracker, r.person, r.gesture), []).append(measured[1])
-    return out
+    """{(controller, person, gesture): [size [m] of each take]}
+    (:func:`~framefree.benchmark.take_geometry.take_geometry`)."""
+    return {key: [size for _, size, _ in takes]
+            for key, takes in take_geometry(data, config).items()}
 
 
 def outside(sizes: dict, factor: float) -> dict:

@@ -17,16 +17,15 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from framefree.benchmark.take_geometry import take_geometry
 from framefree.core import se3
 from framefree.datasets.layout import load_model_recordings
-from framefree.datasets.people_layout import load_people
 from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.segmentation import (
     MotionSegmenter,
     SpeedLevels,
     corner_count,
     heading,
-    speed_levels,
     turn_angle,
 )
 from framefree.online.thresholds import corner_limit
@@ -179,17 +178,8 @@ def test_a_corner_limit_only_where_the_demonstrations_agree():
 
 def _real_corner_counts(angle: float) -> dict:
     """{(controller, person, gesture): [corners of each take]} of the real Vive recordings."""
-    ds = load_people(MACHETE)
-    out: dict = {}
-    for tracker in range(2):
-        trajs = [r.sample.trackers[tracker] for r in ds]
-        levels = speed_levels(trajs, 0.1, DT)
-        for r, tr in zip(ds, trajs, strict=True):
-            seg = MotionSegmenter(levels, L=0.1, dt=DT, capacity=int(tr.duration / DT) + 64)
-            t, P = tr.uniform_poses(DT)
-            units = [u for k in range(t.size) if (u := seg.push(float(t[k]), P[k])) is not None]
-            out.setdefault((tracker, r.person, r.gesture), []).append(corner_count(units, angle))
-    return out
+    config = RecognizerConfig(corner_angle=angle)
+    return {key: [n for _, _, n in takes] for key, takes in take_geometry(MACHETE, config).items()}
 
 
 def _exceeding(counts: dict, slack: int) -> float:

@@ -9,14 +9,11 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from framefree.benchmark.take_geometry import take_geometry
 from framefree.datasets.layout import load_model_recordings
-from framefree.datasets.people_layout import load_people
 from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.evaluation import run_stream
-from framefree.online.recognizer import segment_descriptor
-from framefree.online.segmentation import speed_levels
-from framefree.online.spotting import SegmentClassifier
-from framefree.online.thresholds import recording_geometry, size_limits
+from framefree.online.thresholds import size_limits
 from framefree.replica import replica_path
 from real_data import MACHETE
 
@@ -67,19 +64,7 @@ def test_a_circle_drawn_much_larger_than_the_demonstrations_is_still_taken(model
 
 def _real_sizes() -> dict:
     """{(controller, person, gesture): [size [m] of each take]} of the real Vive recordings."""
-    config = RecognizerConfig()
-    classifier = SegmentClassifier(segment_descriptor(config), [])
-    ds = load_people(MACHETE)
-    out: dict = {}
-    for tracker in range(2):
-        trajs = [r.sample.trackers[tracker] for r in ds]
-        levels = speed_levels(trajs, config.L, config.dt)
-        for r, tr in zip(ds, trajs, strict=True):
-            measured = recording_geometry(tr, classifier, levels, config.L, config.margin,
-                                          config.dt, config.corner_angle)
-            if measured is not None and measured[1] > 0.0:
-                out.setdefault((tracker, r.person, r.gesture), []).append(measured[1])
-    return out
+    return {key: [size for _, size, _ in takes] for key, takes in take_geometry(MACHETE).items()}
 
 
 def _larger(sizes: dict, growth: float) -> float:

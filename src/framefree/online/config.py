@@ -146,8 +146,8 @@ class RecognizerConfig:
         missed every corner of 1 of 99 squares; 45 counted one in 7 eights).
     corner_slack : int
         Corners a candidate may have beyond the number its gesture's demonstrations agree on (1:
-        on six real people, ``machete_vive``, one person's agreeing takes were exceeded by 8.3 %
-        of the other people's performances with 0 and by 1.1 % with 1; a circle still admits no
+        on six real people, ``machete_vive``, one person's agreeing takes were exceeded by 11.0 %
+        of the other people's performances with 0 and by 1.6 % with 1; a circle still admits no
         square, diamond or pentagon).
     size : bool
         Accept a candidate only within its gesture's size limits (True).

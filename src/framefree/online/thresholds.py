@@ -228,8 +228,8 @@ def corner_limit(counts: Sequence[int], slack: int = 1) -> int | None:
     in others: there the number says nothing about another person's performance. Even where one
     person's takes agree, another person may break a stroke where they did not: on the six real
     people of ``machete_vive`` (both controllers, every gesture), limits from one person's
-    agreeing takes were exceeded by 8.3 % of the other people's performances with no slack and
-    by 1.1 % with a slack of one."""
+    agreeing takes were exceeded by 11.0 % of the other people's performances with no slack and
+    by 1.6 % with a slack of one."""
     if len(counts) < 2 or len(set(counts)) > 1:
         return None
     return int(counts[0]) + int(slack)

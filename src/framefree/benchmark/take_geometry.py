@@ -1,0 +1,62 @@
+"""How real people vary a gesture's geometry: closure, size and corners of every take of a
+people data set, measured as the live recognizer measures its demonstrations.
+
+The live recognizer's limits on a candidate (closure, size, corners) come from one person's
+takes and must hold for other people. A people data set (several people, several takes of each
+gesture) tells how far another person goes beyond one person's takes
+(``benchmarks/real_corners.py``, ``benchmarks/real_sizes.py``, docs/online.md).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..datasets.people_layout import load_people
+from ..online.config import RecognizerConfig
+from ..online.recognizer import segment_descriptor
+from ..online.segmentation import speed_levels
+from ..online.spotting import SegmentClassifier
+from ..online.thresholds import recording_geometry
+
+__all__ = ["take_geometry"]
+
+#: (tracker index, person, gesture)
+TakeKey = tuple[int, str, str]
+
+
+def take_geometry(data: str | Path, config: RecognizerConfig | None = None
+                  ) -> dict[TakeKey, list[tuple[float, float, int]]]:
+    """Closure, size [m of screw path] and corners of every take, per tracker, person and gesture.
+
+    Each tracker of every recording is cut into movement units with speed levels from all
+    recordings of that tracker (as a recognizer takes them from its models) and measured by
+    :func:`~framefree.online.thresholds.recording_geometry`; a take with no movement unit is left
+    out.
+
+    Parameters
+    ----------
+    data : str or Path
+        A people data set (:func:`~framefree.datasets.people_layout.load_people`).
+    config : RecognizerConfig, optional
+        ``L``, ``dt``, ``margin``, ``corner_angle`` and the descriptor settings (default: the
+        recognizer's defaults).
+
+    Returns
+    -------
+    dict
+        ``{(tracker, person, gesture): [(closure, size, corners) of each take]}``.
+    """
+    config = config or RecognizerConfig()
+    ds = load_people(data)
+    classifier = SegmentClassifier(segment_descriptor(config), [])
+    out: dict[TakeKey, list[tuple[float, float, int]]] = {}
+    n_trackers = min((r.sample.n_trackers for r in ds), default=0)
+    for tracker in range(n_trackers):
+        trajs = [r.sample.trackers[tracker] for r in ds]
+        levels = speed_levels(trajs, config.L, config.dt)
+        for r, tr in zip(ds, trajs, strict=True):
+            measured = recording_geometry(tr, classifier, levels, config.L, config.margin,
+                                          config.dt, config.corner_angle)
+            if measured is not None:
+                out.setdefault((tracker, r.person, r.gesture), []).append(measured)
+    return out
