@@ -162,7 +162,8 @@ class RecognizerConfig:
         v10). On six real people, one person's largest take was exceeded by more than 1.5 times
         by 6.9 % of the other people's performances, by more than 2.5 times by 0.9 %
         (``benchmarks/real_sizes.py``). Development people: 2.0 and 2.5 alike took 9 more
-        performances of large, sloppy people and one reach more as *go left*.
+        performances of large, sloppy people, and one reach more as *go left* in the plain and
+        in the sloppy style.
     size_reach : float
         Where nothing that is no gesture looks like a gesture at smaller sizes (re-grips
         included), its lower size limit reaches down to this factor below the smallest
