@@ -27,7 +27,7 @@ from framefree.online.thresholds import corner_limit
 def corners_of_every_recording(data: Path, config: RecognizerConfig) -> dict:
     """{(controller, person, gesture): [corners of each take]}
     (:func:`~framefree.benchmark.take_geometry.take_geometry`)."""
-    return {key: [n for _, _, n in takes] for key, takes in take_geometry(data, config).items()}
+    return {key: [n for _, _, n, _ in takes] for key, takes in take_geometry(data, config).items()}
 
 
 def exceeded(corners: dict, slack: int) -> dict:

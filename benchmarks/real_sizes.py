@@ -29,7 +29,7 @@ FACTORS = (1.25, 1.5, 2.0, 2.5, 3.0)
 def sizes_of_every_recording(data: Path, config: RecognizerConfig) -> dict:
     """{(controller, person, gesture): [size [m] of each take]}
     (:func:`~framefree.benchmark.take_geometry.take_geometry`)."""
-    return {key: [size for _, size, _ in takes]
+    return {key: [size for _, size, _, _ in takes]
             for key, takes in take_geometry(data, config).items()}
 
 

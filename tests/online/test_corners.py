@@ -9,11 +9,9 @@ recordings that other people stay within a limit set from one person's takes.
 
 from __future__ import annotations
 
-import itertools
-import math
-
 import numpy as np
 import pytest
+from drawing import DT, LEVELS, circle_positions, drawn_positions, tracker_poses
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -23,7 +21,6 @@ from framefree.datasets.layout import load_model_recordings
 from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.segmentation import (
     MotionSegmenter,
-    SpeedLevels,
     corner_count,
     heading,
     turn_angle,
@@ -32,58 +29,11 @@ from framefree.online.thresholds import corner_limit
 from framefree.replica import replica_path
 from real_data import MACHETE
 
-DT = 0.02
-LEVELS = SpeedLevels(rest=0.03, move=0.045)
-
-
-def _min_jerk(n: int) -> np.ndarray:
-    x = np.linspace(0.0, 1.0, n)
-    return x**3 * (10 - 15 * x + 6 * x**2)
-
-
-def _drawn(points: np.ndarray, stroke_s: float = 0.6, hold_s: float = 0.0) -> np.ndarray:
-    """Positions (n, 3) of a polyline through ``points`` (k, 3), one minimum-jerk stroke per side
-    with ``hold_s`` of stillness at each inner corner, and a second of rest at either end."""
-    parts = [np.repeat(points[:1], round(1.0 / DT), axis=0)]
-    for a, b in itertools.pairwise(points):
-        parts.append(a + _min_jerk(round(stroke_s / DT))[:, None] * (b - a))
-        parts.append(np.repeat(b[None], round(hold_s / DT), axis=0))
-    parts.append(np.repeat(points[-1:], round(1.0 / DT), axis=0))
-    return np.concatenate(parts)
-
-
-def _circle(radius: float = 0.12, duration: float = 2.0, pause_at: float | None = None,
-            pause_s: float = 0.4, creep: float = 0.08) -> np.ndarray:
-    """Positions (n, 3) of one turn of a circle in a minimum-jerk sweep; with ``pause_at`` (a
-    fraction of the turn) the hand nearly stops there for ``pause_s``, creeping on at ``creep`` of
-    its speed, then goes on: a hesitation."""
-    n = round(duration / DT)
-    angle = 2 * math.pi * _min_jerk(n)
-    if pause_at is not None:
-        k = int(np.searchsorted(angle, 2 * math.pi * pause_at))
-        step = creep * (angle[k + 1] - angle[k])
-        slow = angle[k] + step * np.arange(1, round(pause_s / DT) + 1)
-        angle = np.concatenate([angle[:k + 1], slow, angle[k + 1:] + (slow[-1] - angle[k])])
-        # slow down into the near-stop and speed up out of it over a fifth of a second
-        w = round(0.2 / DT)
-        angle = np.convolve(np.pad(angle, w, mode="edge"), np.ones(w) / w, mode="same")[w:-w]
-    rest = round(1.0 / DT)
-    angle = np.concatenate([np.zeros(rest), angle, np.full(rest, angle[-1])])
-    return np.stack([radius * np.sin(angle), radius * (1 - np.cos(angle)), np.zeros_like(angle)], 1)
-
-
-def _poses(positions: np.ndarray, X: np.ndarray) -> np.ndarray:
-    """Poses (n, 4, 4) of a tracker at ``positions`` (palm down, not turning), seen in world
-    frame ``X`` (4, 4)."""
-    P = np.repeat(np.eye(4)[None], positions.shape[0], axis=0)
-    P[:, :3, 3] = positions
-    return X @ P
-
 
 def _corners(positions: np.ndarray, X: np.ndarray | None = None, angle: float = 60.0) -> int:
     X = np.eye(4) if X is None else X
     seg = MotionSegmenter(LEVELS, L=0.1, dt=DT)
-    poses = _poses(positions, X)
+    poses = tracker_poses(positions, X)
     units = [u for k, T in enumerate(poses) if (u := seg.push(DT * k, T)) is not None]
     return corner_count(units, angle)
 
@@ -119,22 +69,22 @@ def test_turn_angle_of_going_on_reversing_and_turning_square():
 @settings(max_examples=15, deadline=None)
 @given(X=frames, hold=st.sampled_from([0.0, 0.06, 0.3]))
 def test_drawn_polylines_have_their_corners_in_any_world_frame(X, hold):
-    assert _corners(_drawn(SQUARE, hold_s=hold), X) == 3  # the fourth corner is the end
-    assert _corners(_drawn(ZIGZAG, hold_s=hold), X) == 2
-    assert _corners(_drawn(OUT_AND_BACK, hold_s=hold), X) == 1  # a reversal is a corner too
+    assert _corners(drawn_positions(SQUARE, hold_s=hold), X) == 3  # the fourth corner is the end
+    assert _corners(drawn_positions(ZIGZAG, hold_s=hold), X) == 2
+    assert _corners(drawn_positions(OUT_AND_BACK, hold_s=hold), X) == 1  # a reversal is a corner too
 
 
 @pytest.mark.parametrize("pause_at", [None, 0.3, 0.5, 0.7])
 def test_a_circle_has_no_corner_even_when_the_hand_nearly_stops_on_it(pause_at):
-    positions = _circle(pause_at=pause_at)
+    positions = circle_positions(pause_at=pause_at)
     seg = MotionSegmenter(LEVELS, L=0.1, dt=DT)
-    units = [u for k, T in enumerate(_poses(positions, np.eye(4))) if (u := seg.push(DT * k, T))]
+    units = [u for k, T in enumerate(tracker_poses(positions, np.eye(4))) if (u := seg.push(DT * k, T))]
     assert len(units) == (1 if pause_at is None else 2)  # the near-stop does cut it
     assert corner_count(units, 60.0) == 0
 
 
 def test_a_sharper_corner_angle_counts_fewer_corners():
-    square = _drawn(SQUARE)
+    square = drawn_positions(SQUARE)
     assert _corners(square, angle=80.0) == 3
     assert _corners(square, angle=100.0) == 0
 
@@ -179,7 +129,7 @@ def test_a_corner_limit_only_where_the_demonstrations_agree():
 def _real_corner_counts(angle: float) -> dict:
     """{(controller, person, gesture): [corners of each take]} of the real Vive recordings."""
     config = RecognizerConfig(corner_angle=angle)
-    return {key: [n for _, _, n in takes] for key, takes in take_geometry(MACHETE, config).items()}
+    return {key: [n for _, _, n, _ in takes] for key, takes in take_geometry(MACHETE, config).items()}
 
 
 def _exceeding(counts: dict, slack: int) -> float:

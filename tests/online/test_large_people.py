@@ -64,7 +64,7 @@ def test_a_circle_drawn_much_larger_than_the_demonstrations_is_still_taken(model
 
 def _real_sizes() -> dict:
     """{(controller, person, gesture): [size [m] of each take]} of the real Vive recordings."""
-    return {key: [size for _, size, _ in takes] for key, takes in take_geometry(MACHETE).items()}
+    return {key: [size for _, size, _, _ in takes] for key, takes in take_geometry(MACHETE).items()}
 
 
 def _larger(sizes: dict, growth: float) -> float:

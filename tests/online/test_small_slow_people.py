@@ -15,7 +15,7 @@ from framefree.datasets.layout import load_model_recordings
 from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.negatives import _regrip, non_gesture_motions
 from framefree.online.segmentation import MotionSegmenter, SpeedLevels, speed_levels
-from framefree.online.thresholds import reach_down
+from framefree.online.thresholds import SegmentScores, reach_down
 from framefree.replica import replica_path
 
 
@@ -91,7 +91,7 @@ class _Limits:
 
     size_limits = np.array([[0.3, 1.0]])
 
-    def admissible(self, j, closures, sizes, corners):
+    def admissible(self, j, closures, sizes, corners, turns):
         return np.ones(len(closures), dtype=bool)
 
 
@@ -99,7 +99,8 @@ class _Limits:
 @given(size=st.floats(0.05, 1.2), distance=st.floats(0.0, 1.0), reach=st.floats(1.01, 3.0))
 def test_the_size_range_reaches_down_unless_a_negative_in_the_band_would_be_taken(size, distance,
                                                                                   reach):
-    records = [(np.array([[distance]]), np.array([0.0]), np.array([size]), np.array([0]))]
+    records = [SegmentScores(np.array([[distance]]), np.array([0.0]), np.array([size]),
+                             np.array([0]), np.array([0]))]
     floor = reach_down(records, np.array([True]), 0, 0.5, _Limits(), reach)
     in_band = 0.3 / reach <= size < 0.3
     if in_band and distance < 0.5:

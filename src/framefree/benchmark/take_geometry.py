@@ -1,10 +1,11 @@
-"""How real people vary a gesture's geometry: closure, size and corners of every take of a
-people data set, measured as the live recognizer measures its demonstrations.
+"""How real people vary a gesture's geometry: closure, size, corners and turns of every take of
+a people data set, measured as the live recognizer measures its demonstrations.
 
-The live recognizer's limits on a candidate (closure, size, corners) come from one person's
-takes and must hold for other people. A people data set (several people, several takes of each
-gesture) tells how far another person goes beyond one person's takes
-(``benchmarks/real_corners.py``, ``benchmarks/real_sizes.py``, docs/online.md).
+The live recognizer's limits on a candidate (closure, size, corners, turns) come from one
+person's takes and must hold for other people. A people data set (several people, several takes
+of each gesture) tells how far another person goes beyond one person's takes
+(``benchmarks/real_corners.py``, ``benchmarks/real_sizes.py``, ``benchmarks/real_turns.py``,
+docs/online.md).
 """
 
 from __future__ import annotations
@@ -25,8 +26,9 @@ TakeKey = tuple[int, str, str]
 
 
 def take_geometry(data: str | Path, config: RecognizerConfig | None = None
-                  ) -> dict[TakeKey, list[tuple[float, float, int]]]:
-    """Closure, size [m of screw path] and corners of every take, per tracker, person and gesture.
+                  ) -> dict[TakeKey, list[tuple[float, float, int, int]]]:
+    """Closure, size [m of screw path], corners and turn kinds of every take, per tracker, person
+    and gesture.
 
     Each tracker of every recording is cut into movement units with speed levels from all
     recordings of that tracker (as a recognizer takes them from its models) and measured by
@@ -44,12 +46,12 @@ def take_geometry(data: str | Path, config: RecognizerConfig | None = None
     Returns
     -------
     dict
-        ``{(tracker, person, gesture): [(closure, size, corners) of each take]}``.
+        ``{(tracker, person, gesture): [(closure, size, corners, turns) of each take]}``.
     """
     config = config or RecognizerConfig()
     ds = load_people(data)
     classifier = SegmentClassifier(segment_descriptor(config), [])
-    out: dict[TakeKey, list[tuple[float, float, int]]] = {}
+    out: dict[TakeKey, list[tuple[float, float, int, int]]] = {}
     n_trackers = min((r.sample.n_trackers for r in ds), default=0)
     for tracker in range(n_trackers):
         trajs = [r.sample.trackers[tracker] for r in ds]

@@ -149,6 +149,12 @@ class RecognizerConfig:
         on six real people, ``machete_vive``, one person's agreeing takes were exceeded by 11.0 %
         of the other people's performances with 0 and by 1.6 % with 1; a circle still admits no
         square, diamond or pentagon).
+    turns : bool
+        Accept a candidate only if no two of its corners turn in a way its gesture's
+        demonstrations never do (True; only where they agree,
+        :func:`~framefree.online.thresholds.forbidden_turns`): a triangle or a square turns the
+        same way at every corner, a Z turns back at its second; a change of world frame changes
+        neither.
     size : bool
         Accept a candidate only within its gesture's size limits (True).
     size_factor : float
@@ -197,6 +203,11 @@ class RecognizerConfig:
         Most corners accepted per gesture (a gesture not in it has no limit); ``None``: from the
         models, for each gesture whose demonstrations agree on their number
         (:func:`~framefree.online.thresholds.corner_limit`).
+    forbidden_turns : dict of str to int or None
+        :func:`~framefree.online.segmentation.turn_kinds` bits a candidate may not show per
+        gesture (a gesture not in it has none); ``None``: from the models
+        (:func:`~framefree.online.thresholds.forbidden_turns`; a library saved before this field
+        existed gets them from its takes when it is loaded).
     size_limits : dict of str to (float, float) or None
         Smallest and largest size [m of screw path] accepted per gesture; ``None``: from the models
         (:func:`~framefree.online.thresholds.size_limits`).
@@ -242,6 +253,7 @@ class RecognizerConfig:
     corners: bool = True
     corner_angle: float = 60.0
     corner_slack: int = 1
+    turns: bool = True
     size: bool = True
     size_factor: float = 1.5
     size_growth: float = 2.5
@@ -262,6 +274,7 @@ class RecognizerConfig:
     closure_limits: dict[str, float] | None = None
     opening_limits: dict[str, float] | None = None
     corner_limits: dict[str, int] | None = None
+    forbidden_turns: dict[str, int] | None = None
     size_limits: dict[str, tuple[float, float]] | None = None
     max_bridge: float = 0.5
 
@@ -297,9 +310,9 @@ class RecognizerConfig:
         for name in ("closure_limits", "opening_limits"):
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, {str(g): float(v) for g, v in getattr(self, name).items()})
-        if self.corner_limits is not None:
-            object.__setattr__(self, "corner_limits",
-                               {str(g): int(v) for g, v in self.corner_limits.items()})
+        for name in ("corner_limits", "forbidden_turns"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, {str(g): int(v) for g, v in getattr(self, name).items()})
         if self.corner_slack < 0:
             raise ValueError(f"corner_slack must not be negative, got {self.corner_slack}")
         if not 0 <= self.corner_angle <= 180:

@@ -56,6 +56,7 @@ from .thresholds import (
     candidate_limits,
     closure_limit,
     corner_limit,
+    forbidden_turns,
     gesture_geometry,
     opening_limit,
     pooled_closures,
@@ -111,12 +112,16 @@ def resolve_config(
         c = c.replace(max_units=c.max_units or units, max_duration=c.max_duration or duration,
                       max_pause=c.max_pause or pause,
                       pause_ratio=ratio if c.pause_ratio is None else c.pause_ratio)
-    if None in (c.closure_limits, c.size_limits, c.opening_limits, c.corner_limits):
-        closed, sizes, corners = gesture_geometry(trajectories, labels, classifier, levels, c.L,
-                                                  c.margin, c.dt, c.corner_angle)
+    if None in (c.closure_limits, c.size_limits, c.opening_limits, c.corner_limits,
+                c.forbidden_turns):
+        closed, sizes, corners, turns = gesture_geometry(trajectories, labels, classifier, levels,
+                                                         c.L, c.margin, c.dt, c.corner_angle)
         if c.corner_limits is None:
             limits = {g: corner_limit(corners.get(g, []), c.corner_slack) for g in gestures}
             c = c.replace(corner_limits={g: k for g, k in limits.items() if k is not None})
+        if c.forbidden_turns is None:
+            never = {g: forbidden_turns(turns.get(g, [])) for g in gestures}
+            c = c.replace(forbidden_turns={g: k for g, k in never.items() if k})
         if c.closure_limits is None:
             largest = {g: hi for g, (_, hi) in closed.items()}
             largest = pooled_closures(largest) if c.closure_pooled else largest
@@ -152,7 +157,7 @@ def resolve_config(
 
 def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: RecognizerConfig,
              labels: list[str]) -> Spotter:
-    closures = openings = sizes = corners = None
+    closures = openings = sizes = corners = turns = None
     if c.closure and c.closure_limits is not None:
         closures = np.array([c.closure_limits.get(g, 1.0) for g in labels])
     if c.closure and c.opening_limits is not None:
@@ -161,11 +166,13 @@ def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: Rec
         sizes = np.array([c.size_limits.get(g, (0.0, np.inf)) for g in labels])
     if c.corners and c.corner_limits is not None:
         corners = np.array([c.corner_limits.get(g, np.inf) for g in labels], dtype=float)
+    if c.turns and c.forbidden_turns is not None:
+        turns = np.array([c.forbidden_turns.get(g, 0) for g in labels], dtype=np.int64)
     return Spotter(classifier, model_thresholds, c.max_units, c.max_duration, c.max_pause,
                    c.margin, c.confirm, c.max_wait, closures, c.L, sizes,
                    math.inf if c.pause_ratio is None else c.pause_ratio, c.min_pause,
                    c.return_error if c.closure else 0.0, openings, c.fire_on_motion,
-                   c.rest_before, corners, c.corner_angle)
+                   c.rest_before, corners, c.corner_angle, turns)
 
 
 class Recognizer(StreamingRecognizer):

@@ -39,7 +39,10 @@ from ..core.progress import progress_increments, screw_path_increment
 from ..core.trajectory import Trajectory
 
 __all__ = [
+    "ALTERNATING",
     "HEADING_SPEED",
+    "REVERSAL_ANGLE",
+    "SAME_SENSE",
     "MotionSegmenter",
     "PoseBuffer",
     "SpeedLevels",
@@ -49,8 +52,10 @@ __all__ = [
     "corner_count",
     "heading",
     "motion_speed",
+    "plane_cosine",
     "speed_levels",
     "turn_angle",
+    "turn_kinds",
 ]
 
 
@@ -197,6 +202,10 @@ class Unit:
         first reaches, and up to where it last keeps, :data:`HEADING_SPEED` × its peak speed:
         the direction it leaves the previous rest or minimum in, and the one it comes into the
         next in. ``None`` when unknown.
+    chord : ndarray, shape (6,), or None
+        Where the unit goes as a whole: :func:`heading` from its first to its last pose. A side of
+        a drawn polygon is the same however its ends were taken; the plane two chords span is
+        what :func:`turn_kinds` compares. ``None`` when unknown.
     """
 
     start: int
@@ -207,6 +216,7 @@ class Unit:
     rest_after: bool
     heading_in: np.ndarray | None = field(default=None, compare=False, repr=False)
     heading_out: np.ndarray | None = field(default=None, compare=False, repr=False)
+    chord: np.ndarray | None = field(default=None, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -274,6 +284,51 @@ def corner_count(units: Sequence[Unit], angle: float) -> int:
     """Corners of a span of consecutive units: turns of the heading sharper than ``angle`` [deg]
     from one unit to the next (:func:`turn_angle`)."""
     return sum(turn_angle(a.heading_out, b.heading_in) > angle for a, b in itertools.pairwise(units))
+
+
+#: Bits of :func:`turn_kinds`: two corners that turn the same way (around a triangle or a square)
+SAME_SENSE = 1
+#: ... and a corner that turns back the way the previous one came (a Z, an N, an M)
+ALTERNATING = 2
+
+
+def plane_cosine(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> float:
+    """Cosine of the angle between the oriented planes of ``a → b`` and ``c → d`` (vectors of
+    any one dimension): ``⟨a∧b, c∧d⟩ / (|a∧b| |c∧d|)`` with ``⟨a∧b, c∧d⟩ = (a·c)(b·d) −
+    (a·d)(b·c)``. 1 for two turns the same way in one plane, −1 for a turn back, 0 when either
+    pair is parallel (no plane) or the planes are perpendicular."""
+    inner = float((a @ c) * (b @ d) - (a @ d) * (b @ c))
+    norms = float(((a @ a) * (b @ b) - (a @ b) ** 2) * ((c @ c) * (d @ d) - (c @ d) ** 2))
+    return inner / math.sqrt(norms) if norms > 0 else 0.0
+
+
+#: Sharpest turn [deg] between two chords whose plane says which way the hand turned: a sharper
+#: one is a reversal, an out-and-back move, whose plane the hand's small sideways drift decides
+#: (on the real Vive recordings, reversals of flapping arms turned by 158–179° and their planes
+#: lay every way).
+REVERSAL_ANGLE = 150.0
+
+
+def turn_kinds(units: Sequence[Unit], angle: float) -> int:
+    """Which way a span of consecutive units turns at its corners (:func:`corner_count`): the
+    bits :data:`SAME_SENSE` and :data:`ALTERNATING` of every pair of consecutive corners, 0 with
+    fewer than two corners.
+
+    A corner's turn is the oriented plane from the chord of the unit before it to the chord of
+    the unit after it (:attr:`Unit.chord`); two corners turn the same way when the
+    :func:`plane_cosine` of their planes is positive. Chords, screw-like headings (6,), turn
+    alike with any change of world frame, so the kinds do not depend on it, and a polygon turns
+    the same way however it lies in space, while a Z turns back at its second corner. A pair
+    with a reversal (chords more than :data:`REVERSAL_ANGLE` apart) says nothing."""
+    planes = [(a.chord, b.chord) for a, b in itertools.pairwise(units)
+              if turn_angle(a.heading_out, b.heading_in) > angle]
+    kinds = 0
+    for (a, b), (c, d) in itertools.pairwise(planes):
+        if max(turn_angle(a, b), turn_angle(c, d)) > REVERSAL_ANGLE:
+            continue  # turn_angle is 0 for an unknown chord, whose plane_cosine is 0
+        cos = 0.0 if a is None or b is None or c is None or d is None else plane_cosine(a, b, c, d)
+        kinds |= SAME_SENSE if cos > 0 else ALTERNATING if cos < 0 else 0
+    return kinds
 
 
 def closure(poses: np.ndarray, L: float) -> float:
@@ -434,8 +489,11 @@ class MotionSegmenter:
 
     def _close(self, end: int, rest_after: bool) -> Unit:
         heading_in, heading_out = self._headings(self._start, end)
-        unit = Unit(self._start, end, self.buffer.time(self._start), self.buffer.time(end),
-                    self._peak, rest_after, heading_in, heading_out)
+        buf = self.buffer
+        chord = (heading(buf.pose(self._start), buf.pose(end), self.L)
+                 if buf.oldest <= self._start <= end else None)
+        unit = Unit(self._start, end, buf.time(self._start), buf.time(end),
+                    self._peak, rest_after, heading_in, heading_out, chord)
         self.units.append(unit)
         return unit
 

@@ -31,7 +31,7 @@ from ..core.pruning import ModelBank, pruned_nearest
 from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor
 from ..errors import DegenerateMotionError
-from .segmentation import PoseBuffer, Unit, closure, corner_count
+from .segmentation import PoseBuffer, Unit, closure, corner_count, turn_kinds
 
 __all__ = ["Candidate", "SegmentClassifier", "Spotter", "candidate_spans"]
 
@@ -135,6 +135,8 @@ class Candidate:
         model's gesture.
     corners : int
         Turns sharper than the spotter's ``corner_angle`` between its units.
+    turns : int
+        Which ways its corners turn (:func:`~framefree.online.segmentation.turn_kinds` bits).
     """
 
     start: int
@@ -149,6 +151,7 @@ class Candidate:
     size: float = 0.0
     accepted: bool = False
     corners: int = 0
+    turns: int = 0
 
 
 def candidate_spans(
@@ -237,6 +240,10 @@ class Spotter:
         drawn in the air has three, a circle none, whether or not its drawer hesitated.
     corner_angle : float
         Smallest turn [deg] between two units that counts as a corner.
+    forbidden_turns : ndarray of int, shape (M,), optional
+        :func:`~framefree.online.segmentation.turn_kinds` bits a candidate must not show to be
+        accepted as each model's gesture (default: none): a triangle never turns back at a
+        corner, a Z always does.
     """
 
     def __init__(
@@ -260,8 +267,12 @@ class Spotter:
         rest_before: float = 0.0,
         corner_limits: np.ndarray | None = None,
         corner_angle: float = 60.0,
+        forbidden_turns: np.ndarray | None = None,
     ) -> None:
         self.classifier = classifier
+        self.forbidden_turns = (np.zeros(len(classifier.models), dtype=np.int64)
+                                if forbidden_turns is None
+                                else np.asarray(forbidden_turns, dtype=np.int64))
         self.corner_limits = (np.full(len(classifier.models), np.inf) if corner_limits is None
                               else np.asarray(corner_limits, dtype=np.float64))
         self.corner_angle = float(corner_angle)
@@ -332,26 +343,28 @@ class Spotter:
             # the margin after the unit may not be in the buffer yet: cut the unit out exactly
             inner = first.start - lo_index
             c = closure(poses[inner:inner + last.end - first.start + 1], self.L)
-            corners = self.corners(n)
-            d, size = self._classify(times, poses, c, bar, corners)
+            corners, turns = self.corners(n)
+            d, size = self._classify(times, poses, c, bar, corners, turns)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
             ratio = float(d[j] / self.model_thresholds[j])
             ok = ratio < bar and bool(self.admissible(j, np.array([c]), np.array([size]),
-                                                      corners)[0])
+                                                      corners, turns)[0])
             if ok and self.tighten and not self.fire_on_motion:
                 bar = ratio
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
-                                 ratio, n, c, size, ok, corners))
+                                 ratio, n, c, size, ok, corners, turns))
         return out
 
-    def corners(self, n: int) -> int:
-        """Corners between the last ``n`` units: turns sharper than :attr:`corner_angle`."""
-        return corner_count(list(self.units)[len(self.units) - n:], self.corner_angle)
+    def corners(self, n: int) -> tuple[int, int]:
+        """Corners between the last ``n`` units (turns sharper than :attr:`corner_angle`) and which
+        ways they turn (:func:`~framefree.online.segmentation.turn_kinds`)."""
+        span = list(self.units)[len(self.units) - n:]
+        return corner_count(span, self.corner_angle), turn_kinds(span, self.corner_angle)
 
     def _classify(self, times: np.ndarray, poses: np.ndarray, closure_: float, bar: float = 1.0,
-                  corners: int = 0) -> tuple[np.ndarray, float]:
+                  corners: int = 0, turns: int = 0) -> tuple[np.ndarray, float]:
         """Distances (M,) of a candidate to the models and its size [m]. Pruned, only models
         whose gesture admits the candidate's closure, size and corners can accept it, so the others get
         threshold 0, the others ``bar`` times theirs, and a candidate that no gesture admits is
@@ -363,31 +376,34 @@ class Spotter:
         if out is None:
             return np.full(len(clf.models), math.inf), 0.0
         descriptor, size = out
-        admits = self.admitting_models(closure_, size, corners)
+        admits = self.admitting_models(closure_, size, corners, turns)
         accept_below = np.where(admits, bar * self.model_thresholds, 0.0)
         return clf.search_described(descriptor, accept_below), size
 
-    def admitting_models(self, closure_: float, size: float, corners: int = 0) -> np.ndarray:
-        """Which models' gestures admit a segment of this closure, size [m] and number of corners
-        (M,) bool: the rule of :meth:`admissible`, for every model at once."""
-        return self._admits(slice(None), closure_, size, corners)
+    def admitting_models(self, closure_: float, size: float, corners: int = 0, turns: int = 0
+                         ) -> np.ndarray:
+        """Which models' gestures admit a segment of this closure, size [m], number of corners and
+        turn kinds (M,) bool: the rule of :meth:`admissible`, for every model at once."""
+        return self._admits(slice(None), closure_, size, corners, turns)
 
     def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray,
-                   corners: np.ndarray | int = 0) -> np.ndarray:
-        """Which segments (closures (n,), sizes (n,) [m], corners (n,)) may be model ``j``'s
-        gesture: within its size range, no more closed than its opening limit, within its closure
-        limit or ending within :attr:`return_error` of their start (closure × size), and with no
-        more corners than its corner limit."""
+                   corners: np.ndarray | int = 0, turns: np.ndarray | int = 0) -> np.ndarray:
+        """Which segments (closures (n,), sizes (n,) [m], corners (n,), turn kinds (n,)) may be
+        model ``j``'s gesture: within its size range, no more closed than its opening limit,
+        within its closure limit or ending within :attr:`return_error` of their start (closure ×
+        size), with no more corners than its corner limit and no turn its gesture never makes."""
         return self._admits(j, np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float),
-                            np.asarray(corners, dtype=float))
+                            np.asarray(corners, dtype=float), np.asarray(turns, dtype=np.int64))
 
-    def _admits(self, j: int | slice, closures: Any, sizes: Any, corners: Any) -> np.ndarray:
+    def _admits(self, j: int | slice, closures: Any, sizes: Any, corners: Any, turns: Any = 0
+                ) -> np.ndarray:
         """The admissibility rule for model(s) ``j`` (broadcast against the segments)."""
         lo, hi = self.size_limits[j, 0], self.size_limits[j, 1]
         closes = (closures <= self.closure_limits[j]) | (closures * sizes <= self.return_error)
         opens = closures >= self.opening_limits[j]
         cornered = corners <= self.corner_limits[j]
-        return closes & opens & cornered & (sizes >= lo) & (sizes <= hi)
+        turning = (np.asarray(turns, dtype=np.int64) & self.forbidden_turns[j]) == 0
+        return closes & opens & cornered & turning & (sizes >= lo) & (sizes <= hi)
 
     def add_unit(self, unit: Unit) -> None:
         """Keep a unit that ended, with the rest [s] the hand held before it."""

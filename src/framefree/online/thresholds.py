@@ -33,20 +33,32 @@ from __future__ import annotations
 import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
 from ..core.trajectory import Trajectory
 from .negatives import non_gesture_motions
-from .segmentation import MotionSegmenter, SpeedLevels, Unit, closure, corner_count
+from .segmentation import (
+    ALTERNATING,
+    SAME_SENSE,
+    MotionSegmenter,
+    SpeedLevels,
+    Unit,
+    closure,
+    corner_count,
+    turn_kinds,
+)
 from .spotting import SegmentClassifier, Spotter, candidate_spans
 
 __all__ = [
+    "SegmentScores",
     "SegmentThresholds",
     "calibrate_segment_thresholds",
     "candidate_limits",
     "closure_limit",
     "corner_limit",
+    "forbidden_turns",
     "gesture_geometry",
     "opening_limit",
     "pooled_closures",
@@ -104,6 +116,21 @@ def _units(traj: Trajectory, levels: SpeedLevels, L: float, dt: float
     return seg, units
 
 
+class SegmentScores(NamedTuple):
+    """Every candidate segment of a recording (:func:`segment_distances`)."""
+
+    distances: np.ndarray
+    """(C, M): to every model."""
+    closures: np.ndarray
+    """(C,)"""
+    sizes: np.ndarray
+    """(C,) [m]"""
+    corners: np.ndarray
+    """(C,)"""
+    turns: np.ndarray
+    """(C,): :func:`~framefree.online.segmentation.turn_kinds` bits."""
+
+
 def segment_distances(
     traj: Trajectory,
     classifier: SegmentClassifier,
@@ -111,9 +138,9 @@ def segment_distances(
     spotter: Spotter,
     L: float,
     dt: float = 0.02,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Distances (C, M) of every candidate segment of a recording to every model, and the closure
-    (C,), size (C,) [m] and corners (C,) of each candidate.
+) -> SegmentScores:
+    """Distances (C, M) of every candidate segment of a recording to every model, and the closure,
+    size [m], corners and turn kinds (C,) of each candidate.
 
     The recording is resampled on the uniform grid, cut by :class:`MotionSegmenter` and its
     candidates formed with the limits of ``spotter`` (no threshold is applied).
@@ -123,6 +150,7 @@ def segment_distances(
     closures: list[float] = []
     sizes: list[float] = []
     corners: list[int] = []
+    turns: list[int] = []
     for k in range(len(units)):
         for first, n in candidate_spans(units[: k + 1], spotter.max_units, spotter.max_duration,
                                         spotter.max_pause, -1, spotter.pause_ratio,
@@ -136,19 +164,25 @@ def segment_distances(
             sizes.append(size)
             closures.append(closure(P[spotter.margin:P.shape[0] - spotter.margin], L))
             corners.append(corner_count(units[i:k + 1], spotter.corner_angle))
+            turns.append(turn_kinds(units[i:k + 1], spotter.corner_angle))
     if not rows:
-        return np.full((0, len(classifier.models)), np.inf), np.zeros(0), np.zeros(0), np.zeros(0)
-    return np.vstack(rows), np.array(closures), np.array(sizes), np.array(corners)
+        empty = np.zeros(0)
+        return SegmentScores(np.full((0, len(classifier.models)), np.inf), empty, empty, empty,
+                             np.zeros(0, dtype=np.int64))
+    return SegmentScores(np.vstack(rows), np.array(closures), np.array(sizes), np.array(corners),
+                         np.array(turns, dtype=np.int64))
 
 
 def recording_geometry(
     traj: Trajectory, classifier: SegmentClassifier, levels: SpeedLevels, L: float,
     margin: int = 5, dt: float = 0.02, corner_angle: float = 60.0,
-) -> tuple[float, float, int] | None:
-    """Closure, size [m] and corners of one recording's gesture, measured on the whole gesture
-    (first unit's start to last unit's end; the size with ``margin`` samples around it, as a live
-    candidate is cut), corners as in :func:`~framefree.online.segmentation.corner_count`;
-    ``None`` if the recording has no movement unit."""
+) -> tuple[float, float, int, int] | None:
+    """Closure, size [m], corners and turn kinds of one recording's gesture, measured on the
+    whole gesture (first unit's start to last unit's end; the size with ``margin`` samples around
+    it, as a live candidate is cut), corners and turns as in
+    :func:`~framefree.online.segmentation.corner_count` and
+    :func:`~framefree.online.segmentation.turn_kinds`; ``None`` if the recording has no movement
+    unit."""
     seg, units = _units(traj, levels, L, dt)
     if not units:
         return None
@@ -156,30 +190,33 @@ def recording_geometry(
     t, P_margin = seg.buffer.slice(units[0].start - margin, units[-1].end + margin)
     described = classifier.describe(t, P_margin)
     size = 0.0 if described is None else float(described[1])
-    return closure(P, L), size, corner_count(units, corner_angle)
+    return closure(P, L), size, corner_count(units, corner_angle), turn_kinds(units, corner_angle)
 
 
 def gesture_geometry(
     trajectories: Sequence[Trajectory], labels: Sequence[str], classifier: SegmentClassifier,
     levels: SpeedLevels, L: float, margin: int = 5, dt: float = 0.02, corner_angle: float = 60.0,
-) -> tuple[dict[str, tuple[float, float]], dict[str, tuple[float, float]], dict[str, list[int]]]:
-    """Closure range, size range [m] and corners of each gesture's recordings
+) -> tuple[dict[str, tuple[float, float]], dict[str, tuple[float, float]], dict[str, list[int]],
+           dict[str, list[int]]]:
+    """Closure range, size range [m], corners and turn kinds of each gesture's recordings
     (:func:`recording_geometry`): ``({g: (smallest, largest closure)}, {g: (smallest, largest
-    size)}, {g: [corners of each recording]})``."""
+    size)}, {g: [corners of each recording]}, {g: [turn kinds of each recording]})``."""
     closures: dict[str, tuple[float, float]] = {}
     sizes: dict[str, tuple[float, float]] = {}
     corners: dict[str, list[int]] = {}
+    turns: dict[str, list[int]] = {}
     for tr, g in zip(trajectories, labels, strict=True):
         measured = recording_geometry(tr, classifier, levels, L, margin, dt, corner_angle)
         if measured is None:
             continue
-        c, size, n = measured
+        c, size, n, kinds = measured
         corners.setdefault(g, []).append(n)
+        turns.setdefault(g, []).append(kinds)
         lo, hi = closures.get(g, (np.inf, 0.0))
         closures[g] = (min(lo, c), max(hi, c))
         lo, hi = sizes.get(g, (np.inf, 0.0))
         sizes[g] = (min(lo, size), max(hi, size))
-    return closures, sizes, corners
+    return closures, sizes, corners, turns
 
 
 def size_limits(smallest: float, largest: float, factor: float, growth: float | None = None
@@ -235,6 +272,20 @@ def corner_limit(counts: Sequence[int], slack: int = 1) -> int | None:
     return int(counts[0]) + int(slack)
 
 
+def forbidden_turns(kinds: Sequence[int]) -> int:
+    """The :func:`~framefree.online.segmentation.turn_kinds` a gesture never makes, from the turn
+    kinds of its recordings: when at least two recordings all turn one way only (every pair of
+    corners the same way, or every pair back), the other way; else none (0).
+
+    Which way a shape turns is part of it, as its corners are: a triangle or a square never
+    turns back, a Z always does, and the three are told apart by it whatever their sizes and
+    however loose the threshold. A gesture whose recordings mix both, or have fewer than two
+    corners, is not limited."""
+    if len(kinds) < 2 or len(set(kinds)) > 1:
+        return 0
+    return {SAME_SENSE: ALTERNATING, ALTERNATING: SAME_SENSE}.get(int(kinds[0]), 0)
+
+
 def closure_limit(largest: float, exponent: float = 0.5) -> float:
     """Closure limit of a gesture whose demonstrations close up to ``largest``: ``largest **
     exponent`` — with 0.5 the geometric midpoint between them and a one-way motion (closure 1)."""
@@ -262,7 +313,7 @@ def pooled_closures(largest: dict[str, float]) -> dict[str, float]:
 
 
 def reach_down(
-    records: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]],
+    records: Sequence[SegmentScores],
     own: np.ndarray,
     model: int,
     threshold: float,
@@ -273,9 +324,8 @@ def reach_down(
     at those sizes; ``None`` to keep the limit.
 
     The band below the gesture's lower size limit ``lo`` down to ``lo / reach`` is open when no
-    candidate of the non-gesture episodes in it (``records``: per episode the distances (C, M),
-    closures (C,), sizes (C,) and corners (C,) of its candidates), with the gesture's closure,
-    opening and corners,
+    candidate of the non-gesture episodes in it (``records``: per episode the scores of its
+    candidates), with the gesture's closure, opening, corners and turns,
     lies below ``threshold`` from the gesture's models (``own``, (M,) bool). A circle drawn
     smaller than the demonstrations is still a circle; a forearm turned out and back by less is
     a re-grip.
@@ -291,11 +341,12 @@ def reach_down(
     if not (reach > 1.0 and lo > 0.0):
         return None
     floor = lo / reach
-    for D, c, size, corners in records:
+    for D, c, size, corners, turns in records:
         band = (size >= floor) & (size < lo)
         if not band.any():
             continue
-        shaped = spotter.admissible(model, c[band], np.full(int(band.sum()), lo), corners[band])
+        shaped = spotter.admissible(model, c[band], np.full(int(band.sum()), lo), corners[band],
+                                    turns[band])
         if shaped.any() and float(D[band][shaped][:, own].min()) < threshold:
             return None
     return floor
@@ -337,8 +388,8 @@ def _positive_scores(
         else:
             copies = [tr]
         for copy in copies:
-            D, c, size, corners = segment_distances(copy, classifier, levels, spotter, L)
-            ok = spotter.admissible(r, c, size, corners)
+            D, c, size, corners, turns = segment_distances(copy, classifier, levels, spotter, L)
+            ok = spotter.admissible(r, c, size, corners, turns)
             positives[labels[r]].append(float(D[ok][:, same].min()) if ok.any() else np.inf)
     return positives
 
@@ -408,13 +459,14 @@ def calibrate_segment_thresholds(
     reaching = reach > 1.0
     for kind, neg in non_gesture_motions(trajectories, labels, L, seed=seed,
                                          kinds=(*kinds, "regrip") if reaching else kinds):
-        D, c, size, corners = segment_distances(neg, classifier, levels, spotter, L)
+        scores = segment_distances(neg, classifier, levels, spotter, L)
+        D, c, size, corners, turns = scores
         if reaching:
-            records.append((D, c, size, corners))
+            records.append(scores)
         if kind == "regrip":
             continue
         for g in gestures:
-            ok = admissible(first[g], c, size, corners)
+            ok = admissible(first[g], c, size, corners, turns)
             if ok.any():
                 episodes[g].append(float(D[ok][:, labels_arr == g].min()))
             elif gated:

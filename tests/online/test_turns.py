@@ -1,0 +1,166 @@
+"""Turns: a triangle turns the same way at every corner, a Z turns back — in any world frame.
+
+Two consecutive corners turn the same way when the oriented planes of their chords agree
+(``plane_cosine`` > 0). The tests check the plane algebra, draw polylines stroke by stroke in
+random world frames and mirror images, check the rule that forbids the kind a gesture's
+demonstrations never make, the recognizer that applies it, and on real Vive recordings that other
+people never show a turn one person's takes forbid.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from drawing import DT, LEVELS, drawn_positions, tracker_poses
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from framefree.benchmark.take_geometry import take_geometry
+from framefree.core import se3
+from framefree.core.trajectory import Trajectory
+from framefree.online import Recognizer
+from framefree.online.evaluation import run_stream
+from framefree.online.segmentation import (
+    ALTERNATING,
+    SAME_SENSE,
+    MotionSegmenter,
+    plane_cosine,
+    turn_kinds,
+)
+from framefree.online.thresholds import forbidden_turns
+from real_data import MACHETE
+
+ZIGZAG = np.array([[0, 0, 0], [0.24, 0, 0], [0, -0.18, 0], [0.24, -0.18, 0]], float)
+LETTER_U = np.array([[0, 0, 0], [0, -0.2, 0], [0.2, -0.2, 0], [0.2, 0, 0]], float)
+TRIANGLE = np.array([[0, 0, 0], [0.24, 0, 0], [0.12, 0.2, 0], [0, 0, 0]], float)
+SQUARE = np.array([[0, 0, 0], [0.18, 0, 0], [0.18, -0.18, 0], [0, -0.18, 0], [0, 0, 0]], float)
+OUT_AND_BACK_TWICE = np.array([[0, 0, 0], [0.3, 0, 0], [0, 0.01, 0], [0.3, 0.02, 0]], float)
+
+frames = st.builds(lambda xi: se3.pose_from_twist(np.asarray(xi)),
+                   st.lists(st.floats(-3.0, 3.0), min_size=6, max_size=6))
+MIRROR = np.diag([1.0, -1.0, 1.0, 1.0])  # a left-handed drawer's zigzag is an S-like Z
+
+
+def _units(positions: np.ndarray, X: np.ndarray) -> list:
+    seg = MotionSegmenter(LEVELS, L=0.1, dt=DT)
+    return [u for k, T in enumerate(tracker_poses(positions, X)) if (u := seg.push(DT * k, T))]
+
+
+def test_plane_cosine_of_turning_on_turning_back_and_no_plane():
+    x, y, z = np.eye(3)
+    assert plane_cosine(x, y, y, -x) == pytest.approx(1.0)  # left, then left again
+    assert plane_cosine(x, y, y, x) == pytest.approx(-1.0)  # left, then back right
+    assert plane_cosine(x, y, y, z) == pytest.approx(0.0)  # into another plane
+    assert plane_cosine(x, 2 * x, y, x) == 0.0  # no turn, no plane
+
+
+@settings(max_examples=25, deadline=None)
+@given(vectors=st.lists(st.floats(-1.0, 1.0), min_size=24, max_size=24), X=frames)
+def test_plane_cosine_does_not_see_the_world_frame(vectors, X):
+    """A change of world frame turns both halves of every 6-vector heading alike."""
+    a, b, c, d = np.reshape(vectors, (4, 6))
+    R = X[:3, :3]
+    a2, b2, c2, d2 = (np.concatenate([R @ v[:3], R @ v[3:]]) for v in (a, b, c, d))
+    assert plane_cosine(a2, b2, c2, d2) == pytest.approx(plane_cosine(a, b, c, d), abs=1e-9)
+
+
+@settings(max_examples=15, deadline=None)
+@given(X=frames, hold=st.sampled_from([0.0, 0.06, 0.3]), mirrored=st.booleans())
+def test_drawn_polygons_turn_one_way_and_a_zigzag_turns_back_in_any_frame(X, hold, mirrored):
+    X = X @ MIRROR if mirrored else X
+    assert turn_kinds(_units(drawn_positions(ZIGZAG, hold_s=hold), X), 60.0) == ALTERNATING
+    for polygon in (LETTER_U, TRIANGLE, SQUARE):
+        assert turn_kinds(_units(drawn_positions(polygon, hold_s=hold), X), 60.0) == SAME_SENSE
+
+
+def test_reversals_and_single_corners_say_nothing():
+    assert turn_kinds(_units(drawn_positions(OUT_AND_BACK_TWICE), np.eye(4)), 60.0) == 0
+    assert turn_kinds(_units(drawn_positions(ZIGZAG[:3]), np.eye(4)), 60.0) == 0  # one corner
+    assert turn_kinds([], 60.0) == 0
+
+
+def test_a_turn_is_forbidden_only_where_the_demonstrations_agree():
+    assert forbidden_turns([ALTERNATING] * 5) == SAME_SENSE
+    assert forbidden_turns([SAME_SENSE] * 5) == ALTERNATING
+    assert forbidden_turns([SAME_SENSE, SAME_SENSE, 0]) == 0  # a take without two corners
+    assert forbidden_turns([SAME_SENSE | ALTERNATING] * 3) == 0
+    assert forbidden_turns([ALTERNATING]) == 0  # one take says nothing about how others vary
+    assert forbidden_turns([]) == 0
+
+
+def _takes(points: np.ndarray, n: int, rng: np.random.Generator) -> list[Trajectory]:
+    """``n`` takes of a polyline, each corner moved by up to 2 cm and drawn at its own pace."""
+    out = []
+    for _ in range(n):
+        P = drawn_positions(points + rng.uniform(-0.02, 0.02, points.shape) * [1, 1, 0],
+                            stroke_s=rng.uniform(0.5, 0.7))
+        out.append(Trajectory.from_poses(DT * np.arange(P.shape[0]), tracker_poses(P, np.eye(4))))
+    return out
+
+
+@pytest.fixture(scope="module")
+def drawn_recognizer():
+    rng = np.random.default_rng(3)
+    takes = _takes(ZIGZAG, 5, rng) + _takes(TRIANGLE, 5, rng)
+    labels = ["zigzag"] * 5 + ["triangle"] * 5
+    return Recognizer.from_trajectories(takes, labels), (takes, labels)
+
+
+def test_the_recognizer_forbids_what_the_demonstrations_never_do(drawn_recognizer):
+    rec, (takes, labels) = drawn_recognizer
+    assert rec.config.forbidden_turns == {"zigzag": SAME_SENSE, "triangle": ALTERNATING}
+    sp = rec.spotter
+    j = rec.labels.index("zigzag")
+    size = float(np.mean(sp.size_limits[j]))
+    closure_ = 0.5 * (sp.opening_limits[j] + sp.closure_limits[j])
+    ok = sp.admissible(j, np.full(4, closure_), np.full(4, size), np.full(4, 2),
+                       np.array([0, ALTERNATING, SAME_SENSE, SAME_SENSE | ALTERNATING]))
+    assert list(ok) == [True, True, False, False]
+    off = Recognizer.from_trajectories(takes, labels, turns=False)
+    assert off.spotter.admissible(j, np.full(2, closure_), np.full(2, size), np.full(2, 2),
+                                  np.array([SAME_SENSE, ALTERNATING])).all()
+
+
+@pytest.fixture(scope="module")
+def zigzag_alone():
+    """The zigzag enrolled alone with one loose threshold for all: only the turns tell a U apart."""
+    takes = _takes(ZIGZAG, 5, np.random.default_rng(3))
+    return [Recognizer.from_trajectories(takes, ["zigzag"] * 5, threshold=0.2, turns=turns)
+            for turns in (True, False)]
+
+
+@settings(max_examples=5, deadline=None)
+@given(X=frames)
+def test_a_letter_u_as_large_as_the_zigzag_is_not_taken_for_it(zigzag_alone, X):
+    """A U has the zigzag's size, corners and opening; it turns the same way at both corners."""
+    rng = np.random.default_rng(7)
+    turning, blind = zigzag_alone
+    for points, label in ((ZIGZAG, "zigzag"), (LETTER_U * 1.2, None)):
+        P = drawn_positions(points + rng.uniform(-0.02, 0.02, points.shape) * [1, 1, 0])
+        stream = Trajectory.from_poses(DT * np.arange(P.shape[0]), tracker_poses(P, X))
+        fired = [[e.label for e in run_stream(rec, stream)[0] if e.label != "stop"]
+                 for rec in (turning, blind)]
+        assert fired == [[label] if label else [], ["zigzag"]]
+
+
+def _real_turns() -> dict:
+    """{(controller, person, gesture): [turn kinds of each take]} of the real Vive recordings."""
+    return {key: [kinds for *_, kinds in takes] for key, takes in take_geometry(MACHETE).items()}
+
+
+def test_real_people_never_turn_the_way_another_persons_takes_forbid():
+    """Real Vive recordings: where one person's takes all turn one way, no other person's
+    performance of the gesture turns the other way (reversals of flapping arms say nothing)."""
+    turns = _real_turns()
+    limits = checked = refused = 0
+    for (tracker, person, gesture), own in turns.items():
+        never = forbidden_turns(own)
+        if not never:
+            continue
+        limits += 1
+        for (t2, p2, g2), others in turns.items():
+            if (t2, g2) == (tracker, gesture) and p2 != person:
+                checked += len(others)
+                refused += sum(bool(k & never) for k in others)
+    assert limits >= 3 and checked >= 50
+    assert refused == 0
