@@ -19,7 +19,7 @@ import argparse
 import json
 from pathlib import Path
 
-from framefree.benchmark.take_geometry import take_geometry
+from framefree.benchmark.take_geometry import by_name, other_peoples, take_geometry
 from framefree.online import RecognizerConfig
 from framefree.online.thresholds import corner_limit
 
@@ -34,17 +34,16 @@ def exceeded(corners: dict, slack: int) -> dict:
     """How many of the other people's performances exceed each agreeing person's limit."""
     limits = checked = over = 0
     by_gesture: dict[str, int] = {}
-    for (tracker, person, gesture), counts in corners.items():
+    for key, counts in corners.items():
         limit = corner_limit(counts, slack)
         if limit is None:
             continue
         limits += 1
-        for (t2, p2, g2), others in corners.items():
-            if t2 == tracker and g2 == gesture and p2 != person:
-                checked += len(others)
-                n = sum(c > limit for c in others)
-                over += n
-                by_gesture[gesture] = by_gesture.get(gesture, 0) + n
+        others = other_peoples(corners, key)
+        checked += len(others)
+        n = sum(c > limit for c in others)
+        over += n
+        by_gesture[key[2]] = by_gesture.get(key[2], 0) + n
     return {"slack": slack, "limits": limits, "sets": len(corners), "checked": checked,
             "exceeded": over, "fraction": over / max(checked, 1), "by_gesture": by_gesture}
 
@@ -62,9 +61,8 @@ def main() -> None:
               f"person) sets of takes; {r['exceeded']} of {r['checked']} other people's "
               f"performances exceed them ({100 * r['fraction']:.1f} %)")
     if args.json:
-        table = {f"{t}/{p}/{g}": c for (t, p, g), c in sorted(corners.items())}
         args.json.write_text(json.dumps({"corner_angle": config.corner_angle, "L": config.L,
-                                         "rows": rows, "corners": table}, indent=1))
+                                         "rows": rows, "corners": by_name(corners)}, indent=1))
 
 
 if __name__ == "__main__":

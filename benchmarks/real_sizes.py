@@ -20,7 +20,7 @@ import argparse
 import json
 from pathlib import Path
 
-from framefree.benchmark.take_geometry import take_geometry
+from framefree.benchmark.take_geometry import by_name, other_peoples, take_geometry
 from framefree.online import RecognizerConfig
 
 FACTORS = (1.25, 1.5, 2.0, 2.5, 3.0)
@@ -37,13 +37,12 @@ def outside(sizes: dict, factor: float) -> dict:
     """How many of the other people's performances lie more than ``factor`` above the largest
     or below the smallest of each person's takes."""
     checked = above = below = 0
-    for (tracker, person, gesture), own in sizes.items():
+    for key, own in sizes.items():
         lo, hi = min(own), max(own)
-        for (t2, p2, g2), others in sizes.items():
-            if (t2, g2) == (tracker, gesture) and p2 != person:
-                checked += len(others)
-                above += sum(s > hi * factor for s in others)
-                below += sum(s < lo / factor for s in others)
+        others = other_peoples(sizes, key)
+        checked += len(others)
+        above += sum(s > hi * factor for s in others)
+        below += sum(s < lo / factor for s in others)
     return {"factor": factor, "checked": checked, "above": above, "below": below,
             "above_fraction": above / max(checked, 1), "below_fraction": below / max(checked, 1)}
 
@@ -62,8 +61,8 @@ def main() -> None:
               f"performances larger ({100 * r['above_fraction']:.1f} %), {r['below']:4d} smaller "
               f"({100 * r['below_fraction']:.1f} %)")
     if args.json:
-        table = {f"{t}/{p}/{g}": s for (t, p, g), s in sorted(sizes.items())}
-        args.json.write_text(json.dumps({"L": config.L, "rows": rows, "sizes": table}, indent=1))
+        args.json.write_text(json.dumps({"L": config.L, "rows": rows, "sizes": by_name(sizes)},
+                                        indent=1))
 
 
 if __name__ == "__main__":

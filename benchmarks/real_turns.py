@@ -19,7 +19,7 @@ import argparse
 import json
 from pathlib import Path
 
-from framefree.benchmark.take_geometry import take_geometry
+from framefree.benchmark.take_geometry import by_name, other_peoples, take_geometry
 from framefree.online import RecognizerConfig
 from framefree.online.thresholds import forbidden_turns
 
@@ -35,18 +35,17 @@ def refused(turns: dict) -> dict:
     limits = checked = over = 0
     by_gesture: dict[str, int] = {}
     kinds_of_limits: dict[int, int] = {}
-    for (tracker, person, gesture), kinds in turns.items():
+    for key, kinds in turns.items():
         never = forbidden_turns(kinds)
         if not never:
             continue
         limits += 1
         kinds_of_limits[never] = kinds_of_limits.get(never, 0) + 1
-        for (t2, p2, g2), others in turns.items():
-            if t2 == tracker and g2 == gesture and p2 != person:
-                checked += len(others)
-                n = sum(bool(k & never) for k in others)
-                over += n
-                by_gesture[gesture] = by_gesture.get(gesture, 0) + n
+        others = other_peoples(turns, key)
+        checked += len(others)
+        n = sum(bool(k & never) for k in others)
+        over += n
+        by_gesture[key[2]] = by_gesture.get(key[2], 0) + n
     return {"limits": limits, "sets": len(turns), "forbidden": kinds_of_limits, "checked": checked,
             "refused": over, "fraction": over / max(checked, 1), "by_gesture": by_gesture}
 
@@ -64,9 +63,8 @@ def main() -> None:
           f"performances show a forbidden turn ({100 * r['fraction']:.1f} %); by gesture "
           f"{r['by_gesture']}")
     if args.json:
-        table = {f"{t}/{p}/{g}": k for (t, p, g), k in sorted(turns.items())}
         args.json.write_text(json.dumps({"corner_angle": config.corner_angle, "L": config.L,
-                                         "result": r, "turns": table}, indent=1))
+                                         "result": r, "turns": by_name(turns)}, indent=1))
 
 
 if __name__ == "__main__":

@@ -15,7 +15,7 @@ from drawing import DT, LEVELS, circle_positions, drawn_positions, tracker_poses
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from framefree.benchmark.take_geometry import take_geometry
+from framefree.benchmark.take_geometry import other_peoples, take_geometry
 from framefree.core import se3
 from framefree.datasets.layout import load_model_recordings
 from framefree.online import Recognizer, RecognizerConfig
@@ -134,14 +134,13 @@ def _real_corner_counts(angle: float) -> dict:
 
 def _exceeding(counts: dict, slack: int) -> float:
     over = checked = 0
-    for (tracker, person, gesture), own in counts.items():
+    for key, own in counts.items():
         limit = corner_limit(own, slack)
         if limit is None:
             continue
-        for (t2, p2, g2), others in counts.items():
-            if (t2, g2) == (tracker, gesture) and p2 != person:
-                checked += len(others)
-                over += sum(c > limit for c in others)
+        others = other_peoples(counts, key)
+        checked += len(others)
+        over += sum(c > limit for c in others)
     assert checked > 0
     return over / checked
 

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from framefree.benchmark.take_geometry import take_geometry
+from framefree.benchmark.take_geometry import other_peoples, take_geometry
 from framefree.datasets.layout import load_model_recordings
 from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.evaluation import run_stream
@@ -69,11 +69,10 @@ def _real_sizes() -> dict:
 
 def _larger(sizes: dict, growth: float) -> float:
     over = checked = 0
-    for (tracker, person, gesture), own in sizes.items():
-        for (t2, p2, g2), others in sizes.items():
-            if (t2, g2) == (tracker, gesture) and p2 != person:
-                checked += len(others)
-                over += sum(s > max(own) * growth for s in others)
+    for key, own in sizes.items():
+        others = other_peoples(sizes, key)
+        checked += len(others)
+        over += sum(s > max(own) * growth for s in others)
     assert checked > 0
     return over / checked
 

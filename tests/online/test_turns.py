@@ -15,7 +15,7 @@ from drawing import DT, LEVELS, drawn_positions, tracker_poses
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from framefree.benchmark.take_geometry import take_geometry
+from framefree.benchmark.take_geometry import other_peoples, take_geometry
 from framefree.core import se3
 from framefree.core.trajectory import Trajectory
 from framefree.online import Recognizer
@@ -153,14 +153,13 @@ def test_real_people_never_turn_the_way_another_persons_takes_forbid():
     performance of the gesture turns the other way (reversals of flapping arms say nothing)."""
     turns = _real_turns()
     limits = checked = refused = 0
-    for (tracker, person, gesture), own in turns.items():
+    for key, own in turns.items():
         never = forbidden_turns(own)
         if not never:
             continue
         limits += 1
-        for (t2, p2, g2), others in turns.items():
-            if (t2, g2) == (tracker, gesture) and p2 != person:
-                checked += len(others)
-                refused += sum(bool(k & never) for k in others)
+        others = other_peoples(turns, key)
+        checked += len(others)
+        refused += sum(bool(k & never) for k in others)
     assert limits >= 3 and checked >= 50
     assert refused == 0

@@ -10,7 +10,9 @@ docs/online.md).
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import TypeVar
 
 from ..datasets.people_layout import load_people
 from ..online.config import RecognizerConfig
@@ -19,10 +21,24 @@ from ..online.segmentation import speed_levels
 from ..online.spotting import SegmentClassifier
 from ..online.thresholds import recording_geometry
 
-__all__ = ["take_geometry"]
+__all__ = ["by_name", "other_peoples", "take_geometry"]
 
 #: (tracker index, person, gesture)
 TakeKey = tuple[int, str, str]
+V = TypeVar("V")
+
+
+def other_peoples(table: Mapping[TakeKey, Sequence[V]], key: TakeKey) -> list[V]:
+    """The values of every other person's takes of ``key``'s gesture on ``key``'s tracker: what a
+    limit set from ``key``'s takes meets in other people."""
+    tracker, person, gesture = key
+    return [v for (t, p, g), values in table.items() if (t, g) == (tracker, gesture) and p != person
+            for v in values]
+
+
+def by_name(table: Mapping[TakeKey, V]) -> dict[str, V]:
+    """``table`` keyed by ``"tracker/person/gesture"``, sorted (for JSON)."""
+    return {f"{t}/{p}/{g}": v for (t, p, g), v in sorted(table.items())}
 
 
 def take_geometry(data: str | Path, config: RecognizerConfig | None = None
