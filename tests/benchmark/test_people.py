@@ -46,7 +46,7 @@ def test_command_line(tmp_path: Path):
     assert "accuracy" in run.stdout and "Sub_U001" in run.stdout
     result = json.loads(out.read_text())
     assert 0.0 <= result["accuracy"] <= 1.0 and set(result["per_person"]) == {"Sub_U001", "Sub_U002"}
-    assert len(result["confusion"]) == len(result["labels"]) == 6
+    assert len(result["confusion"]) == len(result["labels"]) == 7
     models = subprocess.run([*CLI, "evaluate-people", str(SHIPPED_MACHETE / ".." / "machete_vive"),
                              "--models", str(SHIPPED_MACHETE)], capture_output=True, text=True)
     assert models.returncode == 0 and "models given" in models.stdout

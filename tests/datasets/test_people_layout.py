@@ -16,7 +16,7 @@ from real_data import SHIPPED_MACHETE
 def test_loads_the_shipped_vive_recordings():
     ds = load_people(SHIPPED_MACHETE)
     assert ds.people == ["Sub_U001", "Sub_U002"]
-    assert len(ds.gestures) == 6 and len(ds) == 24
+    assert len(ds.gestures) == 7 and len(ds) == 28
     assert all(r.sample.n_trackers == 2 for r in ds)
 
 
@@ -27,7 +27,7 @@ def test_csv_recordings_and_skipped_notes(tmp_path: Path):
     (tmp_path / "alice" / "README.md").write_text("notes")
     (tmp_path / "alice" / "hook_left" / ".DS_Store").write_text("")
     ds = load_people(tmp_path)
-    assert ds.people == ["alice"] and len(ds) == 12
+    assert ds.people == ["alice"] and len(ds) == 14
 
 
 def test_a_file_out_of_place_or_unreadable_is_named(tmp_path: Path):

@@ -324,9 +324,11 @@ def turn_kinds(units: Sequence[Unit], angle: float) -> int:
               if turn_angle(a.heading_out, b.heading_in) > angle]
     kinds = 0
     for (a, b), (c, d) in itertools.pairwise(planes):
+        if any(v is None for v in (a, b, c, d)):
+            continue
         if max(turn_angle(a, b), turn_angle(c, d)) > REVERSAL_ANGLE:
-            continue  # turn_angle is 0 for an unknown chord, whose plane_cosine is 0
-        cos = 0.0 if a is None or b is None or c is None or d is None else plane_cosine(a, b, c, d)
+            continue
+        cos = plane_cosine(a, b, c, d)
         kinds |= SAME_SENSE if cos > 0 else ALTERNATING if cos < 0 else 0
     return kinds
 

@@ -343,7 +343,7 @@ class Spotter:
             # the margin after the unit may not be in the buffer yet: cut the unit out exactly
             inner = first.start - lo_index
             c = closure(poses[inner:inner + last.end - first.start + 1], self.L)
-            corners, turns = self.corners(n)
+            corners, turns = self.corners_and_turns(n)
             d, size = self._classify(times, poses, c, bar, corners, turns)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
@@ -357,7 +357,7 @@ class Spotter:
                                  ratio, n, c, size, ok, corners, turns))
         return out
 
-    def corners(self, n: int) -> tuple[int, int]:
+    def corners_and_turns(self, n: int) -> tuple[int, int]:
         """Corners between the last ``n`` units (turns sharper than :attr:`corner_angle`) and which
         ways they turn (:func:`~framefree.online.segmentation.turn_kinds`)."""
         span = list(self.units)[len(self.units) - n:]
