@@ -5,7 +5,7 @@ The live recognizer's limits on a candidate (closure, size, corners, turns) come
 person's takes and must hold for other people. A people data set (several people, several takes
 of each gesture) tells how far another person goes beyond one person's takes
 (``benchmarks/real_corners.py``, ``benchmarks/real_sizes.py``, ``benchmarks/real_turns.py``,
-docs/online.md).
+``benchmarks/real_vertical.py``, docs/online.md).
 """
 
 from __future__ import annotations
@@ -19,9 +19,10 @@ from ..online.config import RecognizerConfig
 from ..online.recognizer import segment_descriptor
 from ..online.segmentation import speed_levels
 from ..online.spotting import SegmentClassifier
-from ..online.thresholds import recording_geometry
+from ..online.thresholds import gesture_verticality, recording_geometry
+from ..online.vertical import up_vector
 
-__all__ = ["by_name", "other_peoples", "take_geometry"]
+__all__ = ["by_name", "other_peoples", "take_geometry", "take_verticality"]
 
 #: (tracker index, person, gesture)
 TakeKey = tuple[int, str, str]
@@ -77,4 +78,35 @@ def take_geometry(data: str | Path, config: RecognizerConfig | None = None
                                           config.dt, config.corner_angle)
             if measured is not None:
                 out.setdefault((tracker, r.person, r.gesture), []).append(measured)
+    return out
+
+
+def take_verticality(data: str | Path, up: str = "+z", config: RecognizerConfig | None = None
+                     ) -> dict[TakeKey, list[float]]:
+    """:func:`~framefree.online.vertical.verticality` of every take, per tracker, person and
+    gesture, measured as the live recognizer measures its demonstrations
+    (:func:`~framefree.online.thresholds.gesture_verticality`; speed levels as in
+    :func:`take_geometry`).
+
+    Parameters
+    ----------
+    data : str or Path
+        A people data set (:func:`~framefree.datasets.people_layout.load_people`), read into
+        framefree's frame (``up`` = ``"+z"``).
+    up : str
+        The vertical axis of the data as read.
+    config : RecognizerConfig, optional
+        ``L`` and ``dt`` (default: the recognizer's defaults).
+    """
+    config = config or RecognizerConfig()
+    ds = load_people(data)
+    out: dict[TakeKey, list[float]] = {}
+    n_trackers = min((r.sample.n_trackers for r in ds), default=0)
+    for tracker in range(n_trackers):
+        trajs = [r.sample.trackers[tracker] for r in ds]
+        levels = speed_levels(trajs, config.L, config.dt)
+        for r, tr in zip(ds, trajs, strict=True):
+            for v in gesture_verticality([tr], [r.gesture], levels, config.L, up_vector(up),
+                                         config.dt).get(r.gesture, []):
+                out.setdefault((tracker, r.person, r.gesture), []).append(v)
     return out

@@ -13,6 +13,8 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
+from .vertical import VERTICAL_MARGIN, up_vector
+
 __all__ = ["RecognizerConfig"]
 
 
@@ -155,6 +157,16 @@ class RecognizerConfig:
         :func:`~framefree.online.thresholds.forbidden_turns`): a triangle or a square turns the
         same way at every corner, a Z turns back at its second; a change of world frame changes
         neither.
+    up : str or None
+        The axis of the tracking system's world that points up (``"+z"`` for framefree's own
+        frame and ROS, ``"+y"`` for SteamVR and Unity worlds read as they are), or ``None``: no
+        vertical is known and nothing depends on one (default). When set, a candidate is
+        accepted only if it moves about as vertically as its gesture's demonstrations
+        (:mod:`~framefree.online.vertical`): a Z is no longer an N. A world tilted against
+        this axis breaks the rule, so set it only where the vertical is known.
+    vertical_margin : float
+        How far another person's verticality may lie outside the demonstrations' range (0.3:
+        99 % of the real Vive comparisons, :data:`~framefree.online.vertical.VERTICAL_MARGIN`).
     size : bool
         Accept a candidate only within its gesture's size limits (True).
     size_factor : float
@@ -208,6 +220,9 @@ class RecognizerConfig:
         gesture (a gesture not in it has none); ``None``: from the models
         (:func:`~framefree.online.thresholds.forbidden_turns`; a library saved before this field
         existed gets them from its takes when it is loaded).
+    vertical_limits : dict of str to (float, float) or None
+        Smallest and largest verticality accepted per gesture, used only when ``up`` is set;
+        ``None``: from the models (:func:`~framefree.online.vertical.vertical_limits`).
     size_limits : dict of str to (float, float) or None
         Smallest and largest size [m of screw path] accepted per gesture; ``None``: from the models
         (:func:`~framefree.online.thresholds.size_limits`).
@@ -254,6 +269,8 @@ class RecognizerConfig:
     corner_angle: float = 60.0
     corner_slack: int = 1
     turns: bool = True
+    up: str | None = None
+    vertical_margin: float = VERTICAL_MARGIN
     size: bool = True
     size_factor: float = 1.5
     size_growth: float = 2.5
@@ -275,6 +292,7 @@ class RecognizerConfig:
     opening_limits: dict[str, float] | None = None
     corner_limits: dict[str, int] | None = None
     forbidden_turns: dict[str, int] | None = None
+    vertical_limits: dict[str, tuple[float, float]] | None = None
     size_limits: dict[str, tuple[float, float]] | None = None
     max_bridge: float = 0.5
 
@@ -317,9 +335,14 @@ class RecognizerConfig:
             raise ValueError(f"corner_slack must not be negative, got {self.corner_slack}")
         if not 0 <= self.corner_angle <= 180:
             raise ValueError(f"corner_angle must be in [0, 180] degrees, got {self.corner_angle}")
-        if self.size_limits is not None:
-            object.__setattr__(self, "size_limits", {str(g): (float(v[0]), float(v[1]))
-                                                     for g, v in self.size_limits.items()})
+        for name in ("size_limits", "vertical_limits"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, {str(g): (float(v[0]), float(v[1]))
+                                                for g, v in getattr(self, name).items()})
+        if self.up is not None:
+            up_vector(self.up)  # names the axes it accepts
+        if not 0 <= self.vertical_margin <= 1:
+            raise ValueError(f"vertical_margin must be in [0, 1], got {self.vertical_margin}")
         if self.gesture_thresholds is not None:
             bad = {g: v for g, v in self.gesture_thresholds.items() if not float(v) > 0}
             if bad:

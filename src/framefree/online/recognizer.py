@@ -58,10 +58,12 @@ from .thresholds import (
     corner_limit,
     forbidden_turns,
     gesture_geometry,
+    gesture_verticality,
     opening_limit,
     pooled_closures,
     size_limits,
 )
+from .vertical import up_vector, vertical_limits
 
 __all__ = ["STAT_KEYS", "Recognizer", "resolve_config"]
 
@@ -134,6 +136,10 @@ def resolve_config(
             c = c.replace(size_limits={g: size_limits(*sizes.get(g, (0.0, np.inf)), c.size_factor,
                                                                c.size_growth)
                                        for g in gestures})
+    if c.up is not None and c.vertical_limits is None:
+        values = gesture_verticality(trajectories, labels, levels, c.L, up_vector(c.up), c.dt)
+        limits = {g: vertical_limits(values.get(g, []), c.vertical_margin) for g in gestures}
+        c = c.replace(vertical_limits={g: v for g, v in limits.items() if v is not None})
     calibration = None
     if c.threshold is not None:
         c = c.replace(gesture_thresholds=dict.fromkeys(gestures, c.threshold))
@@ -157,7 +163,7 @@ def resolve_config(
 
 def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: RecognizerConfig,
              labels: list[str]) -> Spotter:
-    closures = openings = sizes = corners = turns = None
+    closures = openings = sizes = corners = turns = None  # None: no limit
     if c.closure and c.closure_limits is not None:
         closures = np.array([c.closure_limits.get(g, 1.0) for g in labels])
     if c.closure and c.opening_limits is not None:
@@ -168,11 +174,15 @@ def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: Rec
         corners = np.array([c.corner_limits.get(g, np.inf) for g in labels], dtype=float)
     if c.turns and c.forbidden_turns is not None:
         turns = np.array([c.forbidden_turns.get(g, 0) for g in labels], dtype=np.int64)
+    up = vertical = None
+    if c.up is not None and c.vertical_limits is not None:
+        up = up_vector(c.up)
+        vertical = np.array([c.vertical_limits.get(g, (0.0, 1.0)) for g in labels])
     return Spotter(classifier, model_thresholds, c.max_units, c.max_duration, c.max_pause,
                    c.margin, c.confirm, c.max_wait, closures, c.L, sizes,
                    math.inf if c.pause_ratio is None else c.pause_ratio, c.min_pause,
                    c.return_error if c.closure else 0.0, openings, c.fire_on_motion,
-                   c.rest_before, corners, c.corner_angle, turns)
+                   c.rest_before, corners, c.corner_angle, turns, up, vertical)
 
 
 class Recognizer(StreamingRecognizer):

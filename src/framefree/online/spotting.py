@@ -32,6 +32,7 @@ from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor
 from ..errors import DegenerateMotionError
 from .segmentation import PoseBuffer, Unit, closure, corner_count, turn_kinds
+from .vertical import verticality
 
 __all__ = ["Candidate", "SegmentClassifier", "Spotter", "candidate_spans"]
 
@@ -137,6 +138,8 @@ class Candidate:
         Turns sharper than the spotter's ``corner_angle`` between its units.
     turns : int
         Which ways its corners turn (:func:`~framefree.online.segmentation.turn_kinds` bits).
+    vertical : float
+        Its :func:`~framefree.online.vertical.verticality` (NaN when no vertical is known).
     """
 
     start: int
@@ -152,6 +155,7 @@ class Candidate:
     accepted: bool = False
     corners: int = 0
     turns: int = 0
+    vertical: float = math.nan
 
 
 def candidate_spans(
@@ -244,6 +248,11 @@ class Spotter:
         :func:`~framefree.online.segmentation.turn_kinds` bits a candidate must not show to be
         accepted as each model's gesture (default: none): a triangle never turns back at a
         corner, a Z always does.
+    up : ndarray, shape (3,), optional
+        The world's vertical (default: unknown, no vertical limit applies).
+    vertical_limits : ndarray, shape (M, 2), optional
+        Smallest and largest :func:`~framefree.online.vertical.verticality` a candidate may have
+        to be accepted as each model's gesture, used when ``up`` is given (default: no limit).
     """
 
     def __init__(
@@ -268,8 +277,14 @@ class Spotter:
         corner_limits: np.ndarray | None = None,
         corner_angle: float = 60.0,
         forbidden_turns: np.ndarray | None = None,
+        up: np.ndarray | None = None,
+        vertical_limits: np.ndarray | None = None,
     ) -> None:
         self.classifier = classifier
+        n_models = len(classifier.models)
+        self.up = None if up is None else np.asarray(up, dtype=np.float64).reshape(3)
+        self.vertical_limits = (np.tile([0.0, 1.0], (n_models, 1)) if vertical_limits is None
+                                else np.asarray(vertical_limits, dtype=np.float64).reshape(n_models, 2))
         self.forbidden_turns = (np.zeros(len(classifier.models), dtype=np.int64)
                                 if forbidden_turns is None
                                 else np.asarray(forbidden_turns, dtype=np.int64))
@@ -292,7 +307,6 @@ class Spotter:
         self.margin = int(margin)
         self.confirm = float(confirm)
         self.max_wait = float(max_wait)
-        n_models = len(classifier.models)
         self.closure_limits = (np.ones(n_models) if closure_limits is None
                                else np.asarray(closure_limits, dtype=np.float64))
         self.L = float(L)
@@ -342,19 +356,21 @@ class Spotter:
             times, poses = buffer.slice(lo_index, last.end + self.margin)
             # the margin after the unit may not be in the buffer yet: cut the unit out exactly
             inner = first.start - lo_index
-            c = closure(poses[inner:inner + last.end - first.start + 1], self.L)
+            inside = poses[inner:inner + last.end - first.start + 1]
+            c = closure(inside, self.L)
             corners, turns = self.corners_and_turns(n)
-            d, size = self._classify(times, poses, c, bar, corners, turns)
+            v = math.nan if self.up is None else verticality(inside, self.up)
+            d, size = self._classify(times, poses, c, bar, corners, turns, v)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
             ratio = float(d[j] / self.model_thresholds[j])
             ok = ratio < bar and bool(self.admissible(j, np.array([c]), np.array([size]),
-                                                      corners, turns)[0])
+                                                      corners, turns, v)[0])
             if ok and self.tighten and not self.fire_on_motion:
                 bar = ratio
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
-                                 ratio, n, c, size, ok, corners, turns))
+                                 ratio, n, c, size, ok, corners, turns, v))
         return out
 
     def corners_and_turns(self, n: int) -> tuple[int, int]:
@@ -364,7 +380,8 @@ class Spotter:
         return corner_count(span, self.corner_angle), turn_kinds(span, self.corner_angle)
 
     def _classify(self, times: np.ndarray, poses: np.ndarray, closure_: float, bar: float = 1.0,
-                  corners: int = 0, turns: int = 0) -> tuple[np.ndarray, float]:
+                  corners: int = 0, turns: int = 0, vertical: float = math.nan
+                  ) -> tuple[np.ndarray, float]:
         """Distances (M,) of a candidate to the models and its size [m]. Pruned, only models
         whose gesture admits the candidate's closure, size and corners can accept it, so the others get
         threshold 0, the others ``bar`` times theirs, and a candidate that no gesture admits is
@@ -376,34 +393,41 @@ class Spotter:
         if out is None:
             return np.full(len(clf.models), math.inf), 0.0
         descriptor, size = out
-        admits = self.admitting_models(closure_, size, corners, turns)
+        admits = self.admitting_models(closure_, size, corners, turns, vertical)
         accept_below = np.where(admits, bar * self.model_thresholds, 0.0)
         return clf.search_described(descriptor, accept_below), size
 
-    def admitting_models(self, closure_: float, size: float, corners: int = 0, turns: int = 0
-                         ) -> np.ndarray:
-        """Which models' gestures admit a segment of this closure, size [m], number of corners and
-        turn kinds (M,) bool: the rule of :meth:`admissible`, for every model at once."""
-        return self._admits(slice(None), closure_, size, corners, turns)
+    def admitting_models(self, closure_: float, size: float, corners: int = 0, turns: int = 0,
+                         vertical: float = math.nan) -> np.ndarray:
+        """Which models' gestures admit a segment of this closure, size [m], number of corners,
+        turn kinds and verticality (M,) bool: the rule of :meth:`admissible`, for every model at
+        once."""
+        return self._admits(slice(None), closure_, size, corners, turns, vertical)
 
     def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray,
-                   corners: np.ndarray | int = 0, turns: np.ndarray | int = 0) -> np.ndarray:
-        """Which segments (closures (n,), sizes (n,) [m], corners (n,), turn kinds (n,)) may be
-        model ``j``'s gesture: within its size range, no more closed than its opening limit,
-        within its closure limit or ending within :attr:`return_error` of their start (closure ×
-        size), with no more corners than its corner limit and no turn its gesture never makes."""
+                   corners: np.ndarray | int = 0, turns: np.ndarray | int = 0,
+                   vertical: np.ndarray | float = math.nan) -> np.ndarray:
+        """Which segments (closures (n,), sizes (n,) [m], corners (n,), turn kinds (n,),
+        verticality (n,)) may be model ``j``'s gesture: within its size range, no more closed
+        than its opening limit, within its closure limit or ending within :attr:`return_error`
+        of their start (closure × size), with no more corners than its corner limit, no turn its
+        gesture never makes and, where a vertical is known, within its verticality range (NaN:
+        unknown, passes)."""
         return self._admits(j, np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float),
-                            np.asarray(corners, dtype=float), np.asarray(turns, dtype=np.int64))
+                            np.asarray(corners, dtype=float), np.asarray(turns, dtype=np.int64),
+                            np.asarray(vertical, dtype=float))
 
-    def _admits(self, j: int | slice, closures: Any, sizes: Any, corners: Any, turns: Any = 0
-                ) -> np.ndarray:
+    def _admits(self, j: int | slice, closures: Any, sizes: Any, corners: Any, turns: Any = 0,
+                vertical: Any = math.nan) -> np.ndarray:
         """The admissibility rule for model(s) ``j`` (broadcast against the segments)."""
         lo, hi = self.size_limits[j, 0], self.size_limits[j, 1]
         closes = (closures <= self.closure_limits[j]) | (closures * sizes <= self.return_error)
         opens = closures >= self.opening_limits[j]
         cornered = corners <= self.corner_limits[j]
         turning = (np.asarray(turns, dtype=np.int64) & self.forbidden_turns[j]) == 0
-        return closes & opens & cornered & turning & (sizes >= lo) & (sizes <= hi)
+        v_lo, v_hi = self.vertical_limits[j, 0], self.vertical_limits[j, 1]
+        upright = ~((vertical < v_lo) | (vertical > v_hi))  # NaN: no vertical known
+        return closes & opens & cornered & turning & upright & (sizes >= lo) & (sizes <= hi)
 
     def add_unit(self, unit: Unit) -> None:
         """Keep a unit that ended, with the rest [s] the hand held before it."""

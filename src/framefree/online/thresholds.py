@@ -50,6 +50,7 @@ from .segmentation import (
     turn_kinds,
 )
 from .spotting import SegmentClassifier, Spotter, candidate_spans
+from .vertical import verticality
 
 __all__ = [
     "SegmentScores",
@@ -60,6 +61,7 @@ __all__ = [
     "corner_limit",
     "forbidden_turns",
     "gesture_geometry",
+    "gesture_verticality",
     "opening_limit",
     "pooled_closures",
     "reach_down",
@@ -217,6 +219,23 @@ def gesture_geometry(
         lo, hi = sizes.get(g, (np.inf, 0.0))
         sizes[g] = (min(lo, size), max(hi, size))
     return closures, sizes, corners, turns
+
+
+def gesture_verticality(
+    trajectories: Sequence[Trajectory], labels: Sequence[str], levels: SpeedLevels, L: float,
+    up: np.ndarray, dt: float = 0.02,
+) -> dict[str, list[float]]:
+    """:func:`~framefree.online.vertical.verticality` of each gesture's recordings, measured on
+    the whole gesture (first unit's start to last unit's end) as :func:`recording_geometry`
+    measures the rest: ``{g: [verticality of each recording]}`` (a recording without a movement
+    unit is left out)."""
+    out: dict[str, list[float]] = {}
+    for tr, g in zip(trajectories, labels, strict=True):
+        seg, units = _units(tr, levels, L, dt)
+        if units:
+            _, P = seg.buffer.slice(units[0].start, units[-1].end)
+            out.setdefault(g, []).append(verticality(P, up))
+    return out
 
 
 def size_limits(smallest: float, largest: float, factor: float, growth: float | None = None
