@@ -124,6 +124,19 @@ def test_enroll_adds_a_gesture_to_a_library_file(recorded, enrolled, tmp_path) -
     assert "go_down" in res.output and "9 takes of 3 gestures" in res.output
 
 
+def test_enroll_with_a_vertical(recorded, enrolled, tmp_path) -> None:
+    """``--up`` stores the axis (the replica's worlds are y-up) and its limits in the library."""
+    from framefree.library import load_library
+
+    upright = tmp_path / "upright.npz"
+    res = CliRunner().invoke(cli, ["enroll", str(enrolled), "--up", "+y", "-o", str(upright)])
+    assert res.exit_code == 0, res.output
+    config = load_library(upright).recognizer_config()
+    assert config.up == "+y" and set(config.vertical_limits) == set(load_library(enrolled).gestures)
+    res = CliRunner().invoke(cli, ["enroll", str(enrolled), "--up", "north", "-o", str(upright)])
+    assert res.exit_code == 2 and "north" in res.output
+
+
 def test_check_writes_report_and_figures(recorded, enrolled, tmp_path) -> None:
     lib, _ = recorded
     res = CliRunner().invoke(cli, ["check", str(enrolled), "--out", str(tmp_path / "chk")])

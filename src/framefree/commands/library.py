@@ -158,9 +158,13 @@ def _changes(old, new) -> str:
 @click.option("--merge", "merges", multiple=True,
               help="Pool the takes of a gesture found in several sources (e.g. a second person's); "
                    "without it, one gesture name in two sources is an error. Repeatable.")
+@click.option("--up", type=click.Choice(["+x", "-x", "+y", "-y", "+z", "-z"]), default=None,
+              help="The axis of the takes' world that points up (+z: framefree's own frame, ROS; "
+                   "+y: SteamVR and Unity worlds, the replica). Then a Z is no N; the live world "
+                   "must share that vertical. Default: no vertical, frame-free.")
 @click.option("--force", is_flag=True, help="Recalibrate even if the library file is up to date.")
 def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, removals: tuple[str, ...],
-               sets: tuple[str, ...], merges: tuple[str, ...], force: bool):
+               sets: tuple[str, ...], merges: tuple[str, ...], up: str | None, force: bool):
     """Build the models and calibrate the thresholds once; write a library file for live use.
 
     \b
@@ -181,7 +185,7 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
     if removals:
         takes = takes.without(removals)
     base = RecognizerConfig.from_dict(settings) if settings else RecognizerConfig()
-    config = base.replace(**_parse_sets(sets))
+    config = base.replace(**_parse_sets(sets), **({"up": up} if up else {}))
     old = load_library(out) if Path(out).is_file() and not force else None
     if old is not None and old.fingerprint == _fingerprint(takes, config):
         click.echo(f"{out} is up to date ({len(takes)} takes of {len(takes.gestures)} gestures); "
