@@ -131,6 +131,7 @@ def test_enroll_with_a_vertical(recorded, enrolled, tmp_path) -> None:
     upright = tmp_path / "upright.npz"
     res = CliRunner().invoke(cli, ["enroll", str(enrolled), "--up", "+y", "-o", str(upright)])
     assert res.exit_code == 0, res.output
+    assert "up +y" in res.output and "vertical 0." in res.output
     config = load_library(upright).recognizer_config()
     assert config.up == "+y" and set(config.vertical_limits) == set(load_library(enrolled).gestures)
     res = CliRunner().invoke(cli, ["enroll", str(enrolled), "--up", "north", "-o", str(upright)])

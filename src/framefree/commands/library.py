@@ -160,7 +160,7 @@ def _changes(old, new) -> str:
                    "without it, one gesture name in two sources is an error. Repeatable.")
 @click.option("--up", type=click.Choice(["+x", "-x", "+y", "-y", "+z", "-z"]), default=None,
               help="The axis of the takes' world that points up (+z: framefree's own frame, ROS; "
-                   "+y: SteamVR and Unity worlds, the replica). Then a Z is no N; the live world "
+                   "+y: the OpenVR source, the replica). Then a Z is no N; the live world "
                    "must share that vertical. Default: no vertical, frame-free.")
 @click.option("--force", is_flag=True, help="Recalibrate even if the library file is up to date.")
 def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, removals: tuple[str, ...],

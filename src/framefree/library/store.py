@@ -370,12 +370,18 @@ class GestureLibrary:
         return write_library_file(path, self.meta(), list(self.takes.rows()))
 
     def summary(self) -> str:
-        """One line per gesture: takes and threshold."""
+        """One line per gesture: takes, threshold and, with a known vertical, verticality range."""
         counts = self.takes.counts()
+        up = self.config.get("up")
+        vertical = (self.config.get("vertical_limits") or {}) if up else {}
         lines = [f"{len(self.takes)} takes of {len(counts)} gestures, "
-                 f"stop above {self.stop_threshold:.3g} rad/s"]
-        lines += [f"  {g:<16} {n:3d} takes  τ = {self.gesture_thresholds.get(g, float('nan')):.4g}"
-                  for g, n in counts.items()]
+                 f"stop above {self.stop_threshold:.3g} rad/s"
+                 + (f", up {up} (verticality limits)" if up else "")]
+        for g, n in counts.items():
+            line = f"  {g:<16} {n:3d} takes  τ = {self.gesture_thresholds.get(g, float('nan')):.4g}"
+            if g in vertical:
+                line += f"  vertical {vertical[g][0]:.2f}–{vertical[g][1]:.2f}"
+            lines.append(line)
         return "\n".join(lines)
 
 

@@ -159,7 +159,8 @@ class RecognizerConfig:
         neither.
     up : str or None
         The axis of the tracking system's world that points up (``"+z"`` for framefree's own
-        frame and ROS, ``"+y"`` for SteamVR and Unity worlds read as they are), or ``None``: no
+        frame, ROS and files read with a named convention; ``"+y"`` for the OpenVR source, which
+        keeps SteamVR's y up, and the replica), or ``None``: no
         vertical is known and nothing depends on one (default). When set, a candidate is
         accepted only if it moves about as vertically as its gesture's demonstrations
         (:mod:`~framefree.online.vertical`): a Z is no longer an N. A world tilted against

@@ -1,8 +1,9 @@
 """Which way is up, when the user knows it: how vertically a motion moves.
 
 Frame-free recognition cannot tell a Z from an N: turned by a quarter turn in its plane, one is
-the other. Where the tracking system's vertical is known (a SteamVR or Unity room is y-up, a ROS
-world z-up, framefree's own frame z-up), the recognizer may use it (``RecognizerConfig.up``, off
+the other. Where the tracking system's vertical is known (a SteamVR room is y-up and framefree's
+OpenVR source keeps it so; a ROS world, framefree's own frame and files read with a named
+convention are z-up), the recognizer may use it (``RecognizerConfig.up``, off
 by default): a candidate is refused as a gesture whose demonstrations move much more or much less
 vertically than it does. Only the vertical is used, never a heading: turning the base stations
 about the vertical, or standing elsewhere in the room, changes nothing.
