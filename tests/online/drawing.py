@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from framefree.core.trajectory import Trajectory
 from framefree.online.segmentation import SpeedLevels
 
 DT = 0.02
@@ -56,3 +57,14 @@ def tracker_poses(positions: np.ndarray, X: np.ndarray) -> np.ndarray:
     P = np.repeat(np.eye(4)[None], positions.shape[0], axis=0)
     P[:, :3, 3] = positions
     return X @ P
+
+
+def drawn_takes(points: np.ndarray, n: int, rng: np.random.Generator) -> list[Trajectory]:
+    """``n`` takes of a polyline in the identity frame, each corner moved by up to 2 cm within
+    the drawing plane and drawn at its own pace."""
+    out = []
+    for _ in range(n):
+        P = drawn_positions(points + rng.uniform(-0.02, 0.02, points.shape) * [1, 1, 0],
+                            stroke_s=rng.uniform(0.5, 0.7))
+        out.append(Trajectory.from_poses(DT * np.arange(P.shape[0]), tracker_poses(P, np.eye(4))))
+    return out

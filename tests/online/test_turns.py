@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from drawing import DT, LEVELS, drawn_positions, tracker_poses
+from drawing import DT, LEVELS, drawn_positions, drawn_takes, tracker_poses
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -88,20 +88,10 @@ def test_a_turn_is_forbidden_only_where_the_demonstrations_agree():
     assert forbidden_turns([]) == 0
 
 
-def _takes(points: np.ndarray, n: int, rng: np.random.Generator) -> list[Trajectory]:
-    """``n`` takes of a polyline, each corner moved by up to 2 cm and drawn at its own pace."""
-    out = []
-    for _ in range(n):
-        P = drawn_positions(points + rng.uniform(-0.02, 0.02, points.shape) * [1, 1, 0],
-                            stroke_s=rng.uniform(0.5, 0.7))
-        out.append(Trajectory.from_poses(DT * np.arange(P.shape[0]), tracker_poses(P, np.eye(4))))
-    return out
-
-
 @pytest.fixture(scope="module")
 def drawn_recognizer():
     rng = np.random.default_rng(3)
-    takes = _takes(ZIGZAG, 5, rng) + _takes(TRIANGLE, 5, rng)
+    takes = drawn_takes(ZIGZAG, 5, rng) + drawn_takes(TRIANGLE, 5, rng)
     labels = ["zigzag"] * 5 + ["triangle"] * 5
     return Recognizer.from_trajectories(takes, labels), (takes, labels)
 
@@ -124,7 +114,7 @@ def test_the_recognizer_forbids_what_the_demonstrations_never_do(drawn_recognize
 @pytest.fixture(scope="module")
 def zigzag_alone():
     """The zigzag enrolled alone with one loose threshold for all: only the turns tell a U apart."""
-    takes = _takes(ZIGZAG, 5, np.random.default_rng(3))
+    takes = drawn_takes(ZIGZAG, 5, np.random.default_rng(3))
     return [Recognizer.from_trajectories(takes, ["zigzag"] * 5, threshold=0.2, turns=turns)
             for turns in (True, False)]
 

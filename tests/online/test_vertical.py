@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 import pytest
-from drawing import DT, drawn_positions, tracker_poses
+from drawing import DT, drawn_positions, drawn_takes, tracker_poses
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -91,19 +91,10 @@ def test_limits_widen_the_demonstrations_range():
     assert vertical_limits([], 0.3) is None
 
 
-def _takes(points: np.ndarray, n: int, rng: np.random.Generator) -> list[Trajectory]:
-    out = []
-    for _ in range(n):
-        P = drawn_positions(points + rng.uniform(-0.02, 0.02, points.shape) * [1, 1, 0],
-                            stroke_s=rng.uniform(0.5, 0.7))
-        out.append(Trajectory.from_poses(DT * np.arange(P.shape[0]), tracker_poses(P, np.eye(4))))
-    return out
-
-
 @pytest.fixture(scope="module")
 def zigzag_alone():
     """The zigzag enrolled alone with one loose threshold, with and without a vertical."""
-    takes = _takes(ZIGZAG, 5, np.random.default_rng(3))
+    takes = drawn_takes(ZIGZAG, 5, np.random.default_rng(3))
     return [Recognizer.from_trajectories(takes, ["zigzag"] * 5, threshold=0.2, up=up)
             for up in ("+y", None)]
 
@@ -148,7 +139,7 @@ def test_real_people_stay_within_another_persons_range_and_the_margin():
 
 def test_a_library_keeps_its_vertical(tmp_path):
     """``framefree enroll ... --set up=+y``: the axis and the limits travel with the library."""
-    takes = _takes(ZIGZAG, 3, np.random.default_rng(5))
+    takes = drawn_takes(ZIGZAG, 3, np.random.default_rng(5))
     lib = enroll(TakeSet(tuple(takes), ("zigzag",) * 3, tuple(f"z{k}" for k in range(3))), up="+y")
     rec = load_recognizer(lib.save(tmp_path / "zigzag.npz"))
     assert rec.config.up == "+y"
