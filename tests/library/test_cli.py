@@ -58,6 +58,18 @@ def test_record_writes_takes_with_cues(recorded, tmp_path) -> None:
     assert len(list((tmp_path / "lib" / "go_right" / "today").glob("*.csv"))) == 2
 
 
+def test_record_joins_a_performance_that_hesitated(tmp_path) -> None:
+    from framefree.replica import person
+    from framefree.replica.people_streams import take_session
+
+    take_session("go_left", person(6), n_takes=5, seed=6).traj.to_csv(tmp_path / "hesitant.csv")
+    res = CliRunner().invoke(cli, ["record", "--source", str(tmp_path / "hesitant.csv"), "--gesture",
+                                   "go_left", "--library", str(tmp_path / "lib")])
+    assert res.exit_code == 0, res.output
+    assert "joined as one performance" in res.output
+    assert len(list((tmp_path / "lib" / "go_left" / "own").glob("*.csv"))) == 5
+
+
 def test_record_without_motion_fails_clearly(tmp_path) -> None:
     n = 200
     still = np.column_stack([0.02 * np.arange(n), np.zeros((n, 3)), np.tile([1.0, 0, 0, 0], (n, 1))])

@@ -197,3 +197,66 @@ def test_recorder_leaves_out_the_ways_back_between_takes(shape: str, seed: int) 
     # each kept take covers one labelled performance
     for (span, _), seg in zip(takes, session.segments, strict=True):
         assert span.onset < seg.end_t and span.end > seg.start_t
+
+
+def _hesitant_session() -> object:
+    """A development person (seed 6) whose pause at the turning point of *go left* outlasts the
+    recorder's shortest rest in some performances: their first take used to be cut in two."""
+    from framefree.replica import person
+    from framefree.replica.people_streams import take_session
+
+    return take_session("go_left", person(6), n_takes=5, seed=6)
+
+
+def _record(traj: Trajectory, **kwargs) -> TakeRecorder:
+    rec = TakeRecorder(**kwargs)
+    for t, p, q in zip(traj.t, traj.p, traj.q, strict=True):
+        rec.push(t, p, q)
+    return rec
+
+
+def _covers(span, seg) -> bool:
+    """The span holds most of the labelled performance."""
+    return min(span.end, seg.end_t) - max(span.onset, seg.start_t) > 0.8 * (seg.end_t - seg.start_t)
+
+
+def test_a_performance_that_hesitates_at_its_turning_point_is_one_take() -> None:
+    session = _hesitant_session()
+    rec = _record(session.traj)
+    takes = rec.finish()
+    assert len(takes) == 5 and rec.joined
+    for (span, _), seg in zip(takes, session.segments, strict=True):
+        assert _covers(span, seg)
+    first, second, both = rec.joined[0]
+    assert both.onset == first.onset and both.end == second.end
+    # without joining, the same recording loses a performance to halves (the test can fail)
+    halves = _record(session.traj, pause_ratio=0.0).finish()
+    assert not all(_covers(span, seg) for (span, _), seg in zip(halves, session.segments, strict=False))
+
+
+def test_joining_does_not_depend_on_the_world_frame() -> None:
+    session = _hesitant_session()
+    moved = session.traj.transformed(world=random_frame(np.random.default_rng(3), 2.0))
+    a, b = _record(session.traj), _record(moved)
+    spans_a, spans_b = [s for s, _ in a.finish()], [s for s, _ in b.finish()]
+    assert len(a.joined) == len(b.joined)
+    assert [s.onset for s in spans_a] == pytest.approx([s.onset for s in spans_b], abs=0.1)
+
+
+def test_an_open_stroke_is_returned_once_the_next_move_shows_it_complete() -> None:
+    from framefree.replica import person
+    from framefree.replica.people_streams import take_session
+
+    session = take_session("zigzag", person(0), n_takes=2, seed=0)
+    end_of_first = session.segments[0].end_t
+    rec = TakeRecorder()
+    seen_pending = False
+    for t, p, q in zip(session.traj.t, session.traj.p, session.traj.q, strict=True):
+        rec.push(t, p, q)
+        if t > end_of_first + 1.5 and t < session.segments[1].start_t and not rec.spans:
+            rec.poll()
+            seen_pending |= rec.pending == 1
+    assert seen_pending, "the first Z waits for the move after it"
+    rec.finish()
+    assert len(rec.spans) == 2 and not rec.joined
+    assert [why for _, why in rec.left_out] == ["way back"]

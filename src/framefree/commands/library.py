@@ -55,6 +55,7 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
     its motion with a short rest before and after, and written in the dataset layout.
     For a gesture that ends away from its start (a swipe, a Z), the move back to the start between
     performances is recognized and left out, with a line saying so; so are small settling moves.
+    Two moves separated by a pause much shorter than your rests are one performance (a hesitation).
     Stop with Ctrl-C, --takes N, or by ending the stream.
     """
     from ..library.takes import TakeRecorder, TakeSettings, write_take
@@ -66,8 +67,15 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
                "... (Ctrl-C to stop)", err=True)
     written: list[Path] = []
     noted: list = []
+    joined: list = []
 
     def save(found) -> None:
+        while len(recorder.joined) > len(joined):
+            first, second, _ = recorder.joined[len(joined)]
+            joined.append(second)
+            click.secho(f"the move at {second.onset:.1f}-{second.end:.1f} s followed the one at "
+                        f"{first.onset:.1f}-{first.end:.1f} s after a pause much shorter than your "
+                        "rests: joined as one performance", fg="yellow", err=True)
         while len(recorder.left_out) > len(noted):
             span, reason = recorder.left_out[len(noted)]
             noted.append(span)
@@ -88,7 +96,7 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
             if last is None or t - last >= _POLL_PERIOD:
                 last = t
                 save(recorder.poll())
-            if max_takes is not None and len(written) >= max_takes:
+            if max_takes is not None and len(written) + recorder.pending >= max_takes:
                 break
     except KeyboardInterrupt:
         pass

@@ -328,6 +328,12 @@ def _travel(take: Trajectory) -> tuple[float, float]:
             float(np.linalg.norm(np.diff(take.p, axis=0), axis=1).sum()))
 
 
+def _is_open(take: Trajectory, open_ratio: float = 0.15) -> bool:
+    """Whether a take ends away from its start: at least ``open_ratio`` of its path length."""
+    away, path = _travel(take)
+    return path > 0 and away >= open_ratio * path
+
+
 def is_way_back(previous: Trajectory, take: Trajectory, tolerance: float = 0.5,
                 open_ratio: float = 0.15) -> bool:
     """True if ``take`` is the hand going back to where ``previous`` began.
@@ -353,9 +359,9 @@ def is_way_back(previous: Trajectory, take: Trajectory, tolerance: float = 0.5,
     -------
     bool
     """
-    away, path = _travel(previous)
-    if path <= 0 or away < open_ratio * path:
+    if not _is_open(previous, open_ratio):
         return False
+    away = _travel(previous)[0]
     starts_at_end = np.linalg.norm(take.p[0] - previous.p[-1]) <= tolerance * away
     ends_at_start = np.linalg.norm(take.p[-1] - previous.p[0]) <= tolerance * away
     return bool(starts_at_end and ends_at_start)
@@ -373,6 +379,13 @@ class TakeRecorder:
     the return between performances of an open stroke), and a move whose screw path is less than
     ``min_relative_path`` times the largest take's so far (settling the hand, not a performance).
 
+    A move that goes back *after a pause much shorter than this person's rests* is no way back but
+    the second half of a performance that hesitated at its turning point (an out-and-back gesture
+    whose pause there outlasted ``min_rest``): it is joined to the take before it and listed in
+    :attr:`joined`. Much shorter: under ``pause_ratio`` × the median of the recording's rests so
+    far (the rest before the first take included). So an open take is returned only once the next
+    move (or the end of the recording) shows that it is complete.
+
     Parameters
     ----------
     settings : TakeSettings, optional
@@ -381,20 +394,29 @@ class TakeRecorder:
         Return every take, leaving nothing out.
     min_relative_path : float
         Smallest screw path of a take relative to the largest kept before it.
+    pause_ratio : float
+        A way back that follows its take after less than this fraction of the recording's median
+        rest is joined to it (0.6).
     """
 
     def __init__(self, settings: TakeSettings | None = None, keep_all: bool = False,
-                 min_relative_path: float = 0.25) -> None:
+                 min_relative_path: float = 0.25, pause_ratio: float = 0.6) -> None:
         self.settings = settings or TakeSettings()
         self.keep_all = keep_all
         self.min_relative_path = float(min_relative_path)
+        self.pause_ratio = float(pause_ratio)
         self._rows: list[np.ndarray] = []
         self._done_until = -math.inf
         self._last_kept: Trajectory | None = None
+        self._last_span: TakeSpan | None = None
+        self._held: tuple[TakeSpan, Trajectory] | None = None
+        self._rests: list[float] = []
         self._largest = 0.0
         self.spans: list[TakeSpan] = []
         #: (span, reason) of every take left out: ``"way back"`` or ``"small"``
         self.left_out: list[tuple[TakeSpan, str]] = []
+        #: (first, second, joined) spans of every performance put back together after a pause
+        self.joined: list[tuple[TakeSpan, TakeSpan, TakeSpan]] = []
 
     def _reason_to_leave_out(self, span: TakeSpan, take: Trajectory) -> str | None:
         if self.keep_all:
@@ -431,15 +453,52 @@ class TakeRecorder:
             if not final and now - sp.end < self.settings.min_rest:
                 break
             self._done_until = sp.end
+            rest = sp.onset - (self._last_span.end if self._last_span else float(traj.t[0]))
+            self._last_span = sp
             take = cut_take(traj, sp, f"take {len(self.spans) + 1}")
             reason = self._reason_to_leave_out(sp, take)
+            if reason != "small" and self._held is not None and self._is_pause(rest):
+                yield self._keep(*self._join(traj, self._held[0], sp))
+                continue
+            self._rests.append(rest)
             if reason is not None:
                 self.left_out.append((sp, reason))
+                if self._held is not None:
+                    yield self._keep(*self._held)
                 continue
+            if self._held is not None:
+                yield self._keep(*self._held)
             self._last_kept = take
             self._largest = max(self._largest, sp.path)
-            self.spans.append(sp)
-            yield sp, take
+            if self.keep_all or not _is_open(take):
+                yield self._keep(sp, take)
+            else:  # complete only once the next move is known not to be its second half
+                self._held = (sp, take)
+        if final and self._held is not None:
+            yield self._keep(*self._held)
+
+    def _is_pause(self, rest: float) -> bool:
+        """Whether a rest is much shorter than the recording's rests so far."""
+        return bool(self._rests) and rest < self.pause_ratio * float(np.median(self._rests))
+
+    def _join(self, traj: Trajectory, first: TakeSpan, second: TakeSpan) -> tuple[TakeSpan, Trajectory]:
+        """The performance ``first`` … ``second`` as one take."""
+        both = TakeSpan(first.onset, second.end, first.start, second.stop,
+                        max(first.peak_speed, second.peak_speed), first.path + second.path)
+        self.joined.append((first, second, both))
+        take = cut_take(traj, both, f"take {len(self.spans) + 1}")
+        self._last_kept = take
+        return both, take
+
+    def _keep(self, span: TakeSpan, take: Trajectory) -> tuple[TakeSpan, Trajectory]:
+        self._held = None
+        self.spans.append(span)
+        return span, take
+
+    @property
+    def pending(self) -> int:
+        """Takes found but not yet returned (0 or 1: an open take waiting for the next move)."""
+        return int(self._held is not None)
 
     def poll(self) -> list[tuple[TakeSpan, Trajectory]]:
         """Takes completed since the last call: (span, take) pairs."""
