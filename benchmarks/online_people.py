@@ -15,6 +15,8 @@ false positive came from; ``--json`` writes it all.
     .venv/bin/python benchmarks/online_people.py --people heldout --per-person 2 --json out.json
     .venv/bin/python benchmarks/online_people.py --people dev --set confirm=0.3
     .venv/bin/python benchmarks/online_people.py --people dev --style hesitant
+    .venv/bin/python benchmarks/online_people.py --people dev --style hesitant --hesitation 1 \
+        --hesitation-pause 0.4,0.7     # every stroke nearly stops for 0.4-0.7 s
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ import argparse
 import collections
 import json
 import time
+from dataclasses import replace
 from pathlib import Path
 
 from joblib import Parallel, delayed
@@ -118,6 +121,10 @@ def main() -> None:
     ap.add_argument("--style", choices=list(STYLES), help="every person performs in this style "
                     "(framefree.replica.people.STYLES): hesitant (small, slow, trembling, near-stops) "
                     "or sloppy (large, fast, inconsistent)")
+    ap.add_argument("--hesitation", type=float, default=None,
+                    help="with --style: probability that a stroke nearly stops (hesitant: 0.25)")
+    ap.add_argument("--hesitation-pause", default=None,
+                    help="with --style: LO,HI range [s] of each near-stop (hesitant: 0.2,0.4)")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--json", type=Path)
     args = ap.parse_args()
@@ -129,12 +136,18 @@ def main() -> None:
     if args.style is None:
         items = make_person_streams(seeds, n_streams_per_person=args.per_person, progress=True)
     else:  # the sessions of make_person_streams, performed in the style
-        items = [person_stream(1000 * p + k, styled(person(p), args.style))
+        changes = {}
+        if args.hesitation is not None:
+            changes["hesitation"] = args.hesitation
+        if args.hesitation_pause is not None:
+            changes["hesitation_pause"] = tuple(float(x) for x in args.hesitation_pause.split(","))
+        items = [person_stream(1000 * p + k, replace(styled(person(p), args.style), **changes))
                  for p in seeds for k in range(args.per_person)]
     print(f"{len(items)} streams, {sum(len(i.segments) for i in items)} labelled items, "
           f"{sum(i.traj.duration for i in items) / 60:.1f} min ({time.perf_counter() - t0:.0f} s)")
     methods = ["segments", "paper"] if args.method == "both" else [args.method]
     out = {"people": args.people, "per_person": args.per_person, "style": args.style,
+           "hesitation": args.hesitation, "hesitation_pause": args.hesitation_pause,
            "settings": overrides}
     for method in methods:
         rows = Parallel(n_jobs=args.jobs)(
