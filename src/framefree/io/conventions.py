@@ -10,9 +10,9 @@ always named, never guessed.
 ===========  ============  ======  ==================  =========================================
 name         handedness    up      quaternion order    axes (as the system defines them)
 ===========  ============  ======  ==================  =========================================
-framefree    right         +z      w x y z             framefree's own CSV; the replica
+framefree    right         +z      w x y z             framefree's own CSV
 ros          right         +z      x y z w             REP 103: x forward, y left, z up
-openvr       right         +y      w x y z             SteamVR: x right, y up, −z forward
+openvr       right         +y      w x y z             SteamVR: x right, y up, −z forward; the replica
 unity        left          +y      x y z w             x right, y up, z forward (Machete, VR apps)
 ===========  ============  ======  ==================  =========================================
 
