@@ -260,3 +260,33 @@ def test_an_open_stroke_is_returned_once_the_next_move_shows_it_complete() -> No
     rec.finish()
     assert len(rec.spans) == 2 and not rec.joined
     assert [why for _, why in rec.left_out] == ["way back"]
+
+
+def _held_z_session(hold: float, rest: float = 2.5, n: int = 3) -> Trajectory:
+    """A Z drawn ``n`` times (0.3 m wide), the hand held still for ``hold`` seconds at each corner,
+    resting ``rest`` seconds after each performance and after each way back to the start."""
+    a, b, c, d = (np.array(v) for v in ([0, 0, 0.0], [0.3, 0, 0], [0, -0.25, 0], [0.3, -0.25, 0]))
+    plan: list[tuple[np.ndarray, float]] = [(a, rest)]
+    for k in range(n):
+        if k:
+            plan += [(a, 0.8), (a, rest)]
+        plan += [(b, 0.5), (b, hold), (c, 0.6), (c, hold), (d, 0.5), (d, rest)]
+    dt, pos, rows = 0.02, a, [a]
+    for target, duration in plan:
+        u = np.arange(1, round(duration / dt) + 1) / round(duration / dt)
+        s = 10 * u**3 - 15 * u**4 + 6 * u**5  # minimum jerk
+        rows += list(pos + s[:, None] * (target - pos))
+        pos = target
+    p = np.array(rows) + np.random.default_rng(0).normal(0.0, 2e-4, (len(rows), 3))
+    return Trajectory(dt * np.arange(len(rows)), p, np.tile([1.0, 0, 0, 0], (len(rows), 1)))
+
+
+def test_a_z_held_at_its_corners_is_one_take_and_its_ways_back_are_left_out() -> None:
+    session = _held_z_session(hold=1.0)
+    rec = _record(session)
+    takes = rec.finish()
+    assert len(takes) == 3 and len(rec.joined) == 6  # each Z put back together from three strokes
+    assert [why for _, why in rec.left_out] == ["way back", "way back"]
+    assert all(3.0 < span.duration < 4.5 for span, _ in takes)
+    # without joining every stroke is a take of its own (the test can fail)
+    assert len(_record(session, pause_ratio=0.0).finish()) > 3

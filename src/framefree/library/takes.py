@@ -458,7 +458,11 @@ class TakeRecorder:
             take = cut_take(traj, sp, f"take {len(self.spans) + 1}")
             reason = self._reason_to_leave_out(sp, take)
             if reason != "small" and self._held is not None and self._is_pause(rest):
-                yield self._keep(*self._join(traj, self._held[0], sp))
+                both, whole = self._join(traj, self._held[0], sp)
+                if _is_open(whole):  # it may go on after another pause (a Z held at each corner)
+                    self._held = (both, whole)
+                else:
+                    yield self._keep(both, whole)
                 continue
             self._rests.append(rest)
             if reason is not None:
