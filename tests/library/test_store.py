@@ -125,6 +125,16 @@ def test_settings_of_another_version_say_how_to_rebuild(hpm_library_file: Path, 
         load_library(bad)
 
 
+def test_a_library_from_before_the_gram_alignment_keeps_its_alignment(hpm_library_file: Path,
+                                                                       tmp_path: Path) -> None:
+    """A library saved before ``align`` existed was calibrated on the singular values: it is
+    restored with them, so its thresholds fit; a new one uses the default."""
+    assert load_library(hpm_library_file).recognizer_config().align == "gram"
+    old = _rewrite(hpm_library_file, tmp_path / "before.npz", lambda m: m["config"].pop("align"))
+    restored = load_library(old).recognizer()
+    assert restored.config.align == "singular" and restored.classifier.descriptor.align == "singular"
+
+
 def test_not_a_library(tmp_path: Path) -> None:
     junk = tmp_path / "junk.npz"
     junk.write_bytes(b"not a zip")

@@ -63,7 +63,7 @@ def test_a_segment_is_classified_live_as_offline(recognizer, models, heldout_str
     c = recognizer.config
     offline = get_descriptor("bilts+", progress="screw", L=c.L, ds_scale=c.ds_scale,
                              n_samples=c.n_samples, presmooth=c.presmooth, axis_prior=c.axis_prior,
-                             spacing=c.window_spacing)
+                             spacing=c.window_spacing, align=c.align)
     model_desc = [offline.compute(tr) for tr in models[0]]
     for times, poses, d in seen[::5]:
         query = Trajectory.from_poses(times - times[0], poses)

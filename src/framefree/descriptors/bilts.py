@@ -13,7 +13,8 @@ Pipeline per trajectory (docs/algorithms/bilts.md):
 
 Distances: DTW path on the singular values, then the sum along the path of the squared Euclidean
 difference of the 18 twist entries (BILTS) or of the Kabsch residual of the six 3-vectors (BILTS+),
-divided by ``n_query + n_model - 1``.
+divided by ``n_query + n_model - 1``. framefree's ``align="gram"`` (off by default) aligns on the
+21 distinct dot products of the six vectors instead (docs/algorithms/bilts.md#gram-alignment).
 """
 
 from __future__ import annotations
@@ -63,6 +64,24 @@ _TWIST_NAMES = tuple(
 )
 FEATURE_NAMES = (*_TWIST_NAMES, "sigma_Lw_1", "sigma_Lw_2", "sigma_Lw_3")
 FEATURE_NAMES = (*FEATURE_NAMES, "sigma_v_1", "sigma_v_2", "sigma_v_3")
+#: Upper triangle (row-major) of the 6 × 6 Gram matrix of a sample's six 3-vectors
+_UPPER = np.triu_indices(6)
+#: Columns added by ``align="gram"``: the distinct dot products of the six window vectors
+GRAM_NAMES = tuple(f"gram_{i}{j}" for i, j in zip(*_UPPER, strict=True))
+#: Alignments: ``"singular"`` (the reference: DTW on the six singular values) or ``"gram"``
+ALIGNMENTS = ("singular", "gram")
+
+
+def gram_columns(samples: np.ndarray) -> np.ndarray:
+    """The 21 distinct dot products of each sample's six 3-vectors (columns 0–17), shape (K, 21).
+
+    A rotation of the moving frame leaves them unchanged, as it leaves the singular values; unlike
+    those, they keep the angles between the window's twists, which tell a straight stroke from a
+    corner and one stroke from the next (docs/algorithms/bilts.md#gram-alignment).
+    """
+    V = np.ascontiguousarray(samples[:, :18]).reshape(len(samples), 6, 3)
+    G = np.einsum("kia,kja->kij", V, V)
+    return np.ascontiguousarray(G[:, _UPPER[0], _UPPER[1]])
 
 
 def window_spacing(ds_scale: float, ds: float, cap: int = MAX_WINDOW_SPACING) -> int:
@@ -293,6 +312,7 @@ class _BILTSBase(Descriptor):
         "open_end",
         "axis_prior",
         "spacing",
+        "align",
     )
     regularized: bool = False
     default_window: int = 20
@@ -310,6 +330,7 @@ class _BILTSBase(Descriptor):
         open_end: bool = False,
         axis_prior: float = 0.0,
         spacing: int | None = None,
+        align: str = "singular",
     ) -> None:
         self.progress = self._check_progress(progress)
         if not L > 0:
@@ -335,6 +356,9 @@ class _BILTSBase(Descriptor):
         if spacing is not None and not (int(spacing) == spacing and spacing >= 1):
             raise ValueError(f"spacing must be a whole number of samples >= 1, got {spacing}")
         self.spacing = None if spacing is None else int(spacing)
+        if align not in ALIGNMENTS:
+            raise ValueError(f"align must be one of {', '.join(ALIGNMENTS)}, got {align!r}")
+        self.align = align
 
     @classmethod
     def parameter_grid(cls, progress: str) -> tuple[float, ...]:
@@ -368,31 +392,47 @@ class _BILTSBase(Descriptor):
         twists = se3.central_spatial_twists(smoothed, ds)
         twists = twists + twist_perturbation(self.seed, twists.shape)
         positions = np.ascontiguousarray(smoothed[:, :3, 3])
-        return bilts_windows(np.ascontiguousarray(twists), positions, m, self.L, self.regularized,
-                             self.axis_prior)
+        out = bilts_windows(np.ascontiguousarray(twists), positions, m, self.L, self.regularized,
+                            self.axis_prior)
+        return np.hstack([out, gram_columns(out)]) if self.align == "gram" else out
+
+    @property
+    def n_features(self) -> int:
+        """Columns of a sample: 24, or 45 with ``align="gram"``."""
+        return N_FEATURES + (len(GRAM_NAMES) if self.align == "gram" else 0)
+
+    @property
+    def _aligned(self) -> tuple[int, int]:
+        return (N_FEATURES, self.n_features) if self.align == "gram" else (18, N_FEATURES)
 
     _pointwise: int = POINTWISE_SQUARED
 
     def alignment_columns(self, n_features: int) -> slice:
-        """DTW aligns on the six singular values (columns 18–23)."""
-        return slice(18, 24) if n_features == N_FEATURES else slice(0, n_features)
+        """DTW aligns on the six singular values (columns 18–23), or with ``align="gram"`` on the
+        21 dot products (columns 24–44)."""
+        return slice(*self._aligned) if n_features == self.n_features else slice(0, n_features)
 
     def distance_spec(self) -> DistanceSpec:
-        """DTW on the singular values (columns 18–23), then the pointwise term along the path."""
-        return DistanceSpec(18, 24, self._pointwise, bool(self.open_end))
+        """DTW on the alignment columns, then the pointwise term along the path."""
+        return DistanceSpec(*self._aligned, self._pointwise, bool(self.open_end))
+
+    def _check_columns(self, *arrays: np.ndarray) -> None:
+        if any(a.ndim != 2 or a.shape[1] != self.n_features for a in arrays):
+            raise ValueError(f"{self.display_name} sequences (align={self.align!r}) are "
+                             f"(K, {self.n_features}) arrays")
 
     def distance(self, model: np.ndarray, query: np.ndarray) -> float:
-        """Distance between one model and one query sequence (both (K, 24))."""
+        """Distance between one model and one query sequence (both (K, 24), or (K, 45) with
+        ``align="gram"``)."""
         X = np.ascontiguousarray(model, dtype=np.float64)
         Y = np.ascontiguousarray(query, dtype=np.float64)
-        if X.ndim != 2 or Y.ndim != 2 or X.shape[1] != N_FEATURES or Y.shape[1] != N_FEATURES:
-            raise ValueError(f"BILTS sequences are (K, {N_FEATURES}) arrays")
-        return float(path_distance_kernel(X, Y, 18, 24, self._pointwise, self.open_end))
+        self._check_columns(X, Y)
+        return float(path_distance_kernel(X, Y, *self._aligned, self._pointwise, self.open_end))
 
     def distance_matrix(
         self, queries: Sequence[np.ndarray], models: Sequence[np.ndarray]
     ) -> np.ndarray:
-        """DTW on the singular values, pointwise sum of the twist part along the path
+        """DTW on the alignment columns, pointwise sum of the twist part along the path
         (docs/algorithms/dtw.md).
 
         Returns
@@ -401,9 +441,9 @@ class _BILTSBase(Descriptor):
         """
         qd, qo = pack_sequences(list(queries))
         md, mo = pack_sequences(list(models))
-        if qd.shape[1] != N_FEATURES or md.shape[1] != N_FEATURES:
-            raise ValueError(f"BILTS sequences have {N_FEATURES} columns")
-        return path_distance_matrix_kernel(qd, qo, md, mo, 18, 24, self._pointwise, self.open_end)
+        self._check_columns(qd, md)
+        return path_distance_matrix_kernel(qd, qo, md, mo, *self._aligned, self._pointwise,
+                                           self.open_end)
 
 
 @register

@@ -90,7 +90,7 @@ class CheckSettings:
 
     warn_margin: float = 1.5
     fail_margin: float = 1.15
-    unlike_ratio: float = 3.0
+    unlike_ratio: float = 5.0
     perturbations: int = 4
     speed_range: tuple[float, float] = (0.5, 2.0)
     size_range: tuple[float, float] = (1 / 1.3, 1.3)

@@ -340,8 +340,10 @@ class GestureLibrary:
         return fingerprint(self.takes, self.settings)
 
     def recognizer_config(self) -> RecognizerConfig:
-        """The stored configuration as a :class:`~framefree.online.RecognizerConfig`."""
-        return RecognizerConfig.from_dict(self.config).replace(stop_threshold=self.stop_threshold)
+        """The stored configuration as a :class:`~framefree.online.RecognizerConfig` (a library
+        saved before the ``align`` setting existed was calibrated with the singular values)."""
+        return RecognizerConfig.from_dict({"align": "singular", **self.config}).replace(
+            stop_threshold=self.stop_threshold)
 
     def recognizer(self) -> Recognizer:
         """A live recognizer: models rebuilt from the takes, thresholds restored (no calibration)."""

@@ -35,6 +35,10 @@ class RecognizerConfig:
     axis_prior : float
         Weight κ of the BILTS+ axis prior of the classifier (1.0, as the recommended offline
         method; 0: the reference's frame origin). See docs/algorithms/bilts.md#axis-prior.
+    align : {"gram", "singular"}
+        What the classifier's DTW aligns on: the 21 dot products of the six vectors of each BILTS+
+        sample ("gram", v13) or its six singular values ("singular", the reference and the
+        offline default). See docs/algorithms/bilts.md#gram-alignment.
     n_samples : int
         Progress samples of the classifier's descriptor (50, as offline).
     relative_window : bool
@@ -235,6 +239,7 @@ class RecognizerConfig:
     ds_scale: float = 0.06
     presmooth: int = 5
     axis_prior: float = 1.0
+    align: str = "gram"
     n_samples: int = 50
     relative_window: bool = True
     window_spacing: int | None = None
@@ -310,6 +315,8 @@ class RecognizerConfig:
             raise ValueError(f"return_error must be a finite number >= 0, got {self.return_error}")
         if not (self.axis_prior >= 0 and self.axis_prior < float("inf")):
             raise ValueError(f"axis_prior must be a finite number >= 0, got {self.axis_prior}")
+        if self.align not in ("singular", "gram"):
+            raise ValueError(f"align must be 'singular' or 'gram', got {self.align!r}")
         if self.window_spacing is not None and not self.window_spacing >= 1:
             raise ValueError(f"window_spacing must be at least 1, got {self.window_spacing}")
         if self.n_samples < 5:

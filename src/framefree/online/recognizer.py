@@ -75,11 +75,11 @@ STAT_KEYS = ("grid", "units", "candidates", "events", "stops", "restarts")
 def segment_descriptor(config: RecognizerConfig) -> Descriptor:
     """The offline descriptor the recognizer classifies segments with: BILTS+ with screw-path
     progress and the configuration's ``L``, ``ds_scale``, ``n_samples``, ``presmooth``,
-    ``axis_prior`` and, with ``relative_window``, ``window_spacing``."""
+    ``axis_prior``, ``align`` and, with ``relative_window``, ``window_spacing``."""
     spacing = config.window_spacing if config.relative_window else None
     return get_descriptor("bilts+", progress="screw", L=config.L, ds_scale=config.ds_scale,
                           n_samples=config.n_samples, presmooth=config.presmooth,
-                          axis_prior=config.axis_prior, spacing=spacing)
+                          axis_prior=config.axis_prior, spacing=spacing, align=config.align)
 
 
 def model_window_spacing(trajectories: Sequence[Trajectory], config: RecognizerConfig) -> int:
