@@ -58,7 +58,8 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
     Two moves separated by a pause much shorter than your rests are one performance (a hesitation).
     Stop with Ctrl-C, --takes N, or by ending the stream.
     """
-    from ..library.takes import TakeRecorder, TakeSettings, write_take
+    from ..library.recorder import TakeRecorder
+    from ..library.takes import TakeSettings, write_take
 
     changes = {k: v for k, v in (("min_rest", min_rest), ("margin", margin)) if v is not None}
     recorder = TakeRecorder(TakeSettings(**changes), keep_all=keep_all)

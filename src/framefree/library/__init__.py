@@ -19,6 +19,7 @@ Modules: :mod:`~framefree.library.takes` (cutting a recording into takes),
 from .check import CheckReport, CheckSettings, Finding, GestureCheck, check_takes, descriptor_for
 from .figures import plot_distance_map, plot_take_gallery
 from .probes import everyday_motions, perturbed, random_frame, slowest_stop_speed, stop_rotations
+from .recorder import TakeRecorder
 from .store import (
     FORMAT_VERSION,
     OWN_CONTEXT,
@@ -32,7 +33,6 @@ from .store import (
     read_takes,
 )
 from .takes import (
-    TakeRecorder,
     TakeSettings,
     TakeSpan,
     cut_take,
