@@ -76,12 +76,13 @@ class TakeRecorder:
     the return between performances of an open stroke), and a move whose screw path is less than
     ``min_relative_path`` times the largest take's so far (settling the hand, not a performance).
 
-    A move that goes back *after a pause much shorter than this person's rests* is no way back but
-    the second half of a performance that hesitated at its turning point (an out-and-back gesture
-    whose pause there outlasted ``min_rest``): it is joined to the take before it and listed in
-    :attr:`joined`. Much shorter: under ``pause_ratio`` × the median of the recording's rests so
-    far (the rest before the first take included). So an open take is returned only once the next
-    move (or the end of the recording) shows that it is complete.
+    A move that follows an open take *after a pause much shorter than this person's rests* is
+    no new performance and no way back but the rest of that take: a performance that hesitated
+    at its turning point (an out-and-back gesture whose pause there outlasted ``min_rest``) or at
+    a corner. It is joined to the take and listed in :attr:`joined`. Much shorter: under
+    ``pause_ratio`` × the median of the recording's rests so far (the rest before the first take
+    included). So an open take is returned only once the next move (or the end of the recording)
+    shows that it is complete; a joined take that is still open waits again.
 
     Parameters
     ----------
@@ -92,8 +93,8 @@ class TakeRecorder:
     min_relative_path : float
         Smallest screw path of a take relative to the largest kept before it.
     pause_ratio : float
-        A way back that follows its take after less than this fraction of the recording's median
-        rest is joined to it (0.6).
+        A move (not a small one) that follows an open take after less than this fraction of the
+        recording's median rest is joined to it (0.6; 0: never).
     """
 
     def __init__(self, settings: TakeSettings | None = None, keep_all: bool = False,
