@@ -91,7 +91,8 @@ class TakeRecorder:
     keep_all : bool
         Return every take, leaving nothing out.
     min_relative_path : float
-        Smallest screw path of a take relative to the largest kept before it.
+        Smallest screw path of a take relative to the largest move kept before it (a joined take
+        counts by its pieces, so the halves of a later hesitant performance are not "small").
     pause_ratio : float
         A move (not a small one) that follows an open take after less than this fraction of the
         recording's median rest is joined to it (0.6; 0: never).

@@ -13,6 +13,7 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
+from ..descriptors.bilts import ALIGNMENTS
 from .vertical import VERTICAL_MARGIN, up_vector
 
 __all__ = ["RecognizerConfig"]
@@ -315,8 +316,8 @@ class RecognizerConfig:
             raise ValueError(f"return_error must be a finite number >= 0, got {self.return_error}")
         if not (self.axis_prior >= 0 and self.axis_prior < float("inf")):
             raise ValueError(f"axis_prior must be a finite number >= 0, got {self.axis_prior}")
-        if self.align not in ("singular", "gram"):
-            raise ValueError(f"align must be 'singular' or 'gram', got {self.align!r}")
+        if self.align not in ALIGNMENTS:
+            raise ValueError(f"align must be one of {', '.join(ALIGNMENTS)}, got {self.align!r}")
         if self.window_spacing is not None and not self.window_spacing >= 1:
             raise ValueError(f"window_spacing must be at least 1, got {self.window_spacing}")
         if self.n_samples < 5:
