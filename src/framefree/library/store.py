@@ -341,8 +341,10 @@ class GestureLibrary:
 
     def recognizer_config(self) -> RecognizerConfig:
         """The stored configuration as a :class:`~framefree.online.RecognizerConfig` (a library
-        saved before the ``align`` setting existed was calibrated with the singular values)."""
-        return RecognizerConfig.from_dict({"align": "singular", **self.config}).replace(
+        saved before the ``align`` setting existed was calibrated with the singular values, one
+        saved before ``gesture_pauses`` existed keeps the pause limits common to all gestures)."""
+        old = {"align": "singular", "gesture_pauses": False}
+        return RecognizerConfig.from_dict({**old, **self.config}).replace(
             stop_threshold=self.stop_threshold)
 
     def recognizer(self) -> Recognizer:

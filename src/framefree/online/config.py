@@ -229,6 +229,15 @@ class RecognizerConfig:
     vertical_limits : dict of str to (float, float) or None
         Smallest and largest verticality accepted per gesture, used only when ``up`` is set;
         ``None``: from the models (:func:`~framefree.online.vertical.vertical_limits`).
+    gesture_pauses : bool
+        Accept a candidate as a gesture only if its longest rest inside is one that gesture's own
+        demonstrations allow (``pause_limits``), not only one that any enrolled gesture allows
+        (True, v14; a library saved before keeps False). A Z drawn in one go then admits no
+        reposition, a rest and two of a triangle's sides, while a gesture whose demonstrator
+        pauses at its reversal keeps its pause.
+    pause_limits : dict of str to (float, float) or None
+        Each gesture's own ``max_pause`` [s] and ``pause_ratio``, used with ``gesture_pauses``;
+        ``None``: from the models (:func:`~framefree.online.thresholds.gesture_pause_limits`).
     size_limits : dict of str to (float, float) or None
         Smallest and largest size [m of screw path] accepted per gesture; ``None``: from the models
         (:func:`~framefree.online.thresholds.size_limits`).
@@ -300,6 +309,8 @@ class RecognizerConfig:
     corner_limits: dict[str, int] | None = None
     forbidden_turns: dict[str, int] | None = None
     vertical_limits: dict[str, tuple[float, float]] | None = None
+    gesture_pauses: bool = True
+    pause_limits: dict[str, tuple[float, float]] | None = None
     size_limits: dict[str, tuple[float, float]] | None = None
     max_bridge: float = 0.5
 
@@ -344,7 +355,7 @@ class RecognizerConfig:
             raise ValueError(f"corner_slack must not be negative, got {self.corner_slack}")
         if not 0 <= self.corner_angle <= 180:
             raise ValueError(f"corner_angle must be in [0, 180] degrees, got {self.corner_angle}")
-        for name in ("size_limits", "vertical_limits"):
+        for name in ("size_limits", "vertical_limits", "pause_limits"):
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, {str(g): (float(v[0]), float(v[1]))
                                                 for g, v in getattr(self, name).items()})

@@ -58,6 +58,7 @@ from .thresholds import (
     corner_limit,
     forbidden_turns,
     gesture_geometry,
+    gesture_pause_limits,
     gesture_verticality,
     opening_limit,
     pooled_closures,
@@ -114,6 +115,10 @@ def resolve_config(
         c = c.replace(max_units=c.max_units or units, max_duration=c.max_duration or duration,
                       max_pause=c.max_pause or pause,
                       pause_ratio=ratio if c.pause_ratio is None else c.pause_ratio)
+    if c.gesture_pauses and c.pause_limits is None:
+        c = c.replace(pause_limits=gesture_pause_limits(trajectories, labels, levels, c.L,
+                                                        c.max_pause, c.pause_ratio, c.confirm,
+                                                        c.dt))
     if None in (c.closure_limits, c.size_limits, c.opening_limits, c.corner_limits,
                 c.forbidden_turns):
         closed, sizes, corners, turns = gesture_geometry(trajectories, labels, classifier, levels,
@@ -163,7 +168,7 @@ def resolve_config(
 
 def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: RecognizerConfig,
              labels: list[str]) -> Spotter:
-    closures = openings = sizes = corners = turns = None  # None: no limit
+    closures = openings = sizes = corners = turns = pauses = None  # None: no limit
     if c.closure and c.closure_limits is not None:
         closures = np.array([c.closure_limits.get(g, 1.0) for g in labels])
     if c.closure and c.opening_limits is not None:
@@ -174,6 +179,8 @@ def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: Rec
         corners = np.array([c.corner_limits.get(g, np.inf) for g in labels], dtype=float)
     if c.turns and c.forbidden_turns is not None:
         turns = np.array([c.forbidden_turns.get(g, 0) for g in labels], dtype=np.int64)
+    if c.gesture_pauses and c.pause_limits is not None:
+        pauses = np.array([c.pause_limits.get(g, (np.inf, np.inf)) for g in labels])
     up = vertical = None
     if c.up is not None and c.vertical_limits is not None:
         up = up_vector(c.up)
@@ -182,7 +189,7 @@ def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: Rec
                    c.margin, c.confirm, c.max_wait, closures, c.L, sizes,
                    math.inf if c.pause_ratio is None else c.pause_ratio, c.min_pause,
                    c.return_error if c.closure else 0.0, openings, c.fire_on_motion,
-                   c.rest_before, corners, c.corner_angle, turns, up, vertical)
+                   c.rest_before, corners, c.corner_angle, turns, up, vertical, pauses)
 
 
 class Recognizer(StreamingRecognizer):

@@ -18,6 +18,7 @@ candidate, or at the latest ``max_wait`` seconds after its end.
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections import deque
 from collections.abc import Sequence
@@ -34,7 +35,7 @@ from ..errors import DegenerateMotionError
 from .segmentation import PoseBuffer, Unit, closure, corner_count, turn_kinds
 from .vertical import verticality
 
-__all__ = ["Candidate", "SegmentClassifier", "Spotter", "candidate_spans"]
+__all__ = ["Candidate", "SegmentClassifier", "Spotter", "candidate_spans", "pause_allowance", "rest_inside"]
 
 
 class SegmentClassifier:
@@ -140,6 +141,10 @@ class Candidate:
         Which ways its corners turn (:func:`~framefree.online.segmentation.turn_kinds` bits).
     vertical : float
         Its :func:`~framefree.online.vertical.verticality` (NaN when no vertical is known).
+    pause : float
+        Its longest rest between two units [s] (:func:`rest_inside`).
+    stroke : float
+        The duration [s] of a stroke beside that rest (:func:`rest_inside`).
     """
 
     start: int
@@ -156,6 +161,27 @@ class Candidate:
     corners: int = 0
     turns: int = 0
     vertical: float = math.nan
+    pause: float = 0.0
+    stroke: float = math.inf
+
+
+def rest_inside(units: Sequence[Unit]) -> tuple[float, float]:
+    """The longest rest [s] between consecutive units of a span and the duration [s] of a stroke
+    beside it: the span without that rest, shared by at most two strokes (out and back). A
+    hesitation cuts a stroke into pieces with short rests between them; measured on the pieces,
+    a stroke would look short and leave room for no reversal pause at all. ``(0, span)`` for
+    one unit."""
+    longest = max((b.start_t - a.end_t for a, b in itertools.pairwise(units)),
+                  default=0.0)
+    span = units[-1].end_t - units[0].start_t
+    return longest, (span - longest) / min(len(units), 2)
+
+
+def pause_allowance(max_pause: Any, ratio: Any, min_pause: float, stroke: Any) -> Any:
+    """The longest rest [s] allowed inside a candidate whose strokes last ``stroke`` seconds:
+    ``ratio`` × the stroke (a slow person pauses longer, in proportion), at most ``max_pause``
+    and at least ``min_pause`` (broadcasts)."""
+    return np.maximum(min_pause, np.minimum(max_pause, np.asarray(ratio) * stroke))
 
 
 def candidate_spans(
@@ -253,6 +279,10 @@ class Spotter:
     vertical_limits : ndarray, shape (M, 2), optional
         Smallest and largest :func:`~framefree.online.vertical.verticality` a candidate may have
         to be accepted as each model's gesture, used when ``up`` is given (default: no limit).
+    pause_limits : ndarray, shape (M, 2), optional
+        Each model's gesture's own ``max_pause`` [s] and ``pause_ratio``: a candidate is accepted
+        as that gesture only if its longest rest inside is within :func:`pause_allowance` of
+        them (never less than ``min_pause``; default: only the limits above, common to all).
     """
 
     def __init__(
@@ -279,9 +309,12 @@ class Spotter:
         forbidden_turns: np.ndarray | None = None,
         up: np.ndarray | None = None,
         vertical_limits: np.ndarray | None = None,
+        pause_limits: np.ndarray | None = None,
     ) -> None:
         self.classifier = classifier
         n_models = len(classifier.models)
+        self.pause_limits = (np.full((n_models, 2), np.inf) if pause_limits is None
+                             else np.asarray(pause_limits, dtype=np.float64).reshape(n_models, 2))
         self.up = None if up is None else np.asarray(up, dtype=np.float64).reshape(3)
         self.vertical_limits = (np.tile([0.0, 1.0], (n_models, 1)) if vertical_limits is None
                                 else np.asarray(vertical_limits, dtype=np.float64).reshape(n_models, 2))
@@ -360,17 +393,18 @@ class Spotter:
             c = closure(inside, self.L)
             corners, turns = self.corners_and_turns(n)
             v = math.nan if self.up is None else verticality(inside, self.up)
-            d, size = self._classify(times, poses, c, bar, corners, turns, v)
+            pause, stroke = rest_inside(list(self.units)[len(self.units) - n:])
+            d, size = self._classify(times, poses, c, bar, corners, turns, v, pause, stroke)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
             ratio = float(d[j] / self.model_thresholds[j])
             ok = ratio < bar and bool(self.admissible(j, np.array([c]), np.array([size]),
-                                                      corners, turns, v)[0])
+                                                      corners, turns, v, pause, stroke)[0])
             if ok and self.tighten and not self.fire_on_motion:
                 bar = ratio
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
-                                 ratio, n, c, size, ok, corners, turns, v))
+                                 ratio, n, c, size, ok, corners, turns, v, pause, stroke))
         return out
 
     def corners_and_turns(self, n: int) -> tuple[int, int]:
@@ -380,8 +414,8 @@ class Spotter:
         return corner_count(span, self.corner_angle), turn_kinds(span, self.corner_angle)
 
     def _classify(self, times: np.ndarray, poses: np.ndarray, closure_: float, bar: float = 1.0,
-                  corners: int = 0, turns: int = 0, vertical: float = math.nan
-                  ) -> tuple[np.ndarray, float]:
+                  corners: int = 0, turns: int = 0, vertical: float = math.nan,
+                  pause: float = 0.0, stroke: float = math.inf) -> tuple[np.ndarray, float]:
         """Distances (M,) of a candidate to the models and its size [m]. Pruned, only models
         whose gesture admits the candidate's closure, size and corners can accept it, so the others get
         threshold 0, the others ``bar`` times theirs, and a candidate that no gesture admits is
@@ -393,32 +427,37 @@ class Spotter:
         if out is None:
             return np.full(len(clf.models), math.inf), 0.0
         descriptor, size = out
-        admits = self.admitting_models(closure_, size, corners, turns, vertical)
+        admits = self.admitting_models(closure_, size, corners, turns, vertical, pause, stroke)
         accept_below = np.where(admits, bar * self.model_thresholds, 0.0)
         return clf.search_described(descriptor, accept_below), size
 
     def admitting_models(self, closure_: float, size: float, corners: int = 0, turns: int = 0,
-                         vertical: float = math.nan) -> np.ndarray:
+                         vertical: float = math.nan, pause: float = 0.0, stroke: float = math.inf,
+                         ) -> np.ndarray:
         """Which models' gestures admit a segment of this closure, size [m], number of corners,
-        turn kinds and verticality (M,) bool: the rule of :meth:`admissible`, for every model at
-        once."""
-        return self._admits(slice(None), closure_, size, corners, turns, vertical)
+        turn kinds, verticality, longest rest inside [s] and stroke duration [s] (M,) bool: the
+        rule of :meth:`admissible`, for every model at once."""
+        return self._admits(slice(None), closure_, size, corners, turns, vertical, pause, stroke)
 
     def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray,
                    corners: np.ndarray | int = 0, turns: np.ndarray | int = 0,
-                   vertical: np.ndarray | float = math.nan) -> np.ndarray:
+                   vertical: np.ndarray | float = math.nan, pauses: np.ndarray | float = 0.0,
+                   strokes: np.ndarray | float = math.inf) -> np.ndarray:
         """Which segments (closures (n,), sizes (n,) [m], corners (n,), turn kinds (n,),
-        verticality (n,)) may be model ``j``'s gesture: within its size range, no more closed
+        verticality (n,), longest rests inside (n,) [s] and stroke durations (n,) [s],
+        :func:`rest_inside`) may be model ``j``'s gesture: within its size range, no more closed
         than its opening limit, within its closure limit or ending within :attr:`return_error`
         of their start (closure × size), with no more corners than its corner limit, no turn its
-        gesture never makes and, where a vertical is known, within its verticality range (NaN:
-        unknown, passes)."""
+        gesture never makes, no longer a rest inside than its :attr:`pause_limits` allow and,
+        where a vertical is known, within its verticality range (NaN: unknown, passes)."""
         return self._admits(j, np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float),
                             np.asarray(corners, dtype=float), np.asarray(turns, dtype=np.int64),
-                            np.asarray(vertical, dtype=float))
+                            np.asarray(vertical, dtype=float), np.asarray(pauses, dtype=float),
+                            np.asarray(strokes, dtype=float))
 
     def _admits(self, j: int | slice, closures: Any, sizes: Any, corners: Any, turns: Any = 0,
-                vertical: Any = math.nan) -> np.ndarray:
+                vertical: Any = math.nan, pauses: Any = 0.0, strokes: Any = math.inf,
+                ) -> np.ndarray:
         """The admissibility rule for model(s) ``j`` (broadcast against the segments)."""
         lo, hi = self.size_limits[j, 0], self.size_limits[j, 1]
         closes = (closures <= self.closure_limits[j]) | (closures * sizes <= self.return_error)
@@ -427,7 +466,12 @@ class Spotter:
         turning = (np.asarray(turns, dtype=np.int64) & self.forbidden_turns[j]) == 0
         v_lo, v_hi = self.vertical_limits[j, 0], self.vertical_limits[j, 1]
         upright = ~((vertical < v_lo) | (vertical > v_hi))  # NaN: no vertical known
-        return closes & opens & cornered & turning & upright & (sizes >= lo) & (sizes <= hi)
+        with np.errstate(invalid="ignore"):  # inf × 0 when a gesture has no pause of its own
+            allowed = pause_allowance(self.pause_limits[j, 0], self.pause_limits[j, 1],
+                                      self.min_pause, strokes)
+        rested = pauses <= np.nan_to_num(allowed, nan=np.inf)
+        return (closes & opens & cornered & turning & upright & rested & (sizes >= lo)
+                & (sizes <= hi))
 
     def add_unit(self, unit: Unit) -> None:
         """Keep a unit that ended, with the rest [s] the hand held before it."""

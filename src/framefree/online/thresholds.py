@@ -61,6 +61,7 @@ __all__ = [
     "corner_limit",
     "forbidden_turns",
     "gesture_geometry",
+    "gesture_pause_limits",
     "gesture_verticality",
     "opening_limit",
     "pooled_closures",
@@ -273,6 +274,32 @@ def candidate_limits(
     if longest == 0.0:
         raise ValueError("no movement found in the model recordings")
     return 2 * most + 1, span_factor * longest, span_factor * pause, pause_factor * ratio
+
+
+def gesture_pause_limits(
+    trajectories: Sequence[Trajectory], labels: Sequence[str], levels: SpeedLevels, L: float,
+    max_pause: float, pause_ratio: float, pause: float, dt: float = 0.02,
+) -> dict[str, tuple[float, float]]:
+    """Which gestures pause inside, and the pause limits of each: ``{g: (max_pause,
+    pause_ratio)}``.
+
+    A gesture whose recordings typically (the median of their longest rests between two units)
+    rest inside for ``pause`` seconds or more pauses, as at the reversal of an out-and-back
+    move; it keeps the limits common to all gestures, ``max_pause`` [s] and ``pause_ratio``
+    (:func:`candidate_limits`: how long the demonstrator pauses, whichever gesture, stretched for
+    slower people). A gesture performed in one go, as a Z drawn without stopping at its
+    corners, gets ``(0, 0)``: only the hesitation that every candidate is allowed
+    (``min_pause``). A reposition, a rest and two sides of a triangle are then no Z. A gesture
+    with no movement unit is left out.
+    """
+    longest: dict[str, list[float]] = {}
+    for tr, g in zip(trajectories, labels, strict=True):
+        _, units = _units(tr, levels, L, dt)
+        if units:
+            rests = [b.start_t - a.end_t for a, b in itertools.pairwise(units)]
+            longest.setdefault(g, []).append(max(rests, default=0.0))
+    return {g: (max_pause, pause_ratio) if float(np.median(v)) >= pause else (0.0, 0.0)
+            for g, v in longest.items()}
 
 
 def corner_limit(counts: Sequence[int], slack: int = 1) -> int | None:
