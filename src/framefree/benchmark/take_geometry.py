@@ -19,10 +19,10 @@ from ..online.config import RecognizerConfig
 from ..online.recognizer import segment_descriptor
 from ..online.segmentation import speed_levels
 from ..online.spotting import SegmentClassifier
-from ..online.thresholds import gesture_verticality, recording_geometry
+from ..online.thresholds import gesture_verticality, longest_corner_rest, recording_geometry
 from ..online.vertical import up_vector
 
-__all__ = ["by_name", "other_peoples", "take_geometry", "take_verticality"]
+__all__ = ["by_name", "other_peoples", "take_geometry", "take_rests", "take_verticality"]
 
 #: (tracker index, person, gesture)
 TakeKey = tuple[int, str, str]
@@ -78,6 +78,24 @@ def take_geometry(data: str | Path, config: RecognizerConfig | None = None
                                           config.dt, config.corner_angle)
             if measured is not None:
                 out.setdefault((tracker, r.person, r.gesture), []).append(measured)
+    return out
+
+
+def take_rests(data: str | Path, config: RecognizerConfig | None = None) -> dict[TakeKey, list[float]]:
+    """The longest rest [s] at a corner of every take
+    (:func:`~framefree.online.thresholds.longest_corner_rest`), per tracker, person and gesture,
+    cut as :func:`take_geometry` cuts them; a take with no movement unit is left out."""
+    config = config or RecognizerConfig()
+    ds = load_people(data)
+    out: dict[TakeKey, list[float]] = {}
+    n_trackers = min((r.sample.n_trackers for r in ds), default=0)
+    for tracker in range(n_trackers):
+        trajs = [r.sample.trackers[tracker] for r in ds]
+        levels = speed_levels(trajs, config.L, config.dt)
+        for r, tr in zip(ds, trajs, strict=True):
+            rest = longest_corner_rest(tr, levels, config.L, config.dt, config.corner_angle)
+            if rest is not None:
+                out.setdefault((tracker, r.person, r.gesture), []).append(rest)
     return out
 
 

@@ -118,7 +118,7 @@ def resolve_config(
     if c.gesture_pauses and c.pause_limits is None:
         c = c.replace(pause_limits=gesture_pause_limits(trajectories, labels, levels, c.L,
                                                         c.max_pause, c.pause_ratio, c.confirm,
-                                                        c.dt))
+                                                        c.dt, c.corner_angle))
     if None in (c.closure_limits, c.size_limits, c.opening_limits, c.corner_limits,
                 c.forbidden_turns):
         closed, sizes, corners, turns = gesture_geometry(trajectories, labels, classifier, levels,

@@ -50,6 +50,7 @@ __all__ = [
     "Unit",
     "closure",
     "corner_count",
+    "corner_rest",
     "heading",
     "motion_speed",
     "plane_cosine",
@@ -284,6 +285,15 @@ def corner_count(units: Sequence[Unit], angle: float) -> int:
     """Corners of a span of consecutive units: turns of the heading sharper than ``angle`` [deg]
     from one unit to the next (:func:`turn_angle`)."""
     return sum(turn_angle(a.heading_out, b.heading_in) > angle for a, b in itertools.pairwise(units))
+
+
+def corner_rest(units: Sequence[Unit], angle: float) -> float:
+    """The longest rest [s] between two consecutive units of a span that meet at a corner (a
+    turn sharper than ``angle`` [deg], :func:`corner_count`); 0 without one. A hesitation on a
+    straight stroke or a smooth curve rests where the hand goes on the same way, so it does not
+    count; the rest after a reposition, before a drawn shape turns away from it, does."""
+    return max((b.start_t - a.end_t for a, b in itertools.pairwise(units)
+                if turn_angle(a.heading_out, b.heading_in) > angle), default=0.0)
 
 
 #: Bits of :func:`turn_kinds`: two corners that turn the same way (around a triangle or a square)

@@ -32,7 +32,7 @@ from ..core.pruning import ModelBank, pruned_nearest
 from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor
 from ..errors import DegenerateMotionError
-from .segmentation import PoseBuffer, Unit, closure, corner_count, turn_kinds
+from .segmentation import PoseBuffer, Unit, closure, corner_count, corner_rest, turn_kinds
 from .vertical import verticality
 
 __all__ = ["Candidate", "SegmentClassifier", "Spotter", "candidate_spans", "pause_allowance", "rest_inside"]
@@ -142,9 +142,10 @@ class Candidate:
     vertical : float
         Its :func:`~framefree.online.vertical.verticality` (NaN when no vertical is known).
     pause : float
-        Its longest rest between two units [s] (:func:`rest_inside`).
+        Its longest rest [s] between two units that meet at a corner
+        (:func:`~framefree.online.segmentation.corner_rest`).
     stroke : float
-        The duration [s] of a stroke beside that rest (:func:`rest_inside`).
+        The duration [s] of a stroke beside its longest rest (:func:`rest_inside`).
     """
 
     start: int
@@ -281,8 +282,10 @@ class Spotter:
         to be accepted as each model's gesture, used when ``up`` is given (default: no limit).
     pause_limits : ndarray, shape (M, 2), optional
         Each model's gesture's own ``max_pause`` [s] and ``pause_ratio``: a candidate is accepted
-        as that gesture only if its longest rest inside is within :func:`pause_allowance` of
-        them (never less than ``min_pause``; default: only the limits above, common to all).
+        as that gesture only if its longest rest at a corner
+        (:func:`~framefree.online.segmentation.corner_rest`) is within :func:`pause_allowance`
+        of them (never less than ``min_pause``; default: only the limits above, common to all
+        rests).
     """
 
     def __init__(
@@ -393,7 +396,8 @@ class Spotter:
             c = closure(inside, self.L)
             corners, turns = self.corners_and_turns(n)
             v = math.nan if self.up is None else verticality(inside, self.up)
-            pause, stroke = rest_inside(list(self.units)[len(self.units) - n:])
+            span = list(self.units)[len(self.units) - n:]
+            pause, stroke = corner_rest(span, self.corner_angle), rest_inside(span)[1]
             d, size = self._classify(times, poses, c, bar, corners, turns, v, pause, stroke)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
@@ -435,7 +439,7 @@ class Spotter:
                          vertical: float = math.nan, pause: float = 0.0, stroke: float = math.inf,
                          ) -> np.ndarray:
         """Which models' gestures admit a segment of this closure, size [m], number of corners,
-        turn kinds, verticality, longest rest inside [s] and stroke duration [s] (M,) bool: the
+        turn kinds, verticality, longest rest at a corner [s] and stroke duration [s] (M,) bool: the
         rule of :meth:`admissible`, for every model at once."""
         return self._admits(slice(None), closure_, size, corners, turns, vertical, pause, stroke)
 
@@ -444,12 +448,13 @@ class Spotter:
                    vertical: np.ndarray | float = math.nan, pauses: np.ndarray | float = 0.0,
                    strokes: np.ndarray | float = math.inf) -> np.ndarray:
         """Which segments (closures (n,), sizes (n,) [m], corners (n,), turn kinds (n,),
-        verticality (n,), longest rests inside (n,) [s] and stroke durations (n,) [s],
-        :func:`rest_inside`) may be model ``j``'s gesture: within its size range, no more closed
-        than its opening limit, within its closure limit or ending within :attr:`return_error`
-        of their start (closure × size), with no more corners than its corner limit, no turn its
-        gesture never makes, no longer a rest inside than its :attr:`pause_limits` allow and,
-        where a vertical is known, within its verticality range (NaN: unknown, passes)."""
+        verticality (n,), longest rests at a corner (n,) [s] and stroke durations (n,) [s],
+        :attr:`Candidate.pause` and :attr:`Candidate.stroke`) may be model ``j``'s gesture:
+        within its size range, no more closed than its opening limit, within its closure limit
+        or ending within :attr:`return_error` of their start (closure × size), with no more
+        corners than its corner limit, no turn its gesture never makes, no longer a rest at a
+        corner than its :attr:`pause_limits` allow and, where a vertical is known, within its
+        verticality range (NaN: unknown, passes)."""
         return self._admits(j, np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float),
                             np.asarray(corners, dtype=float), np.asarray(turns, dtype=np.int64),
                             np.asarray(vertical, dtype=float), np.asarray(pauses, dtype=float),

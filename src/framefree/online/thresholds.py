@@ -47,6 +47,7 @@ from .segmentation import (
     Unit,
     closure,
     corner_count,
+    corner_rest,
     turn_kinds,
 )
 from .spotting import SegmentClassifier, Spotter, candidate_spans
@@ -63,6 +64,7 @@ __all__ = [
     "gesture_geometry",
     "gesture_pause_limits",
     "gesture_verticality",
+    "longest_corner_rest",
     "opening_limit",
     "pooled_closures",
     "reach_down",
@@ -276,28 +278,40 @@ def candidate_limits(
     return 2 * most + 1, span_factor * longest, span_factor * pause, pause_factor * ratio
 
 
+def longest_corner_rest(traj: Trajectory, levels: SpeedLevels, L: float, dt: float = 0.02,
+                        corner_angle: float = 60.0) -> float | None:
+    """The longest rest [s] at a corner of a recording's gesture
+    (:func:`~framefree.online.segmentation.corner_rest` of its movement units, as the live
+    segmenter cuts them; 0 without a corner); ``None`` if it has no movement unit."""
+    _, units = _units(traj, levels, L, dt)
+    if not units:
+        return None
+    return corner_rest(units, corner_angle)
+
+
 def gesture_pause_limits(
     trajectories: Sequence[Trajectory], labels: Sequence[str], levels: SpeedLevels, L: float,
     max_pause: float, pause_ratio: float, pause: float, dt: float = 0.02,
+    corner_angle: float = 60.0,
 ) -> dict[str, tuple[float, float]]:
-    """Which gestures pause inside, and the pause limits of each: ``{g: (max_pause,
+    """Which gestures pause at their corners, and the pause limits of each: ``{g: (max_pause,
     pause_ratio)}``.
 
-    A gesture whose recordings typically (the median of their longest rests between two units)
-    rest inside for ``pause`` seconds or more pauses, as at the reversal of an out-and-back
+    A gesture whose recordings typically (the median of their :func:`longest_corner_rest`) rest
+    at a corner for ``pause`` seconds or more pauses, as at the reversal of an out-and-back
     move; it keeps the limits common to all gestures, ``max_pause`` [s] and ``pause_ratio``
     (:func:`candidate_limits`: how long the demonstrator pauses, whichever gesture, stretched for
     slower people). A gesture performed in one go, as a Z drawn without stopping at its
-    corners, gets ``(0, 0)``: only the hesitation that every candidate is allowed
-    (``min_pause``). A reposition, a rest and two sides of a triangle are then no Z. A gesture
-    with no movement unit is left out.
+    corners, gets ``(0, 0)``: at a corner, only the rest every candidate is allowed
+    (``min_pause``). A reposition, a rest and two sides of a triangle are then no Z, while a
+    hesitation in mid-stroke, where the hand goes on the same way, is no corner and is not
+    limited. A gesture with no movement unit is left out.
     """
     longest: dict[str, list[float]] = {}
     for tr, g in zip(trajectories, labels, strict=True):
-        _, units = _units(tr, levels, L, dt)
-        if units:
-            rests = [b.start_t - a.end_t for a, b in itertools.pairwise(units)]
-            longest.setdefault(g, []).append(max(rests, default=0.0))
+        rest = longest_corner_rest(tr, levels, L, dt, corner_angle)
+        if rest is not None:
+            longest.setdefault(g, []).append(rest)
     return {g: (max_pause, pause_ratio) if float(np.median(v)) >= pause else (0.0, 0.0)
             for g, v in longest.items()}
 
