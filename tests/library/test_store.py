@@ -140,8 +140,11 @@ def test_a_library_from_before_the_pause_limits_keeps_the_common_ones(hpm_librar
     """A library saved before ``gesture_pauses`` existed restores without per-gesture pause
     limits (what it was measured with); a new one has them, *go right* (a circle drawn in one
     go) limited and the out-and-back gestures, whose demonstrator pauses, not."""
-    new = load_library(hpm_library_file).recognizer()
+    library = load_library(hpm_library_file)
+    new = library.recognizer()
     assert new.config.gesture_pauses and new.config.pause_limits["go_right"] == (0.0, 0.0)
+    one_go = [line.split()[0] for line in library.summary().splitlines() if "in one go" in line]
+    assert one_go == ["go_right"]
     assert new.config.pause_limits["go_up"] == (new.config.max_pause, new.config.pause_ratio)
 
     def forget(meta: dict) -> None:
