@@ -21,7 +21,7 @@ from pathlib import Path
 
 from framefree.benchmark.take_geometry import by_name, other_peoples, take_geometry
 from framefree.online import RecognizerConfig
-from framefree.online.thresholds import corner_limit
+from framefree.online.limits import corner_limit
 
 
 def corners_of_every_recording(data: Path, config: RecognizerConfig) -> dict:

@@ -1,7 +1,7 @@
 """Do real people turn the same way? A turn limit set from one person's takes, checked on the others.
 
 The live recognizer refuses a candidate as a gesture when two of its corners turn in a way the
-gesture's demonstrations never do (:func:`framefree.online.thresholds.forbidden_turns`): every
+gesture's demonstrations never do (:func:`framefree.online.limits.forbidden_turns`): every
 pair of corners the same way (a triangle, a square) or every pair back (a Z). This script asks the
 real recordings of ``machete_vive`` (six people, two controllers, 11 whole-body gestures × 5)
 how often another person's performance would be refused by such a limit: for every controller,
@@ -21,7 +21,7 @@ from pathlib import Path
 
 from framefree.benchmark.take_geometry import by_name, other_peoples, take_geometry
 from framefree.online import RecognizerConfig
-from framefree.online.thresholds import forbidden_turns
+from framefree.online.limits import forbidden_turns
 
 
 def turns_of_every_recording(data: Path, config: RecognizerConfig) -> dict:

@@ -19,13 +19,13 @@ from framefree.benchmark.take_geometry import other_peoples, take_geometry
 from framefree.core import se3
 from framefree.datasets.layout import load_model_recordings
 from framefree.online import Recognizer, RecognizerConfig
+from framefree.online.limits import corner_limit
 from framefree.online.segmentation import (
     MotionSegmenter,
     corner_count,
     heading,
     turn_angle,
 )
-from framefree.online.thresholds import corner_limit
 from framefree.replica import replica_path
 from real_data import MACHETE
 

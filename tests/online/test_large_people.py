@@ -13,7 +13,7 @@ from framefree.benchmark.take_geometry import other_peoples, take_geometry
 from framefree.datasets.layout import load_model_recordings
 from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.evaluation import run_stream
-from framefree.online.thresholds import size_limits
+from framefree.online.limits import size_limits
 from framefree.replica import replica_path
 from real_data import MACHETE
 

@@ -25,9 +25,9 @@ from framefree.core import se3
 from framefree.core.trajectory import Trajectory
 from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.evaluation import run_stream
+from framefree.online.limits import gesture_pause_limits
 from framefree.online.segmentation import Unit, corner_rest
 from framefree.online.spotting import pause_allowance, rest_inside
-from framefree.online.thresholds import gesture_pause_limits
 from real_data import MACHETE
 
 ZIGZAG = np.array([[0, 0, 0], [0.24, 0, 0], [0, -0.18, 0], [0.24, -0.18, 0]], float)

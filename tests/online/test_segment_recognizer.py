@@ -13,9 +13,9 @@ from framefree.online import Recognizer, RecognizerConfig, spotting
 from framefree.online import recognizer as recognizer_module
 from framefree.online.evaluation import match_events, run_stream
 from framefree.online.events import STOP
+from framefree.online.limits import pooled_closures
 from framefree.online.recognizer import model_window_spacing
 from framefree.online.segmentation import closure
-from framefree.online.thresholds import pooled_closures
 from framefree.replica import replica_path
 from framefree.replica.faults import FAULT_KINDS, inject
 from framefree.replica.people import HELDOUT_PEOPLE, person
@@ -239,7 +239,7 @@ def test_pause_rule_of_two_units_is_the_mean_of_the_two_strokes():
 def test_open_and_returning_limits(recognizer):
     """A candidate must not close more than an open stroke's demonstrations (opening limit) and may
     pass the closure limit by ending within a person's return error of its start."""
-    from framefree.online.thresholds import opening_limit
+    from framefree.online.limits import opening_limit
 
     assert opening_limit(0.3, 0.65) == pytest.approx(0.3 ** (1 / 0.65))
     assert opening_limit(0.01, 0.65) < 0.001

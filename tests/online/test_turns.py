@@ -20,6 +20,7 @@ from framefree.core import se3
 from framefree.core.trajectory import Trajectory
 from framefree.online import Recognizer
 from framefree.online.evaluation import run_stream
+from framefree.online.limits import forbidden_turns
 from framefree.online.segmentation import (
     ALTERNATING,
     SAME_SENSE,
@@ -27,7 +28,6 @@ from framefree.online.segmentation import (
     plane_cosine,
     turn_kinds,
 )
-from framefree.online.thresholds import forbidden_turns
 from real_data import MACHETE
 
 ZIGZAG = np.array([[0, 0, 0], [0.24, 0, 0], [0, -0.18, 0], [0.24, -0.18, 0]], float)

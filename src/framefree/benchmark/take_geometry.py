@@ -16,10 +16,10 @@ from typing import TypeVar
 
 from ..datasets.people_layout import load_people
 from ..online.config import RecognizerConfig
+from ..online.limits import gesture_verticality, longest_corner_rest, recording_geometry
 from ..online.recognizer import segment_descriptor
 from ..online.segmentation import speed_levels
 from ..online.spotting import SegmentClassifier
-from ..online.thresholds import gesture_verticality, longest_corner_rest, recording_geometry
 from ..online.vertical import up_vector
 
 __all__ = ["by_name", "other_peoples", "take_geometry", "take_rests", "take_verticality"]
@@ -49,7 +49,7 @@ def take_geometry(data: str | Path, config: RecognizerConfig | None = None
 
     Each tracker of every recording is cut into movement units with speed levels from all
     recordings of that tracker (as a recognizer takes them from its models) and measured by
-    :func:`~framefree.online.thresholds.recording_geometry`; a take with no movement unit is left
+    :func:`~framefree.online.limits.recording_geometry`; a take with no movement unit is left
     out.
 
     Parameters
@@ -83,7 +83,7 @@ def take_geometry(data: str | Path, config: RecognizerConfig | None = None
 
 def take_rests(data: str | Path, config: RecognizerConfig | None = None) -> dict[TakeKey, list[float]]:
     """The longest rest [s] at a corner of every take
-    (:func:`~framefree.online.thresholds.longest_corner_rest`), per tracker, person and gesture,
+    (:func:`~framefree.online.limits.longest_corner_rest`), per tracker, person and gesture,
     cut as :func:`take_geometry` cuts them; a take with no movement unit is left out."""
     config = config or RecognizerConfig()
     ds = load_people(data)
@@ -103,7 +103,7 @@ def take_verticality(data: str | Path, up: str = "+z", config: RecognizerConfig 
                      ) -> dict[TakeKey, list[float]]:
     """:func:`~framefree.online.vertical.verticality` of every take, per tracker, person and
     gesture, measured as the live recognizer measures its demonstrations
-    (:func:`~framefree.online.thresholds.gesture_verticality`; speed levels as in
+    (:func:`~framefree.online.limits.gesture_verticality`; speed levels as in
     :func:`take_geometry`).
 
     Parameters

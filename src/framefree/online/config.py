@@ -159,7 +159,7 @@ class RecognizerConfig:
     turns : bool
         Accept a candidate only if no two of its corners turn in a way its gesture's
         demonstrations never do (True; only where they agree,
-        :func:`~framefree.online.thresholds.forbidden_turns`): a triangle or a square turns the
+        :func:`~framefree.online.limits.forbidden_turns`): a triangle or a square turns the
         same way at every corner, a Z turns back at its second; a change of world frame changes
         neither.
     up : str or None
@@ -212,19 +212,19 @@ class RecognizerConfig:
         Segmenter levels [m/s of screw path]; ``None``: from the models.
     closure_limits : dict of str to float or None
         Largest closure accepted per gesture; ``None``: from the models
-        (:func:`~framefree.online.thresholds.closure_limit`).
+        (:func:`~framefree.online.limits.closure_limit`).
     opening_limits : dict of str to float or None
         Smallest closure accepted per gesture (an open stroke must not come back to its start);
-        ``None``: from the models (:func:`~framefree.online.thresholds.opening_limit`); a library
+        ``None``: from the models (:func:`~framefree.online.limits.opening_limit`); a library
         saved before this field existed has none.
     corner_limits : dict of str to int or None
         Most corners accepted per gesture (a gesture not in it has no limit); ``None``: from the
         models, for each gesture whose demonstrations agree on their number
-        (:func:`~framefree.online.thresholds.corner_limit`).
+        (:func:`~framefree.online.limits.corner_limit`).
     forbidden_turns : dict of str to int or None
         :func:`~framefree.online.segmentation.turn_kinds` bits a candidate may not show per
         gesture (a gesture not in it has none); ``None``: from the models
-        (:func:`~framefree.online.thresholds.forbidden_turns`; a library saved before this field
+        (:func:`~framefree.online.limits.forbidden_turns`; a library saved before this field
         existed gets them from its takes when it is loaded).
     vertical_limits : dict of str to (float, float) or None
         Smallest and largest verticality accepted per gesture, used only when ``up`` is set;
@@ -237,10 +237,10 @@ class RecognizerConfig:
         pauses at its reversal keeps its pause.
     pause_limits : dict of str to (float, float) or None
         Each gesture's own ``max_pause`` [s] and ``pause_ratio``, used with ``gesture_pauses``;
-        ``None``: from the models (:func:`~framefree.online.thresholds.gesture_pause_limits`).
+        ``None``: from the models (:func:`~framefree.online.limits.gesture_pause_limits`).
     size_limits : dict of str to (float, float) or None
         Smallest and largest size [m of screw path] accepted per gesture; ``None``: from the models
-        (:func:`~framefree.online.thresholds.size_limits`).
+        (:func:`~framefree.online.limits.size_limits`).
     max_bridge : float
         Longest dropout [s] bridged by ScLERP instead of restarting (0.5).
     """

@@ -39,20 +39,7 @@ from .acceptance import SampleGate
 from .background import SerialWorker
 from .config import RecognizerConfig
 from .events import STOP, Event
-from .segmentation import (
-    MotionSegmenter,
-    PoseBuffer,
-    SpeedLevels,
-    UniformResampler,
-    Unit,
-    speed_levels,
-)
-from .spotting import SegmentClassifier, Spotter
-from .stop import StopDetector, sustained_peak_speed
-from .streaming import StreamingRecognizer
-from .thresholds import (
-    SegmentThresholds,
-    calibrate_segment_thresholds,
+from .limits import (
     candidate_limits,
     closure_limit,
     corner_limit,
@@ -64,6 +51,18 @@ from .thresholds import (
     pooled_closures,
     size_limits,
 )
+from .segmentation import (
+    MotionSegmenter,
+    PoseBuffer,
+    SpeedLevels,
+    UniformResampler,
+    Unit,
+    speed_levels,
+)
+from .spotting import SegmentClassifier, Spotter
+from .stop import StopDetector, sustained_peak_speed
+from .streaming import StreamingRecognizer
+from .thresholds import SegmentThresholds, calibrate_segment_thresholds
 from .vertical import up_vector, vertical_limits
 
 __all__ = ["STAT_KEYS", "Recognizer", "resolve_config"]
@@ -109,16 +108,7 @@ def resolve_config(
                           c.move_factor)
         c = c.replace(rest_speed=c.rest_speed or lv.rest, move_speed=c.move_speed or lv.move)
     levels = SpeedLevels(c.rest_speed, c.move_speed)
-    if None in (c.max_units, c.max_duration, c.max_pause, c.pause_ratio):
-        units, duration, pause, ratio = candidate_limits(trajectories, levels, c.L, c.span_factor,
-                                                         c.pause_factor, c.dt)
-        c = c.replace(max_units=c.max_units or units, max_duration=c.max_duration or duration,
-                      max_pause=c.max_pause or pause,
-                      pause_ratio=ratio if c.pause_ratio is None else c.pause_ratio)
-    if c.gesture_pauses and c.pause_limits is None:
-        c = c.replace(pause_limits=gesture_pause_limits(trajectories, labels, levels, c.L,
-                                                        c.max_pause, c.pause_ratio, c.confirm,
-                                                        c.dt, c.corner_angle))
+    c = _candidate_limits(trajectories, labels, c, levels)
     if None in (c.closure_limits, c.size_limits, c.opening_limits, c.corner_limits,
                 c.forbidden_turns):
         closed, sizes, corners, turns = gesture_geometry(trajectories, labels, classifier, levels,
@@ -164,6 +154,23 @@ def resolve_config(
                    for tr in trajectories)
         c = c.replace(stop_threshold=max(c.stop_floor, c.stop_margin * peak))
     return c, calibration
+
+
+def _candidate_limits(trajectories: Sequence[Trajectory], labels: Sequence[str],
+                      c: RecognizerConfig, levels: SpeedLevels) -> RecognizerConfig:
+    """Fill the candidate limits left ``None`` (units, duration, pauses, and with
+    ``gesture_pauses`` each gesture's own pause limits) from the model recordings."""
+    if None in (c.max_units, c.max_duration, c.max_pause, c.pause_ratio):
+        units, duration, pause, ratio = candidate_limits(trajectories, levels, c.L, c.span_factor,
+                                                         c.pause_factor, c.dt)
+        c = c.replace(max_units=c.max_units or units, max_duration=c.max_duration or duration,
+                      max_pause=c.max_pause or pause,
+                      pause_ratio=ratio if c.pause_ratio is None else c.pause_ratio)
+    if c.gesture_pauses and c.pause_limits is None:
+        c = c.replace(pause_limits=gesture_pause_limits(trajectories, labels, levels, c.L,
+                                                        c.max_pause, c.pause_ratio, c.confirm,
+                                                        c.dt, c.corner_angle))
+    return c
 
 
 def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: RecognizerConfig,

@@ -30,7 +30,6 @@ If no negative is finite, ``τ_g = 2 P_g``.
 
 from __future__ import annotations
 
-import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import NamedTuple
@@ -38,39 +37,23 @@ from typing import NamedTuple
 import numpy as np
 
 from ..core.trajectory import Trajectory
+from .limits import recording_units
 from .negatives import non_gesture_motions
 from .segmentation import (
-    ALTERNATING,
-    SAME_SENSE,
-    MotionSegmenter,
     SpeedLevels,
-    Unit,
     closure,
     corner_count,
-    corner_rest,
     turn_kinds,
 )
 from .spotting import SegmentClassifier, Spotter, candidate_spans
-from .vertical import verticality
 
 __all__ = [
+    "ONE_TAKE_SIZE",
     "SegmentScores",
     "SegmentThresholds",
     "calibrate_segment_thresholds",
-    "candidate_limits",
-    "closure_limit",
-    "corner_limit",
-    "forbidden_turns",
-    "gesture_geometry",
-    "gesture_pause_limits",
-    "gesture_verticality",
-    "longest_corner_rest",
-    "opening_limit",
-    "pooled_closures",
     "reach_down",
-    "recording_geometry",
     "segment_distances",
-    "size_limits",
 ]
 
 
@@ -113,14 +96,6 @@ class SegmentThresholds:
         }
 
 
-def _units(traj: Trajectory, levels: SpeedLevels, L: float, dt: float
-           ) -> tuple[MotionSegmenter, list[Unit]]:
-    seg = MotionSegmenter(levels, L, dt, capacity=max(16, int(traj.duration / dt) + 8))
-    times, poses = traj.uniform_poses(dt)
-    units = [u for k in range(times.size) if (u := seg.push(float(times[k]), poses[k])) is not None]
-    return seg, units
-
-
 class SegmentScores(NamedTuple):
     """Every candidate segment of a recording (:func:`segment_distances`)."""
 
@@ -150,7 +125,7 @@ def segment_distances(
     The recording is resampled on the uniform grid, cut by :class:`MotionSegmenter` and its
     candidates formed with the limits of ``spotter`` (no threshold is applied).
     """
-    seg, units = _units(traj, levels, L, dt)
+    seg, units = recording_units(traj, levels, L, dt)
     rows: list[np.ndarray] = []
     closures: list[float] = []
     sizes: list[float] = []
@@ -176,200 +151,6 @@ def segment_distances(
                              np.zeros(0, dtype=np.int64))
     return SegmentScores(np.vstack(rows), np.array(closures), np.array(sizes), np.array(corners),
                          np.array(turns, dtype=np.int64))
-
-
-def recording_geometry(
-    traj: Trajectory, classifier: SegmentClassifier, levels: SpeedLevels, L: float,
-    margin: int = 5, dt: float = 0.02, corner_angle: float = 60.0,
-) -> tuple[float, float, int, int] | None:
-    """Closure, size [m], corners and turn kinds of one recording's gesture, measured on the
-    whole gesture (first unit's start to last unit's end; the size with ``margin`` samples around
-    it, as a live candidate is cut), corners and turns as in
-    :func:`~framefree.online.segmentation.corner_count` and
-    :func:`~framefree.online.segmentation.turn_kinds`; ``None`` if the recording has no movement
-    unit."""
-    seg, units = _units(traj, levels, L, dt)
-    if not units:
-        return None
-    _, P = seg.buffer.slice(units[0].start, units[-1].end)
-    t, P_margin = seg.buffer.slice(units[0].start - margin, units[-1].end + margin)
-    described = classifier.describe(t, P_margin)
-    size = 0.0 if described is None else float(described[1])
-    return closure(P, L), size, corner_count(units, corner_angle), turn_kinds(units, corner_angle)
-
-
-def gesture_geometry(
-    trajectories: Sequence[Trajectory], labels: Sequence[str], classifier: SegmentClassifier,
-    levels: SpeedLevels, L: float, margin: int = 5, dt: float = 0.02, corner_angle: float = 60.0,
-) -> tuple[dict[str, tuple[float, float]], dict[str, tuple[float, float]], dict[str, list[int]],
-           dict[str, list[int]]]:
-    """Closure range, size range [m], corners and turn kinds of each gesture's recordings
-    (:func:`recording_geometry`): ``({g: (smallest, largest closure)}, {g: (smallest, largest
-    size)}, {g: [corners of each recording]}, {g: [turn kinds of each recording]})``."""
-    closures: dict[str, tuple[float, float]] = {}
-    sizes: dict[str, tuple[float, float]] = {}
-    corners: dict[str, list[int]] = {}
-    turns: dict[str, list[int]] = {}
-    for tr, g in zip(trajectories, labels, strict=True):
-        measured = recording_geometry(tr, classifier, levels, L, margin, dt, corner_angle)
-        if measured is None:
-            continue
-        c, size, n, kinds = measured
-        corners.setdefault(g, []).append(n)
-        turns.setdefault(g, []).append(kinds)
-        lo, hi = closures.get(g, (np.inf, 0.0))
-        closures[g] = (min(lo, c), max(hi, c))
-        lo, hi = sizes.get(g, (np.inf, 0.0))
-        sizes[g] = (min(lo, size), max(hi, size))
-    return closures, sizes, corners, turns
-
-
-def gesture_verticality(
-    trajectories: Sequence[Trajectory], labels: Sequence[str], levels: SpeedLevels, L: float,
-    up: np.ndarray, dt: float = 0.02,
-) -> dict[str, list[float]]:
-    """:func:`~framefree.online.vertical.verticality` of each gesture's recordings, measured on
-    the whole gesture (first unit's start to last unit's end) as :func:`recording_geometry`
-    measures the rest: ``{g: [verticality of each recording]}`` (a recording without a movement
-    unit is left out)."""
-    out: dict[str, list[float]] = {}
-    for tr, g in zip(trajectories, labels, strict=True):
-        seg, units = _units(tr, levels, L, dt)
-        if units:
-            _, P = seg.buffer.slice(units[0].start, units[-1].end)
-            out.setdefault(g, []).append(verticality(P, up))
-    return out
-
-
-def size_limits(smallest: float, largest: float, factor: float, growth: float | None = None
-                ) -> tuple[float, float]:
-    """Sizes accepted for a gesture whose demonstrations span ``[smallest, largest]`` [m]: people
-    make the same gesture smaller by up to ``factor`` and larger by up to ``growth`` (``None``:
-    ``factor``)."""
-    return smallest / factor, largest * (factor if growth is None else growth)
-
-
-def candidate_limits(
-    trajectories: Sequence[Trajectory], levels: SpeedLevels, L: float, span_factor: float,
-    pause_factor: float, dt: float = 0.02,
-) -> tuple[int, float, float, float]:
-    """Candidate limits from the model recordings: ``(max_units, max_duration, max_pause,
-    pause_ratio)``.
-
-    Twice the most units of any recording plus one (a hesitation may cut every stroke in two, and
-    one unit more); ``span_factor`` × the longest gesture (first
-    unit's start to last unit's end); ``span_factor`` × the longest rest between two units of one
-    recording [s]; ``pause_factor`` × the largest ratio of such a rest to the mean duration of the
-    two units around it.
-    """
-    most, longest, pause, ratio = 1, 0.0, 0.0, 0.0
-    for tr in trajectories:
-        _, units = _units(tr, levels, L, dt)
-        if not units:
-            continue
-        most = max(most, len(units))
-        longest = max(longest, units[-1].end_t - units[0].start_t)
-        for a, b in itertools.pairwise(units):
-            gap = b.start_t - a.end_t
-            pause = max(pause, gap)
-            ratio = max(ratio, gap / (0.5 * (a.end_t - a.start_t + b.end_t - b.start_t)))
-    if longest == 0.0:
-        raise ValueError("no movement found in the model recordings")
-    return 2 * most + 1, span_factor * longest, span_factor * pause, pause_factor * ratio
-
-
-def longest_corner_rest(traj: Trajectory, levels: SpeedLevels, L: float, dt: float = 0.02,
-                        corner_angle: float = 60.0) -> float | None:
-    """The longest rest [s] at a corner of a recording's gesture
-    (:func:`~framefree.online.segmentation.corner_rest` of its movement units, as the live
-    segmenter cuts them; 0 without a corner); ``None`` if it has no movement unit."""
-    _, units = _units(traj, levels, L, dt)
-    if not units:
-        return None
-    return corner_rest(units, corner_angle)
-
-
-def gesture_pause_limits(
-    trajectories: Sequence[Trajectory], labels: Sequence[str], levels: SpeedLevels, L: float,
-    max_pause: float, pause_ratio: float, pause: float, dt: float = 0.02,
-    corner_angle: float = 60.0,
-) -> dict[str, tuple[float, float]]:
-    """Which gestures pause at their corners, and the pause limits of each: ``{g: (max_pause,
-    pause_ratio)}``.
-
-    A gesture whose recordings typically (the median of their :func:`longest_corner_rest`) rest
-    at a corner for ``pause`` seconds or more pauses, as at the reversal of an out-and-back
-    move; it keeps the limits common to all gestures, ``max_pause`` [s] and ``pause_ratio``
-    (:func:`candidate_limits`: how long the demonstrator pauses, whichever gesture, stretched for
-    slower people). A gesture performed in one go, as a Z drawn without stopping at its
-    corners, gets ``(0, 0)``: at a corner, only the rest every candidate is allowed
-    (``min_pause``). A reposition, a rest and two sides of a triangle are then no Z, while a
-    hesitation in mid-stroke, where the hand goes on the same way, is no corner and is not
-    limited. A gesture with no movement unit is left out.
-    """
-    longest: dict[str, list[float]] = {}
-    for tr, g in zip(trajectories, labels, strict=True):
-        rest = longest_corner_rest(tr, levels, L, dt, corner_angle)
-        if rest is not None:
-            longest.setdefault(g, []).append(rest)
-    return {g: (max_pause, pause_ratio) if float(np.median(v)) >= pause else (0.0, 0.0)
-            for g, v in longest.items()}
-
-
-def corner_limit(counts: Sequence[int], slack: int = 1) -> int | None:
-    """Most corners accepted for a gesture whose recordings have ``counts`` corners: their common
-    number plus ``slack`` when at least two recordings all agree, else ``None`` (no limit).
-
-    A square's corners are part of its shape, and every take has them; a smooth curve of varying
-    bend (a wave) slows down, and may count a corner, where it bends most, in some takes and not
-    in others: there the number says nothing about another person's performance. Even where one
-    person's takes agree, another person may break a stroke where they did not: on the six real
-    people of ``machete_vive`` (both controllers, every gesture), limits from one person's
-    agreeing takes were exceeded by 11.0 % of the other people's performances with no slack and
-    by 1.6 % with a slack of one."""
-    if len(counts) < 2 or len(set(counts)) > 1:
-        return None
-    return int(counts[0]) + int(slack)
-
-
-def forbidden_turns(kinds: Sequence[int]) -> int:
-    """The :func:`~framefree.online.segmentation.turn_kinds` a gesture never makes, from the turn
-    kinds of its recordings: when at least two recordings all turn one way only (every pair of
-    corners the same way, or every pair back), the other way; else none (0).
-
-    Which way a shape turns is part of it, as its corners are: a triangle or a square never
-    turns back, a Z always does, and the three are told apart by it whatever their sizes and
-    however loose the threshold. A gesture whose recordings mix both, or have fewer than two
-    corners, is not limited."""
-    if len(kinds) < 2 or len(set(kinds)) > 1:
-        return 0
-    return {SAME_SENSE: ALTERNATING, ALTERNATING: SAME_SENSE}.get(int(kinds[0]), 0)
-
-
-def closure_limit(largest: float, exponent: float = 0.5) -> float:
-    """Closure limit of a gesture whose demonstrations close up to ``largest``: ``largest **
-    exponent`` — with 0.5 the geometric midpoint between them and a one-way motion (closure 1)."""
-    return float(max(largest, 1e-6) ** exponent)
-
-
-def opening_limit(smallest: float, exponent: float = 0.5) -> float:
-    """Smallest closure accepted for a gesture whose demonstrations close at least ``smallest``:
-    ``smallest ** (1 / exponent)``, the mirror of :func:`closure_limit` — on a log scale as far
-    below the demonstrations as the closure limit lies above them. Negligible for a gesture that
-    returns; for an open stroke (a Z, an L) it keeps out shapes that come back to their start."""
-    return float(min(max(smallest, 0.0), 1.0) ** (1.0 / exponent))
-
-
-def pooled_closures(largest: dict[str, float]) -> dict[str, float]:
-    """Largest closure per gesture, pooled over the gestures that return.
-
-    A gesture *returns* when its demonstrations close up to less than ½ (nearer a motion back to
-    the start than a one-way motion). Every returning gesture gets the largest closure of any
-    returning gesture; a one-way gesture keeps its own.
-    """
-    returning = [v for v in largest.values() if v < 0.5]
-    pooled = max(returning, default=0.0)
-    return {g: (pooled if v < 0.5 else v) for g, v in largest.items()}
 
 
 def reach_down(
