@@ -15,11 +15,15 @@ Usage::
 
 from __future__ import annotations
 
-import argparse
 import json
 from pathlib import Path
 
-from framefree.benchmark.take_geometry import by_name, other_peoples, take_geometry
+from framefree.benchmark.take_geometry import (
+    by_name,
+    other_peoples,
+    people_data_args,
+    take_geometry,
+)
 from framefree.online import RecognizerConfig
 from framefree.online.limits import corner_limit
 
@@ -49,10 +53,7 @@ def exceeded(corners: dict, slack: int) -> dict:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--data", type=Path, default=Path("../shared/data/machete_vive"))
-    ap.add_argument("--json", type=Path)
-    args = ap.parse_args()
+    args = people_data_args(__doc__)
     config = RecognizerConfig()
     corners = corners_of_every_recording(args.data, config)
     rows = [exceeded(corners, slack) for slack in (0, 1, 2)]

@@ -15,13 +15,11 @@ Usage::
 
 from __future__ import annotations
 
-import argparse
 import json
-from pathlib import Path
 
 import numpy as np
 
-from framefree.benchmark.take_geometry import by_name, other_peoples, take_rests
+from framefree.benchmark.take_geometry import by_name, other_peoples, people_data_args, take_rests
 from framefree.online import RecognizerConfig
 
 
@@ -45,10 +43,7 @@ def refused(rests: dict, one_go_below: float, allowed: float) -> dict:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--data", type=Path, default=Path("../shared/data/machete_vive"))
-    ap.add_argument("--json", type=Path)
-    args = ap.parse_args()
+    args = people_data_args(__doc__)
     config = RecognizerConfig()
     rests = take_rests(args.data, config)
     every = np.concatenate([np.asarray(v) for v in rests.values()])

@@ -15,11 +15,15 @@ Usage::
 
 from __future__ import annotations
 
-import argparse
 import json
 from pathlib import Path
 
-from framefree.benchmark.take_geometry import by_name, other_peoples, take_geometry
+from framefree.benchmark.take_geometry import (
+    by_name,
+    other_peoples,
+    people_data_args,
+    take_geometry,
+)
 from framefree.online import RecognizerConfig
 from framefree.online.limits import forbidden_turns
 
@@ -51,10 +55,7 @@ def refused(turns: dict) -> dict:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--data", type=Path, default=Path("../shared/data/machete_vive"))
-    ap.add_argument("--json", type=Path)
-    args = ap.parse_args()
+    args = people_data_args(__doc__)
     config = RecognizerConfig()
     turns = turns_of_every_recording(args.data, config)
     r = refused(turns)

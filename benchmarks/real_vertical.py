@@ -17,13 +17,16 @@ Usage::
 
 from __future__ import annotations
 
-import argparse
 import json
-from pathlib import Path
 
 import numpy as np
 
-from framefree.benchmark.take_geometry import by_name, other_peoples, take_verticality
+from framefree.benchmark.take_geometry import (
+    by_name,
+    other_peoples,
+    people_data_args,
+    take_verticality,
+)
 from framefree.online.vertical import VERTICAL_MARGIN
 
 MARGINS = (0.1, 0.2, VERTICAL_MARGIN, 0.4)
@@ -52,10 +55,7 @@ def summary(distances: dict[str, list[float]]) -> dict:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--data", type=Path, default=Path("../shared/data/machete_vive"))
-    ap.add_argument("--json", type=Path)
-    args = ap.parse_args()
+    args = people_data_args(__doc__)
     vertical = take_verticality(args.data)
     s = summary(outside(vertical))
     p = s["percentiles"]

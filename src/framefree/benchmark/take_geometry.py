@@ -10,23 +10,35 @@ of each gesture) tells how far another person goes beyond one person's takes
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+import argparse
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import TypeVar
 
+from ..core.trajectory import Trajectory
 from ..datasets.people_layout import load_people
 from ..online.config import RecognizerConfig
 from ..online.limits import gesture_verticality, longest_corner_rest, recording_geometry
 from ..online.recognizer import segment_descriptor
-from ..online.segmentation import speed_levels
+from ..online.segmentation import SpeedLevels, speed_levels
 from ..online.spotting import SegmentClassifier
 from ..online.vertical import up_vector
 
-__all__ = ["by_name", "other_peoples", "take_geometry", "take_rests", "take_verticality"]
+__all__ = ["by_name", "other_peoples", "people_data_args", "take_geometry", "take_rests", "take_verticality"]
 
 #: (tracker index, person, gesture)
 TakeKey = tuple[int, str, str]
 V = TypeVar("V")
+
+
+def people_data_args(doc: str | None) -> argparse.Namespace:
+    """The command line of a ``benchmarks/real_*.py`` script: ``--data`` (a people data set,
+    default ``../shared/data/machete_vive``) and ``--json`` (where to write the results, if
+    anywhere); ``doc`` is the script's docstring, shown by ``--help``."""
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--data", type=Path, default=Path("../shared/data/machete_vive"))
+    ap.add_argument("--json", type=Path)
+    return ap.parse_args()
 
 
 def other_peoples(table: Mapping[TakeKey, Sequence[V]], key: TakeKey) -> list[V]:
@@ -66,18 +78,27 @@ def take_geometry(data: str | Path, config: RecognizerConfig | None = None
         ``{(tracker, person, gesture): [(closure, size, corners, turns) of each take]}``.
     """
     config = config or RecognizerConfig()
-    ds = load_people(data)
     classifier = SegmentClassifier(segment_descriptor(config), [])
-    out: dict[TakeKey, list[tuple[float, float, int, int]]] = {}
+    return _per_take(data, config, lambda tr, levels, gesture: [
+        m for m in [recording_geometry(tr, classifier, levels, config.L, config.margin, config.dt,
+                                       config.corner_angle)] if m is not None])
+
+
+def _per_take(data: str | Path, config: RecognizerConfig,
+              measure: Callable[[Trajectory, SpeedLevels, str], list[V]]) -> dict[TakeKey, list[V]]:
+    """``measure(trajectory, levels, gesture)`` of every tracker of every recording of a people
+    data set, with speed levels from all recordings of that tracker (as a recognizer takes them
+    from its models), collected per tracker, person and gesture (an empty list adds nothing)."""
+    ds = load_people(data)
+    out: dict[TakeKey, list[V]] = {}
     n_trackers = min((r.sample.n_trackers for r in ds), default=0)
     for tracker in range(n_trackers):
         trajs = [r.sample.trackers[tracker] for r in ds]
         levels = speed_levels(trajs, config.L, config.dt)
         for r, tr in zip(ds, trajs, strict=True):
-            measured = recording_geometry(tr, classifier, levels, config.L, config.margin,
-                                          config.dt, config.corner_angle)
-            if measured is not None:
-                out.setdefault((tracker, r.person, r.gesture), []).append(measured)
+            values = measure(tr, levels, r.gesture)
+            if values:
+                out.setdefault((tracker, r.person, r.gesture), []).extend(values)
     return out
 
 
@@ -86,17 +107,9 @@ def take_rests(data: str | Path, config: RecognizerConfig | None = None) -> dict
     (:func:`~framefree.online.limits.longest_corner_rest`), per tracker, person and gesture,
     cut as :func:`take_geometry` cuts them; a take with no movement unit is left out."""
     config = config or RecognizerConfig()
-    ds = load_people(data)
-    out: dict[TakeKey, list[float]] = {}
-    n_trackers = min((r.sample.n_trackers for r in ds), default=0)
-    for tracker in range(n_trackers):
-        trajs = [r.sample.trackers[tracker] for r in ds]
-        levels = speed_levels(trajs, config.L, config.dt)
-        for r, tr in zip(ds, trajs, strict=True):
-            rest = longest_corner_rest(tr, levels, config.L, config.dt, config.corner_angle)
-            if rest is not None:
-                out.setdefault((tracker, r.person, r.gesture), []).append(rest)
-    return out
+    return _per_take(data, config, lambda tr, levels, gesture: [
+        r for r in [longest_corner_rest(tr, levels, config.L, config.dt, config.corner_angle)]
+        if r is not None])
 
 
 def take_verticality(data: str | Path, up: str = "+z", config: RecognizerConfig | None = None
@@ -117,14 +130,6 @@ def take_verticality(data: str | Path, up: str = "+z", config: RecognizerConfig 
         ``L`` and ``dt`` (default: the recognizer's defaults).
     """
     config = config or RecognizerConfig()
-    ds = load_people(data)
-    out: dict[TakeKey, list[float]] = {}
-    n_trackers = min((r.sample.n_trackers for r in ds), default=0)
-    for tracker in range(n_trackers):
-        trajs = [r.sample.trackers[tracker] for r in ds]
-        levels = speed_levels(trajs, config.L, config.dt)
-        for r, tr in zip(ds, trajs, strict=True):
-            for v in gesture_verticality([tr], [r.gesture], levels, config.L, up_vector(up),
-                                         config.dt).get(r.gesture, []):
-                out.setdefault((tracker, r.person, r.gesture), []).append(v)
-    return out
+    vertical = up_vector(up)
+    return _per_take(data, config, lambda tr, levels, gesture: gesture_verticality(
+        [tr], [gesture], levels, config.L, vertical, config.dt).get(gesture, []))
