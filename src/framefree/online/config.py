@@ -156,6 +156,12 @@ class RecognizerConfig:
         on six real people, ``machete_vive``, one person's agreeing takes were exceeded by 11.0 %
         of the other people's performances with 0 and by 1.6 % with 1; a circle still admits no
         square, diamond or pentagon).
+    slack_corners : int or None
+        Only a gesture whose demonstrations agree on at most this many corners gets
+        ``corner_slack`` (1, v15: on the six real people the other people's extra corners were
+        all in gestures of no corner or one; where one person's takes agreed on two or more, no
+        other person had more, 0 of 475). ``None``: every gesture gets it (v9–v14). A triangle
+        then admits no square or diamond and a Z no letter M.
     turns : bool
         Accept a candidate only if no two of its corners turn in a way its gesture's
         demonstrations never do (True; only where they agree,
@@ -284,6 +290,7 @@ class RecognizerConfig:
     corners: bool = True
     corner_angle: float = 60.0
     corner_slack: int = 1
+    slack_corners: int | None = 1
     turns: bool = True
     up: str | None = None
     vertical_margin: float = VERTICAL_MARGIN

@@ -206,9 +206,10 @@ def gesture_pause_limits(
             for g, v in longest.items()}
 
 
-def corner_limit(counts: Sequence[int], slack: int = 1) -> int | None:
+def corner_limit(counts: Sequence[int], slack: int = 1, smooth: int | None = None) -> int | None:
     """Most corners accepted for a gesture whose recordings have ``counts`` corners: their common
-    number plus ``slack`` when at least two recordings all agree, else ``None`` (no limit).
+    number plus ``slack`` when at least two recordings all agree, else ``None`` (no limit). With
+    ``smooth``, only a gesture of at most ``smooth`` corners gets the slack.
 
     A square's corners are part of its shape, and every take has them; a smooth curve of varying
     bend (a wave) slows down, and may count a corner, where it bends most, in some takes and not
@@ -216,10 +217,14 @@ def corner_limit(counts: Sequence[int], slack: int = 1) -> int | None:
     person's takes agree, another person may break a stroke where they did not: on the six real
     people of ``machete_vive`` (both controllers, every gesture), limits from one person's
     agreeing takes were exceeded by 11.0 % of the other people's performances with no slack and
-    by 1.6 % with a slack of one."""
+    by 1.6 % with a slack of one. Every one of them was a gesture of no corner or one (a swing,
+    an out-and-back move that another person hooks): where one person's takes agreed on two or
+    more corners, no other person's performance had more (0 of 475), so a drawn polygon or a Z
+    needs no slack (``smooth`` = 1, v15)."""
     if len(counts) < 2 or len(set(counts)) > 1:
         return None
-    return int(counts[0]) + int(slack)
+    agreed = int(counts[0])
+    return agreed + (int(slack) if smooth is None or agreed <= smooth else 0)
 
 
 def forbidden_turns(kinds: Sequence[int]) -> int:

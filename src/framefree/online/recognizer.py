@@ -114,7 +114,8 @@ def resolve_config(
         closed, sizes, corners, turns = gesture_geometry(trajectories, labels, classifier, levels,
                                                          c.L, c.margin, c.dt, c.corner_angle)
         if c.corner_limits is None:
-            limits = {g: corner_limit(corners.get(g, []), c.corner_slack) for g in gestures}
+            limits = {g: corner_limit(corners.get(g, []), c.corner_slack, c.slack_corners)
+                      for g in gestures}
             c = c.replace(corner_limits={g: k for g, k in limits.items() if k is not None})
         if c.forbidden_turns is None:
             never = {g: forbidden_turns(turns.get(g, [])) for g in gestures}
