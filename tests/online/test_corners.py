@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from drawing import DT, LEVELS, circle_positions, drawn_positions, tracker_poses
+from drawing import DT, LEVELS, circle_positions, drawn_positions, drawn_takes, tracker_poses
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -40,6 +40,7 @@ def _corners(positions: np.ndarray, X: np.ndarray | None = None, angle: float = 
 
 SQUARE = np.array([[0, 0, 0], [0.18, 0, 0], [0.18, -0.18, 0], [0, -0.18, 0], [0, 0, 0]], float)
 ZIGZAG = np.array([[0, 0, 0], [0.24, 0, 0], [0, -0.18, 0], [0.24, -0.18, 0]], float)
+TRIANGLE = np.array([[0, 0, 0], [0.24, 0, 0], [0.12, 0.2, 0], [0, 0, 0]], float)
 OUT_AND_BACK = np.array([[0, 0, 0], [0.3, 0, 0], [0, 0, 0]], float)
 
 frames = st.builds(lambda xi: se3.pose_from_twist(np.asarray(xi)),
@@ -126,16 +127,42 @@ def test_a_corner_limit_only_where_the_demonstrations_agree():
     assert corner_limit([]) is None
 
 
+def test_only_a_smooth_gesture_gets_the_slack():
+    """v15: a gesture of at most ``smooth`` agreed corners may get one more; a drawn polygon or a
+    Z, whose corners are its shape, may not."""
+    assert corner_limit([0, 0, 0], 1, smooth=1) == 1
+    assert corner_limit([1, 1, 1], 1, smooth=1) == 2  # an out-and-back move another person hooks
+    assert corner_limit([2, 2, 2], 1, smooth=1) == 2  # a triangle admits no square
+    assert corner_limit([3, 3, 3], 1, smooth=1) == 3
+    assert corner_limit([2, 2, 2], 1, smooth=None) == 3  # v9-v14
+
+
+def test_a_triangle_admits_no_square_and_a_zigzag_no_letter_m():
+    rng = np.random.default_rng(3)
+    takes = drawn_takes(ZIGZAG, 5, rng) + drawn_takes(TRIANGLE, 5, rng)
+    labels = ["zigzag"] * 5 + ["triangle"] * 5
+    strict, loose = (Recognizer.from_trajectories(takes, labels, slack_corners=k) for k in (1, None))
+    assert strict.config.corner_limits == {"zigzag": 2, "triangle": 2}
+    assert loose.config.corner_limits == {"zigzag": 3, "triangle": 3}
+    for rec, admitted in ((strict, [True, False]), (loose, [True, True])):
+        sp = rec.spotter
+        for g in ("zigzag", "triangle"):
+            j = rec.labels.index(g)
+            size = float(np.mean(sp.size_limits[j]))
+            closes = np.full(2, 0.5 * (sp.opening_limits[j] + sp.closure_limits[j]))
+            assert list(sp.admissible(j, closes, np.full(2, size), np.array([2, 3]))) == admitted
+
+
 def _real_corner_counts(angle: float) -> dict:
     """{(controller, person, gesture): [corners of each take]} of the real Vive recordings."""
     config = RecognizerConfig(corner_angle=angle)
     return {key: [n for _, _, n, _ in takes] for key, takes in take_geometry(MACHETE, config).items()}
 
 
-def _exceeding(counts: dict, slack: int) -> float:
+def _exceeding(counts: dict, slack: int, smooth: int | None = None) -> float:
     over = checked = 0
     for key, own in counts.items():
-        limit = corner_limit(own, slack)
+        limit = corner_limit(own, slack, smooth)
         if limit is None:
             continue
         others = other_peoples(counts, key)
@@ -149,6 +176,17 @@ def test_real_people_stay_within_a_corner_limit_from_another_persons_takes():
     """Real Vive recordings: one person's agreeing takes set a limit; the other people's
     performances of the gesture must stay within it with the default slack. Without slack they do
     not (real people break strokes where others did not)."""
-    counts = _real_corner_counts(RecognizerConfig().corner_angle)
-    assert _exceeding(counts, RecognizerConfig().corner_slack) <= 0.02
+    config = RecognizerConfig()
+    counts = _real_corner_counts(config.corner_angle)
+    assert _exceeding(counts, config.corner_slack, config.slack_corners) <= 0.02
     assert _exceeding(counts, 0) > 0.05
+
+
+def test_real_people_never_add_a_corner_to_a_gesture_of_several():
+    """Real Vive recordings: where one person's takes agree on two corners or more, no other
+    person's performance has more (why v15 gives such a gesture no slack). On the shipped
+    two-person subset there may be no such gesture; then there is nothing to check."""
+    counts = _real_corner_counts(RecognizerConfig().corner_angle)
+    several = {k: v for k, v in counts.items() if corner_limit(v, 0) is not None and v[0] >= 2}
+    others = [c for key, own in several.items() for c in other_peoples(counts, key) if c > own[0]]
+    assert others == []
