@@ -161,7 +161,7 @@ class RecognizerConfig:
         ``corner_slack`` (1, v15: on the six real people the other people's extra corners were
         all in gestures of no corner or one; where one person's takes agreed on two or more, no
         other person had more, 0 of 475). ``None``: every gesture gets it (v9–v14). A triangle
-        then admits no square or diamond and a Z no letter M.
+        then admits no square or diamond and a Z no whole letter M.
     turns : bool
         Accept a candidate only if no two of its corners turn in a way its gesture's
         demonstrations never do (True; only where they agree,
@@ -236,14 +236,18 @@ class RecognizerConfig:
         Smallest and largest verticality accepted per gesture, used only when ``up`` is set;
         ``None``: from the models (:func:`~framefree.online.vertical.vertical_limits`).
     gesture_pauses : bool
-        Accept a candidate as a gesture only if its longest rest inside is one that gesture's own
+        Accept a candidate as a gesture only if its longest rest at a corner
+        (:func:`~framefree.online.segmentation.corner_rest`) is one that gesture's own
         demonstrations allow (``pause_limits``), not only one that any enrolled gesture allows
-        (True, v14; a library saved before keeps False). A Z drawn in one go then admits no
-        reposition, a rest and two of a triangle's sides, while a gesture whose demonstrator
-        pauses at its reversal keeps its pause.
+        (True, v14; a library saved before keeps False). A gesture drawn in one go (a Z) then
+        admits no reposition, a rest and two of a triangle's sides, while a gesture whose
+        demonstrator pauses at its reversal keeps its pause and a hesitation in mid-stroke (no
+        corner) stays free.
     pause_limits : dict of str to (float, float) or None
-        Each gesture's own ``max_pause`` [s] and ``pause_ratio``, used with ``gesture_pauses``;
-        ``None``: from the models (:func:`~framefree.online.limits.gesture_pause_limits`).
+        Each gesture's ``max_pause`` [s] and ``pause_ratio`` at a corner, used with
+        ``gesture_pauses``: the common ones for a gesture that pauses, ``(0, 0)`` (only
+        ``min_pause``) for one drawn in one go; ``None``: from the models
+        (:func:`~framefree.online.limits.gesture_pause_limits`).
     size_limits : dict of str to (float, float) or None
         Smallest and largest size [m of screw path] accepted per gesture; ``None``: from the models
         (:func:`~framefree.online.limits.size_limits`).
