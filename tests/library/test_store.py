@@ -135,25 +135,24 @@ def test_a_library_from_before_the_gram_alignment_keeps_its_alignment(hpm_librar
     assert restored.config.align == "singular" and restored.classifier.descriptor.align == "singular"
 
 
-def test_a_library_from_before_the_pause_limits_keeps_the_common_ones(hpm_library_file: Path,
+def test_a_library_from_before_the_one_go_rule_keeps_the_common_pauses(hpm_library_file: Path,
                                                                      tmp_path: Path) -> None:
     """A library saved before ``gesture_pauses`` existed restores without per-gesture pause
     limits (what it was measured with); a new one has them, *go right* (a circle drawn in one
     go) limited and the out-and-back gestures, whose demonstrator pauses, not."""
     library = load_library(hpm_library_file)
     new = library.recognizer()
-    assert new.config.gesture_pauses and new.config.pause_limits["go_right"] == (0.0, 0.0)
+    assert new.config.gesture_pauses and new.config.one_go == ["go_right"]
     one_go = [line.split()[0] for line in library.summary().splitlines() if "in one go" in line]
     assert one_go == ["go_right"]
-    assert new.config.pause_limits["go_up"] == (new.config.max_pause, new.config.pause_ratio)
 
     def forget(meta: dict) -> None:
         meta["config"].pop("gesture_pauses")
-        meta["config"].pop("pause_limits")
+        meta["config"].pop("one_go")
 
     restored = load_library(_rewrite(hpm_library_file, tmp_path / "before.npz", forget)).recognizer()
     assert not restored.config.gesture_pauses
-    assert np.isinf(restored.spotter.pause_limits).all()
+    assert not restored.spotter.one_go.any()
 
 
 def test_not_a_library(tmp_path: Path) -> None:

@@ -25,9 +25,8 @@ from framefree.core import se3
 from framefree.core.trajectory import Trajectory
 from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.evaluation import run_stream
-from framefree.online.limits import gesture_pause_limits
+from framefree.online.limits import one_go_gestures
 from framefree.online.segmentation import Unit, corner_rest
-from framefree.online.spotting import pause_allowance, rest_inside
 from real_data import MACHETE
 
 ZIGZAG = np.array([[0, 0, 0], [0.24, 0, 0], [0, -0.18, 0], [0.24, -0.18, 0]], float)
@@ -66,17 +65,6 @@ def _takes(points: np.ndarray, hold_s: float, X: np.ndarray, seed: int) -> list[
             for _ in range(5)]
 
 
-def test_the_longest_rest_inside_and_the_stroke_beside_it():
-    one = [_unit(1.0, 1.6)]
-    assert rest_inside(one) == (0.0, pytest.approx(0.6))
-    out_and_back = [_unit(1.0, 1.6), _unit(2.4, 3.0)]  # 0.8 s at the reversal
-    assert rest_inside(out_and_back) == (pytest.approx(0.8), pytest.approx(0.6))
-    pieces = [_unit(0.0, 0.3), _unit(0.4, 0.7), _unit(1.7, 2.0)]  # a hesitation, then a pause
-    rest, stroke = rest_inside(pieces)
-    assert rest == pytest.approx(1.0)
-    assert stroke == pytest.approx(0.5)  # the span without the pause, over two strokes
-
-
 def test_only_a_rest_at_a_corner_counts():
     right, up = (0, 0, 0, 1, 0, 0), (0, 0, 0, 0, 1, 0)
     hesitation = [_unit(0.0, 0.5, right), _unit(1.4, 1.9, right)]  # on the same way: no corner
@@ -87,23 +75,15 @@ def test_only_a_rest_at_a_corner_counts():
     assert corner_rest(corner[:1], 60.0) == 0.0
 
 
-def test_the_allowance_grows_with_the_stroke_between_its_floor_and_its_cap():
-    assert pause_allowance(2.0, 1.2, 0.5, 0.1) == pytest.approx(0.5)  # a quick stroke: the floor
-    assert pause_allowance(2.0, 1.2, 0.5, 1.0) == pytest.approx(1.2)
-    assert pause_allowance(2.0, 1.2, 0.5, 5.0) == pytest.approx(2.0)  # a very slow one: the cap
-    assert pause_allowance(0.0, 0.0, 0.5, 5.0) == pytest.approx(0.5)  # in one go: the floor only
-
-
 @settings(max_examples=5, deadline=None)
 @given(X=frames)
 def test_which_gestures_pause_does_not_depend_on_the_world_frame(X):
     """A Z drawn without stopping is performed in one go; an out-and-back move held 0.5 s at
-    its reversal pauses and keeps the limits it is given, however the world frame lies; a Z held
-    as long at its corners pauses too."""
+    its reversal pauses, however the world frame lies; a Z held as long at its corners pauses
+    too."""
     takes = _takes(ZIGZAG, 0.0, X, 1) + _takes(OUT_AND_BACK, 0.5, X, 2) + _takes(ZIGZAG, 0.5, X, 3)
     labels = ["zigzag"] * 5 + ["out_and_back"] * 5 + ["held_zigzag"] * 5
-    limits = gesture_pause_limits(takes, labels, LEVELS, 0.1, 1.5, 1.2, pause=0.2, dt=DT)
-    assert limits == {"zigzag": (0.0, 0.0), "out_and_back": (1.5, 1.2), "held_zigzag": (1.5, 1.2)}
+    assert one_go_gestures(takes, labels, LEVELS, 0.1, pause=0.2, dt=DT) == ["zigzag"]
 
 
 @pytest.fixture(scope="module")
@@ -121,14 +101,14 @@ def zigzag_and_a_pause():
 
 def test_the_recognizer_takes_the_limits_from_the_demonstrations(zigzag_and_a_pause):
     on, off = zigzag_and_a_pause
-    assert on.config.pause_limits == {
-        "zigzag": (0.0, 0.0), "out_and_back": (on.config.max_pause, on.config.pause_ratio),
-        "circle": (0.0, 0.0)}
-    assert off.config.pause_limits is None
-    j = on.labels.index("zigzag")
-    admitted = [bool(on.spotter.admissible(j, np.array([0.4]), np.array([on.spotter.size_limits[j].mean()]),
-                                           2, 0, np.nan, pause, 0.6)[0]) for pause in (0.3, 0.9)]
-    assert admitted == [True, False]
+    assert on.config.one_go == ["zigzag", "circle"]
+    assert off.config.one_go is None
+    for g, admitted in (("zigzag", [True, True, False]), ("out_and_back", [True, True, True])):
+        j = on.labels.index(g)
+        closes = np.full(3, 0.5 * (on.spotter.opening_limits[j] + on.spotter.closure_limits[j]))
+        sizes = np.full(3, on.spotter.size_limits[j].mean())
+        ok = on.spotter.admissible(j, closes, sizes, 1, 0, np.nan, np.array([0.3, 0.5, 0.9]))
+        assert list(ok) == admitted  # at most min_pause (0.5 s) at a corner, in one go
 
 
 @settings(max_examples=4, deadline=None)

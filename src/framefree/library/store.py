@@ -379,13 +379,13 @@ class GestureLibrary:
         counts = self.takes.counts()
         up = self.config.get("up")
         vertical = (self.config.get("vertical_limits") or {}) if up else {}
-        pauses = (self.config.get("pause_limits") or {}) if self.config.get("gesture_pauses") else {}
+        one_go = (self.config.get("one_go") or []) if self.config.get("gesture_pauses") else []
         lines = [f"{len(self.takes)} takes of {len(counts)} gestures, "
                  f"stop above {self.stop_threshold:.3g} rad/s"
                  + (f", up {up} (verticality limits)" if up else "")]
         for g, n in counts.items():
             line = f"  {g:<16} {n:3d} takes  τ = {self.gesture_thresholds.get(g, float('nan')):.4g}"
-            if g in pauses and not any(pauses[g]):
+            if g in one_go:
                 line += f"  in one go (rests ≤ {self.config.get('min_pause', 0.5):.2g} s at a corner)"
             if g in vertical:
                 line += f"  vertical {vertical[g][0]:.2f}–{vertical[g][1]:.2f}"

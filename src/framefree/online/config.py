@@ -236,18 +236,15 @@ class RecognizerConfig:
         Smallest and largest verticality accepted per gesture, used only when ``up`` is set;
         ``None``: from the models (:func:`~framefree.online.vertical.vertical_limits`).
     gesture_pauses : bool
-        Accept a candidate as a gesture only if its longest rest at a corner
-        (:func:`~framefree.online.segmentation.corner_rest`) is one that gesture's own
-        demonstrations allow (``pause_limits``), not only one that any enrolled gesture allows
-        (True, v14; a library saved before keeps False). A gesture drawn in one go (a Z) then
+        Accept a candidate as a gesture drawn in one go (``one_go``) only if its longest rest at
+        a corner (:func:`~framefree.online.segmentation.corner_rest`) lasts at most
+        ``min_pause`` (True, v14; a library saved before keeps False). A Z drawn in one go then
         admits no reposition, a rest and two of a triangle's sides, while a gesture whose
-        demonstrator pauses at its reversal keeps its pause and a hesitation in mid-stroke (no
-        corner) stays free.
-    pause_limits : dict of str to (float, float) or None
-        Each gesture's ``max_pause`` [s] and ``pause_ratio`` at a corner, used with
-        ``gesture_pauses``: the common ones for a gesture that pauses, ``(0, 0)`` (only
-        ``min_pause``) for one drawn in one go; ``None``: from the models
-        (:func:`~framefree.online.limits.gesture_pause_limits`).
+        demonstrator pauses at its reversal keeps the common pause limits and a hesitation in
+        mid-stroke (no corner) stays free.
+    one_go : list of str or None
+        The gestures drawn in one go, used with ``gesture_pauses``; ``None``: from the models
+        (:func:`~framefree.online.limits.one_go_gestures`).
     size_limits : dict of str to (float, float) or None
         Smallest and largest size [m of screw path] accepted per gesture; ``None``: from the models
         (:func:`~framefree.online.limits.size_limits`).
@@ -321,7 +318,7 @@ class RecognizerConfig:
     forbidden_turns: dict[str, int] | None = None
     vertical_limits: dict[str, tuple[float, float]] | None = None
     gesture_pauses: bool = True
-    pause_limits: dict[str, tuple[float, float]] | None = None
+    one_go: list[str] | None = None
     size_limits: dict[str, tuple[float, float]] | None = None
     max_bridge: float = 0.5
 
@@ -366,7 +363,9 @@ class RecognizerConfig:
             raise ValueError(f"corner_slack must not be negative, got {self.corner_slack}")
         if not 0 <= self.corner_angle <= 180:
             raise ValueError(f"corner_angle must be in [0, 180] degrees, got {self.corner_angle}")
-        for name in ("size_limits", "vertical_limits", "pause_limits"):
+        if self.one_go is not None:
+            object.__setattr__(self, "one_go", [str(g) for g in self.one_go])
+        for name in ("size_limits", "vertical_limits"):
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, {str(g): (float(v[0]), float(v[1]))
                                                 for g, v in getattr(self, name).items()})

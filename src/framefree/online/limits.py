@@ -5,7 +5,7 @@ Every limit is measured on the model recordings as the live recognizer measures 
 (cut into movement units by :class:`~framefree.online.segmentation.MotionSegmenter`):
 
 * how many units, how long, how long a rest inside (:func:`candidate_limits`), and whether a
-  gesture pauses at its corners or is drawn in one go (:func:`gesture_pause_limits`);
+  gesture pauses at its corners or is drawn in one go (:func:`one_go_gestures`);
 * how far it ends from its start (:func:`closure_limit`, :func:`opening_limit`,
   :func:`pooled_closures`), how large it is (:func:`size_limits`);
 * how many corners (:func:`corner_limit`) and which way they turn (:func:`forbidden_turns`);
@@ -45,9 +45,9 @@ __all__ = [
     "corner_limit",
     "forbidden_turns",
     "gesture_geometry",
-    "gesture_pause_limits",
     "gesture_verticality",
     "longest_corner_rest",
+    "one_go_gestures",
     "opening_limit",
     "pooled_closures",
     "recording_geometry",
@@ -179,21 +179,18 @@ def longest_corner_rest(traj: Trajectory, levels: SpeedLevels, L: float, dt: flo
     return corner_rest(units, corner_angle)
 
 
-def gesture_pause_limits(
+def one_go_gestures(
     trajectories: Sequence[Trajectory], labels: Sequence[str], levels: SpeedLevels, L: float,
-    max_pause: float, pause_ratio: float, pause: float, dt: float = 0.02,
-    corner_angle: float = 60.0,
-) -> dict[str, tuple[float, float]]:
-    """Which gestures pause at their corners, and the pause limits of each: ``{g: (max_pause,
-    pause_ratio)}``.
+    pause: float, dt: float = 0.02, corner_angle: float = 60.0,
+) -> list[str]:
+    """The gestures drawn in one go: those whose recordings typically (the median of their
+    :func:`longest_corner_rest`) rest at a corner for less than ``pause`` seconds.
 
-    A gesture whose recordings typically (the median of their :func:`longest_corner_rest`) rest
-    at a corner for ``pause`` seconds or more pauses, as at the reversal of an out-and-back
-    move; it keeps the limits common to all gestures, ``max_pause`` [s] and ``pause_ratio``
-    (:func:`candidate_limits`: how long the demonstrator pauses, whichever gesture, stretched for
-    slower people). A gesture performed in one go, as a Z drawn without stopping at its
-    corners, gets ``(0, 0)``: at a corner, only the rest every candidate is allowed
-    (``min_pause``). A reposition, a rest and two sides of a triangle are then no Z, while a
+    A gesture that pauses at a corner, as at the reversal of an out-and-back move, keeps the
+    pause limits common to all gestures (:func:`candidate_limits`: how long the demonstrator
+    pauses, whichever gesture, stretched for slower people). One drawn in one go, as a Z drawn
+    without stopping at its corners, admits at a corner only the rest every candidate is allowed
+    (``min_pause``): a reposition, a rest and two sides of a triangle are then no Z, while a
     hesitation in mid-stroke, where the hand goes on the same way, is no corner and is not
     limited. A gesture with no movement unit is left out.
     """
@@ -202,8 +199,7 @@ def gesture_pause_limits(
         rest = longest_corner_rest(tr, levels, L, dt, corner_angle)
         if rest is not None:
             longest.setdefault(g, []).append(rest)
-    return {g: (max_pause, pause_ratio) if float(np.median(v)) >= pause else (0.0, 0.0)
-            for g, v in longest.items()}
+    return [g for g, v in longest.items() if float(np.median(v)) < pause]
 
 
 def corner_limit(counts: Sequence[int], slack: int = 1, smooth: int | None = None) -> int | None:

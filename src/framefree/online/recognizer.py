@@ -45,8 +45,8 @@ from .limits import (
     corner_limit,
     forbidden_turns,
     gesture_geometry,
-    gesture_pause_limits,
     gesture_verticality,
+    one_go_gestures,
     opening_limit,
     pooled_closures,
     size_limits,
@@ -160,23 +160,22 @@ def resolve_config(
 def _candidate_limits(trajectories: Sequence[Trajectory], labels: Sequence[str],
                       c: RecognizerConfig, levels: SpeedLevels) -> RecognizerConfig:
     """Fill the candidate limits left ``None`` (units, duration, pauses, and with
-    ``gesture_pauses`` each gesture's own pause limits) from the model recordings."""
+    ``gesture_pauses`` the gestures drawn in one go) from the model recordings."""
     if None in (c.max_units, c.max_duration, c.max_pause, c.pause_ratio):
         units, duration, pause, ratio = candidate_limits(trajectories, levels, c.L, c.span_factor,
                                                          c.pause_factor, c.dt)
         c = c.replace(max_units=c.max_units or units, max_duration=c.max_duration or duration,
                       max_pause=c.max_pause or pause,
                       pause_ratio=ratio if c.pause_ratio is None else c.pause_ratio)
-    if c.gesture_pauses and c.pause_limits is None:
-        c = c.replace(pause_limits=gesture_pause_limits(trajectories, labels, levels, c.L,
-                                                        c.max_pause, c.pause_ratio, c.confirm,
-                                                        c.dt, c.corner_angle))
+    if c.gesture_pauses and c.one_go is None:
+        c = c.replace(one_go=one_go_gestures(trajectories, labels, levels, c.L, c.confirm, c.dt,
+                                             c.corner_angle))
     return c
 
 
 def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: RecognizerConfig,
              labels: list[str]) -> Spotter:
-    closures = openings = sizes = corners = turns = pauses = None  # None: no limit
+    closures = openings = sizes = corners = turns = one_go = None  # None: no limit
     if c.closure and c.closure_limits is not None:
         closures = np.array([c.closure_limits.get(g, 1.0) for g in labels])
     if c.closure and c.opening_limits is not None:
@@ -187,8 +186,8 @@ def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: Rec
         corners = np.array([c.corner_limits.get(g, np.inf) for g in labels], dtype=float)
     if c.turns and c.forbidden_turns is not None:
         turns = np.array([c.forbidden_turns.get(g, 0) for g in labels], dtype=np.int64)
-    if c.gesture_pauses and c.pause_limits is not None:
-        pauses = np.array([c.pause_limits.get(g, (np.inf, np.inf)) for g in labels])
+    if c.gesture_pauses and c.one_go is not None:
+        one_go = np.array([g in c.one_go for g in labels])
     up = vertical = None
     if c.up is not None and c.vertical_limits is not None:
         up = up_vector(c.up)
@@ -197,7 +196,7 @@ def _spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray, c: Rec
                    c.margin, c.confirm, c.max_wait, closures, c.L, sizes,
                    math.inf if c.pause_ratio is None else c.pause_ratio, c.min_pause,
                    c.return_error if c.closure else 0.0, openings, c.fire_on_motion,
-                   c.rest_before, corners, c.corner_angle, turns, up, vertical, pauses)
+                   c.rest_before, corners, c.corner_angle, turns, up, vertical, one_go)
 
 
 class Recognizer(StreamingRecognizer):

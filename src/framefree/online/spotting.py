@@ -18,7 +18,6 @@ candidate, or at the latest ``max_wait`` seconds after its end.
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections import deque
 from collections.abc import Sequence
@@ -35,7 +34,7 @@ from ..errors import DegenerateMotionError
 from .segmentation import PoseBuffer, Unit, closure, corner_count, corner_rest, turn_kinds
 from .vertical import verticality
 
-__all__ = ["Candidate", "SegmentClassifier", "Spotter", "candidate_spans", "pause_allowance", "rest_inside"]
+__all__ = ["Candidate", "SegmentClassifier", "Spotter", "candidate_spans"]
 
 
 class SegmentClassifier:
@@ -144,8 +143,6 @@ class Candidate:
     pause : float
         Its longest rest [s] between two units that meet at a corner
         (:func:`~framefree.online.segmentation.corner_rest`).
-    stroke : float
-        The duration [s] of a stroke beside its longest rest (:func:`rest_inside`).
     """
 
     start: int
@@ -163,26 +160,6 @@ class Candidate:
     turns: int = 0
     vertical: float = math.nan
     pause: float = 0.0
-    stroke: float = math.inf
-
-
-def rest_inside(units: Sequence[Unit]) -> tuple[float, float]:
-    """The longest rest [s] between consecutive units of a span and the duration [s] of a stroke
-    beside it: the span without that rest, shared by at most two strokes (out and back). A
-    hesitation cuts a stroke into pieces with short rests between them; measured on the pieces,
-    a stroke would look short and leave room for no reversal pause at all. ``(0, span)`` for
-    one unit."""
-    longest = max((b.start_t - a.end_t for a, b in itertools.pairwise(units)),
-                  default=0.0)
-    span = units[-1].end_t - units[0].start_t
-    return longest, (span - longest) / min(len(units), 2)
-
-
-def pause_allowance(max_pause: Any, ratio: Any, min_pause: float, stroke: Any) -> Any:
-    """The longest rest [s] allowed inside a candidate whose strokes last ``stroke`` seconds:
-    ``ratio`` × the stroke (a slow person pauses longer, in proportion), at most ``max_pause``
-    and at least ``min_pause`` (broadcasts)."""
-    return np.maximum(min_pause, np.minimum(max_pause, np.asarray(ratio) * stroke))
 
 
 def candidate_spans(
@@ -280,12 +257,11 @@ class Spotter:
     vertical_limits : ndarray, shape (M, 2), optional
         Smallest and largest :func:`~framefree.online.vertical.verticality` a candidate may have
         to be accepted as each model's gesture, used when ``up`` is given (default: no limit).
-    pause_limits : ndarray, shape (M, 2), optional
-        Each model's gesture's own ``max_pause`` [s] and ``pause_ratio``: a candidate is accepted
-        as that gesture only if its longest rest at a corner
-        (:func:`~framefree.online.segmentation.corner_rest`) is within :func:`pause_allowance`
-        of them (never less than ``min_pause``; default: only the limits above, common to all
-        rests).
+    one_go : ndarray of bool, shape (M,), optional
+        Whether each model's gesture is drawn in one go: a candidate is accepted as such a
+        gesture only if its longest rest at a corner
+        (:func:`~framefree.online.segmentation.corner_rest`) lasts at most ``min_pause``
+        (default: none is; only the limits above, common to all rests).
     """
 
     def __init__(
@@ -312,12 +288,12 @@ class Spotter:
         forbidden_turns: np.ndarray | None = None,
         up: np.ndarray | None = None,
         vertical_limits: np.ndarray | None = None,
-        pause_limits: np.ndarray | None = None,
+        one_go: np.ndarray | None = None,
     ) -> None:
         self.classifier = classifier
         n_models = len(classifier.models)
-        self.pause_limits = (np.full((n_models, 2), np.inf) if pause_limits is None
-                             else np.asarray(pause_limits, dtype=np.float64).reshape(n_models, 2))
+        self.one_go = (np.zeros(n_models, dtype=bool) if one_go is None
+                       else np.asarray(one_go, dtype=bool).reshape(n_models))
         self.up = None if up is None else np.asarray(up, dtype=np.float64).reshape(3)
         self.vertical_limits = (np.tile([0.0, 1.0], (n_models, 1)) if vertical_limits is None
                                 else np.asarray(vertical_limits, dtype=np.float64).reshape(n_models, 2))
@@ -396,19 +372,18 @@ class Spotter:
             c = closure(inside, self.L)
             corners, turns = self.corners_and_turns(n)
             v = math.nan if self.up is None else verticality(inside, self.up)
-            span = list(self.units)[len(self.units) - n:]
-            pause, stroke = corner_rest(span, self.corner_angle), rest_inside(span)[1]
-            d, size = self._classify(times, poses, c, bar, corners, turns, v, pause, stroke)
+            pause = corner_rest(list(self.units)[len(self.units) - n:], self.corner_angle)
+            d, size = self._classify(times, poses, c, bar, corners, turns, v, pause)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
             ratio = float(d[j] / self.model_thresholds[j])
             ok = ratio < bar and bool(self.admissible(j, np.array([c]), np.array([size]),
-                                                      corners, turns, v, pause, stroke)[0])
+                                                      corners, turns, v, pause)[0])
             if ok and self.tighten and not self.fire_on_motion:
                 bar = ratio
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
-                                 ratio, n, c, size, ok, corners, turns, v, pause, stroke))
+                                 ratio, n, c, size, ok, corners, turns, v, pause))
         return out
 
     def corners_and_turns(self, n: int) -> tuple[int, int]:
@@ -419,7 +394,7 @@ class Spotter:
 
     def _classify(self, times: np.ndarray, poses: np.ndarray, closure_: float, bar: float = 1.0,
                   corners: int = 0, turns: int = 0, vertical: float = math.nan,
-                  pause: float = 0.0, stroke: float = math.inf) -> tuple[np.ndarray, float]:
+                  pause: float = 0.0) -> tuple[np.ndarray, float]:
         """Distances (M,) of a candidate to the models and its size [m]. Pruned, only models
         whose gesture admits the candidate's closure, size and corners can accept it, so the others get
         threshold 0, the others ``bar`` times theirs, and a candidate that no gesture admits is
@@ -431,38 +406,35 @@ class Spotter:
         if out is None:
             return np.full(len(clf.models), math.inf), 0.0
         descriptor, size = out
-        admits = self.admitting_models(closure_, size, corners, turns, vertical, pause, stroke)
+        admits = self.admitting_models(closure_, size, corners, turns, vertical, pause)
         accept_below = np.where(admits, bar * self.model_thresholds, 0.0)
         return clf.search_described(descriptor, accept_below), size
 
     def admitting_models(self, closure_: float, size: float, corners: int = 0, turns: int = 0,
-                         vertical: float = math.nan, pause: float = 0.0, stroke: float = math.inf,
-                         ) -> np.ndarray:
+                         vertical: float = math.nan, pause: float = 0.0) -> np.ndarray:
         """Which models' gestures admit a segment of this closure, size [m], number of corners,
-        turn kinds, verticality, longest rest at a corner [s] and stroke duration [s] (M,) bool: the
-        rule of :meth:`admissible`, for every model at once."""
-        return self._admits(slice(None), closure_, size, corners, turns, vertical, pause, stroke)
+        turn kinds, verticality and longest rest at a corner [s] (M,) bool: the rule of
+        :meth:`admissible`, for every model at once."""
+        return self._admits(slice(None), closure_, size, corners, turns, vertical, pause)
 
     def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray,
                    corners: np.ndarray | int = 0, turns: np.ndarray | int = 0,
-                   vertical: np.ndarray | float = math.nan, pauses: np.ndarray | float = 0.0,
-                   strokes: np.ndarray | float = math.inf) -> np.ndarray:
+                   vertical: np.ndarray | float = math.nan,
+                   pauses: np.ndarray | float = 0.0) -> np.ndarray:
         """Which segments (closures (n,), sizes (n,) [m], corners (n,), turn kinds (n,),
-        verticality (n,), longest rests at a corner (n,) [s] and stroke durations (n,) [s],
-        :attr:`Candidate.pause` and :attr:`Candidate.stroke`) may be model ``j``'s gesture:
+        verticality (n,) and longest rests at a corner (n,) [s], :attr:`Candidate.pause`) may be
+        model ``j``'s gesture:
         within its size range, no more closed than its opening limit, within its closure limit
         or ending within :attr:`return_error` of their start (closure × size), with no more
-        corners than its corner limit, no turn its gesture never makes, no longer a rest at a
-        corner than its :attr:`pause_limits` allow and, where a vertical is known, within its
-        verticality range (NaN: unknown, passes)."""
+        corners than its corner limit, no turn its gesture never makes, a rest at a corner of
+        at most ``min_pause`` if it is drawn in one go (:attr:`one_go`) and, where a vertical is
+        known, within its verticality range (NaN: unknown, passes)."""
         return self._admits(j, np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float),
                             np.asarray(corners, dtype=float), np.asarray(turns, dtype=np.int64),
-                            np.asarray(vertical, dtype=float), np.asarray(pauses, dtype=float),
-                            np.asarray(strokes, dtype=float))
+                            np.asarray(vertical, dtype=float), np.asarray(pauses, dtype=float))
 
     def _admits(self, j: int | slice, closures: Any, sizes: Any, corners: Any, turns: Any = 0,
-                vertical: Any = math.nan, pauses: Any = 0.0, strokes: Any = math.inf,
-                ) -> np.ndarray:
+                vertical: Any = math.nan, pauses: Any = 0.0) -> np.ndarray:
         """The admissibility rule for model(s) ``j`` (broadcast against the segments)."""
         lo, hi = self.size_limits[j, 0], self.size_limits[j, 1]
         closes = (closures <= self.closure_limits[j]) | (closures * sizes <= self.return_error)
@@ -471,10 +443,7 @@ class Spotter:
         turning = (np.asarray(turns, dtype=np.int64) & self.forbidden_turns[j]) == 0
         v_lo, v_hi = self.vertical_limits[j, 0], self.vertical_limits[j, 1]
         upright = ~((vertical < v_lo) | (vertical > v_hi))  # NaN: no vertical known
-        with np.errstate(invalid="ignore"):  # inf × 0 when a gesture has no pause of its own
-            allowed = pause_allowance(self.pause_limits[j, 0], self.pause_limits[j, 1],
-                                      self.min_pause, strokes)
-        rested = pauses <= np.nan_to_num(allowed, nan=np.inf)
+        rested = ~(self.one_go[j] & (pauses > self.min_pause))
         return (closes & opens & cornered & turning & upright & rested & (sizes >= lo)
                 & (sizes <= hi))
 
