@@ -20,12 +20,8 @@ from framefree.core import se3
 from framefree.datasets.layout import load_model_recordings
 from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.limits import corner_limit
-from framefree.online.segmentation import (
-    MotionSegmenter,
-    corner_count,
-    heading,
-    turn_angle,
-)
+from framefree.online.segmentation import MotionSegmenter, heading
+from framefree.online.span_shape import corner_count, turn_angle
 from framefree.replica import replica_path
 from real_data import MACHETE
 

@@ -26,7 +26,8 @@ from framefree.core.trajectory import Trajectory
 from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.evaluation import run_stream
 from framefree.online.limits import one_go_gestures
-from framefree.online.segmentation import Unit, corner_rest
+from framefree.online.segmentation import Unit
+from framefree.online.span_shape import corner_rest
 from real_data import MACHETE
 
 ZIGZAG = np.array([[0, 0, 0], [0.24, 0, 0], [0, -0.18, 0], [0.24, -0.18, 0]], float)

@@ -15,7 +15,7 @@ from framefree.online.evaluation import match_events, run_stream
 from framefree.online.events import STOP
 from framefree.online.limits import pooled_closures
 from framefree.online.recognizer import model_window_spacing
-from framefree.online.segmentation import closure
+from framefree.online.span_shape import closure
 from framefree.replica import replica_path
 from framefree.replica.faults import FAULT_KINDS, inject
 from framefree.replica.people import HELDOUT_PEOPLE, person

@@ -16,9 +16,9 @@ from framefree.online.segmentation import (
     PoseBuffer,
     SpeedLevels,
     UniformResampler,
-    closure,
     motion_speed,
 )
+from framefree.online.span_shape import closure
 from framefree.replica.motion import (
     Motion,
     hold,

@@ -21,13 +21,8 @@ from framefree.core.trajectory import Trajectory
 from framefree.online import Recognizer
 from framefree.online.evaluation import run_stream
 from framefree.online.limits import forbidden_turns
-from framefree.online.segmentation import (
-    ALTERNATING,
-    SAME_SENSE,
-    MotionSegmenter,
-    plane_cosine,
-    turn_kinds,
-)
+from framefree.online.segmentation import MotionSegmenter
+from framefree.online.span_shape import ALTERNATING, SAME_SENSE, plane_cosine, turn_kinds
 from real_data import MACHETE
 
 ZIGZAG = np.array([[0, 0, 0], [0.24, 0, 0], [0, -0.18, 0], [0.24, -0.18, 0]], float)

@@ -143,7 +143,7 @@ class RecognizerConfig:
         Accept a candidate only with no more corners than its gesture's demonstrations have
         (True; only where they agree). A *corner* is a turn of the hand's heading of more than
         ``corner_angle`` between two movement units
-        (:func:`~framefree.online.segmentation.turn_angle`): people slow down where a path bends
+        (:func:`~framefree.online.span_shape.turn_angle`): people slow down where a path bends
         sharply, so the units of a square drawn in the air meet at right angles, while a
         hesitation on a circle leaves the heading nearly as it was.
     corner_angle : float
@@ -228,7 +228,7 @@ class RecognizerConfig:
         models, for each gesture whose demonstrations agree on their number
         (:func:`~framefree.online.limits.corner_limit`).
     forbidden_turns : dict of str to int or None
-        :func:`~framefree.online.segmentation.turn_kinds` bits a candidate may not show per
+        :func:`~framefree.online.span_shape.turn_kinds` bits a candidate may not show per
         gesture (a gesture not in it has none); ``None``: from the models
         (:func:`~framefree.online.limits.forbidden_turns`; a library saved before this field
         existed gets them from its takes when it is loaded).
@@ -237,7 +237,7 @@ class RecognizerConfig:
         ``None``: from the models (:func:`~framefree.online.vertical.vertical_limits`).
     gesture_pauses : bool
         Accept a candidate as a gesture drawn in one go (``one_go``) only if its longest rest at
-        a corner (:func:`~framefree.online.segmentation.corner_rest`) lasts at most
+        a corner (:func:`~framefree.online.span_shape.corner_rest`) lasts at most
         ``min_pause`` (True, v14; a library saved before keeps False). A Z drawn in one go then
         admits no reposition, a rest and two of a triangle's sides, while a gesture whose
         demonstrator pauses at its reversal keeps the common pause limits and a hesitation in

@@ -25,17 +25,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..core.trajectory import Trajectory
-from .segmentation import (
-    ALTERNATING,
-    SAME_SENSE,
-    MotionSegmenter,
-    SpeedLevels,
-    Unit,
-    closure,
-    corner_count,
-    corner_rest,
-    turn_kinds,
-)
+from .segmentation import MotionSegmenter, SpeedLevels, Unit
+from .span_shape import ALTERNATING, SAME_SENSE, closure, corner_count, corner_rest, turn_kinds
 from .spotting import SegmentClassifier
 from .vertical import verticality
 
@@ -75,8 +66,8 @@ def recording_geometry(
     """Closure, size [m], corners and turn kinds of one recording's gesture, measured on the
     whole gesture (first unit's start to last unit's end; the size with ``margin`` samples around
     it, as a live candidate is cut), corners and turns as in
-    :func:`~framefree.online.segmentation.corner_count` and
-    :func:`~framefree.online.segmentation.turn_kinds`; ``None`` if the recording has no movement
+    :func:`~framefree.online.span_shape.corner_count` and
+    :func:`~framefree.online.span_shape.turn_kinds`; ``None`` if the recording has no movement
     unit."""
     seg, units = recording_units(traj, levels, L, dt)
     if not units:
@@ -171,7 +162,7 @@ def candidate_limits(
 def longest_corner_rest(traj: Trajectory, levels: SpeedLevels, L: float, dt: float = 0.02,
                         corner_angle: float = 60.0) -> float | None:
     """The longest rest [s] at a corner of a recording's gesture
-    (:func:`~framefree.online.segmentation.corner_rest` of its movement units, as the live
+    (:func:`~framefree.online.span_shape.corner_rest` of its movement units, as the live
     segmenter cuts them; 0 without a corner); ``None`` if it has no movement unit."""
     _, units = recording_units(traj, levels, L, dt)
     if not units:
@@ -224,7 +215,7 @@ def corner_limit(counts: Sequence[int], slack: int = 1, smooth: int | None = Non
 
 
 def forbidden_turns(kinds: Sequence[int]) -> int:
-    """The :func:`~framefree.online.segmentation.turn_kinds` a gesture never makes, from the turn
+    """The :func:`~framefree.online.span_shape.turn_kinds` a gesture never makes, from the turn
     kinds of its recordings: when at least two recordings all turn one way only (every pair of
     corners the same way, or every pair back), the other way; else none (0).
 

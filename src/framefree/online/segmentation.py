@@ -26,7 +26,6 @@ See ``docs/online.md`` (Segment spotting).
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections import deque
 from collections.abc import Sequence
@@ -35,28 +34,19 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core import se3
-from ..core.progress import progress_increments, screw_path_increment
+from ..core.progress import screw_path_increment
 from ..core.trajectory import Trajectory
 
 __all__ = [
-    "ALTERNATING",
     "HEADING_SPEED",
-    "REVERSAL_ANGLE",
-    "SAME_SENSE",
     "MotionSegmenter",
     "PoseBuffer",
     "SpeedLevels",
     "UniformResampler",
     "Unit",
-    "closure",
-    "corner_count",
-    "corner_rest",
     "heading",
     "motion_speed",
-    "plane_cosine",
     "speed_levels",
-    "turn_angle",
-    "turn_kinds",
 ]
 
 
@@ -206,7 +196,7 @@ class Unit:
     chord : ndarray, shape (6,), or None
         Where the unit goes as a whole: :func:`heading` from its first to its last pose. A side of
         a drawn polygon is the same however its ends were taken; the plane two chords span is
-        what :func:`turn_kinds` compares. ``None`` when unknown.
+        what :func:`~framefree.online.span_shape.turn_kinds` compares. ``None`` when unknown.
     """
 
     start: int
@@ -263,104 +253,11 @@ def heading(A: np.ndarray, B: np.ndarray, L: float) -> np.ndarray:
     """Which way the hand moves from pose ``A`` to pose ``B`` (4, 4): the twist-like vector (6,)
     ``(L·φ, p_B − p_A)`` of the rotation vector φ [rad] of ``R_B R_Aᵀ`` (world axes) and the
     tracker's displacement [m]. A change of world frame turns both halves alike, so the angle
-    between two headings (:func:`turn_angle`) does not depend on it; a tracker held off the
+    between two headings (:func:`~framefree.online.span_shape.turn_angle`) does not depend on it; a tracker held off the
     hand's centre of rotation adds the rotation's lever to the displacement."""
     A = np.ascontiguousarray(A, dtype=np.float64)
     B = np.ascontiguousarray(B, dtype=np.float64)
     return np.concatenate([L * se3.rotation_increment_one(A, B), B[:3, 3] - A[:3, 3]])
-
-
-def turn_angle(a: np.ndarray | None, b: np.ndarray | None) -> float:
-    """Angle [deg] between two headings (6,): 0 when the hand goes on the same way, 180 when it
-    reverses; 0 when either is unknown or zero."""
-    if a is None or b is None:
-        return 0.0
-    norm = float(np.linalg.norm(a) * np.linalg.norm(b))
-    if not norm > 0:
-        return 0.0
-    return math.degrees(math.acos(min(1.0, max(-1.0, float(a @ b) / norm))))
-
-
-def corner_count(units: Sequence[Unit], angle: float) -> int:
-    """Corners of a span of consecutive units: turns of the heading sharper than ``angle`` [deg]
-    from one unit to the next (:func:`turn_angle`)."""
-    return sum(turn_angle(a.heading_out, b.heading_in) > angle for a, b in itertools.pairwise(units))
-
-
-def corner_rest(units: Sequence[Unit], angle: float) -> float:
-    """The longest rest [s] between two consecutive units of a span that meet at a corner (a
-    turn sharper than ``angle`` [deg], :func:`corner_count`); 0 without one. A hesitation on a
-    straight stroke or a smooth curve rests where the hand goes on the same way, so it does not
-    count; the rest after a reposition, before a drawn shape turns away from it, does."""
-    return max((b.start_t - a.end_t for a, b in itertools.pairwise(units)
-                if turn_angle(a.heading_out, b.heading_in) > angle), default=0.0)
-
-
-#: Bits of :func:`turn_kinds`: two corners that turn the same way (around a triangle or a square)
-SAME_SENSE = 1
-#: ... and a corner that turns back the way the previous one came (a Z, an N, an M)
-ALTERNATING = 2
-
-
-def plane_cosine(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> float:
-    """Cosine of the angle between the oriented planes of ``a → b`` and ``c → d`` (vectors of
-    any one dimension): ``⟨a∧b, c∧d⟩ / (|a∧b| |c∧d|)`` with ``⟨a∧b, c∧d⟩ = (a·c)(b·d) −
-    (a·d)(b·c)``. 1 for two turns the same way in one plane, −1 for a turn back, 0 when either
-    pair is parallel (no plane) or the planes are perpendicular."""
-    inner = float((a @ c) * (b @ d) - (a @ d) * (b @ c))
-    norms = float(((a @ a) * (b @ b) - (a @ b) ** 2) * ((c @ c) * (d @ d) - (c @ d) ** 2))
-    return inner / math.sqrt(norms) if norms > 0 else 0.0
-
-
-#: Sharpest turn [deg] between two chords whose plane says which way the hand turned: a sharper
-#: one is a reversal, an out-and-back move, whose plane the hand's small sideways drift decides
-#: (on the real Vive recordings, reversals of flapping arms turned by 158–179° and their planes
-#: lay every way).
-REVERSAL_ANGLE = 150.0
-
-
-def turn_kinds(units: Sequence[Unit], angle: float) -> int:
-    """Which way a span of consecutive units turns at its corners (:func:`corner_count`): the
-    bits :data:`SAME_SENSE` and :data:`ALTERNATING` of every pair of consecutive corners, 0 with
-    fewer than two corners.
-
-    A corner's turn is the oriented plane from the chord of the unit before it to the chord of
-    the unit after it (:attr:`Unit.chord`); two corners turn the same way when the
-    :func:`plane_cosine` of their planes is positive. Chords, screw-like headings (6,), turn
-    alike with any change of world frame, so the kinds do not depend on it, and a polygon turns
-    the same way however it lies in space, while a Z turns back at its second corner. A pair
-    with a reversal (chords more than :data:`REVERSAL_ANGLE` apart) says nothing."""
-    planes = [(a.chord, b.chord) for a, b in itertools.pairwise(units)
-              if turn_angle(a.heading_out, b.heading_in) > angle]
-    kinds = 0
-    for (a, b), (c, d) in itertools.pairwise(planes):
-        if any(v is None for v in (a, b, c, d)):
-            continue
-        if max(turn_angle(a, b), turn_angle(c, d)) > REVERSAL_ANGLE:
-            continue
-        cos = plane_cosine(a, b, c, d)
-        kinds |= SAME_SENSE if cos > 0 else ALTERNATING if cos < 0 else 0
-    return kinds
-
-
-def closure(poses: np.ndarray, L: float) -> float:
-    """How far a motion ends from where it started, relative to its length (bi-invariant).
-
-    ``s(T_0, T_end) / Σ_k s(T_k, T_{k+1})`` with ``s`` the screw path [m]: 0 for a motion that
-    returns to its start pose (every HPM gesture goes out and comes back), 1 for a motion that goes
-    one way (a repositioning move).
-
-    Parameters
-    ----------
-    poses : ndarray, shape (n, 4, 4)
-    L : float
-        Scale length of the screw path [m].
-    """
-    P = np.ascontiguousarray(poses, dtype=np.float64)
-    total = float(progress_increments(P, "screw", L).sum())
-    if not total > 0:
-        return 1.0
-    return min(1.0, screw_path_increment(P[0], P[-1], L) / total)
 
 
 def speed_levels(

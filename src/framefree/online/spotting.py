@@ -31,7 +31,8 @@ from ..core.pruning import ModelBank, pruned_nearest
 from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor
 from ..errors import DegenerateMotionError
-from .segmentation import PoseBuffer, Unit, closure, corner_count, corner_rest, turn_kinds
+from .segmentation import PoseBuffer, Unit
+from .span_shape import closure, corner_count, corner_rest, turn_kinds
 from .vertical import verticality
 
 __all__ = ["Candidate", "SegmentClassifier", "Spotter", "candidate_spans"]
@@ -137,12 +138,12 @@ class Candidate:
     corners : int
         Turns sharper than the spotter's ``corner_angle`` between its units.
     turns : int
-        Which ways its corners turn (:func:`~framefree.online.segmentation.turn_kinds` bits).
+        Which ways its corners turn (:func:`~framefree.online.span_shape.turn_kinds` bits).
     vertical : float
         Its :func:`~framefree.online.vertical.verticality` (NaN when no vertical is known).
     pause : float
         Its longest rest [s] between two units that meet at a corner
-        (:func:`~framefree.online.segmentation.corner_rest`).
+        (:func:`~framefree.online.span_shape.corner_rest`).
     """
 
     start: int
@@ -227,7 +228,7 @@ class Spotter:
     max_wait : float
         Latest firing time [s] after a pending candidate's end.
     closure_limits : ndarray, shape (M,), optional
-        Largest :func:`~framefree.online.segmentation.closure` a candidate may have to be accepted
+        Largest :func:`~framefree.online.span_shape.closure` a candidate may have to be accepted
         as each model's gesture (default: no limit).
     L : float
         Scale length of the screw path [m] (for the closure).
@@ -243,13 +244,13 @@ class Spotter:
         stroke's candidate must not come back to its start (default: no limit).
     corner_limits : ndarray, shape (M,), optional
         Most corners a candidate may have to be accepted as each model's gesture (default: no
-        limit). A *corner* is a turn of the hand's heading (:func:`~framefree.online.segmentation.turn_angle`)
+        limit). A *corner* is a turn of the hand's heading (:func:`~framefree.online.span_shape.turn_angle`)
         of more than ``corner_angle`` degrees between two of the candidate's units: a square
         drawn in the air has three, a circle none, whether or not its drawer hesitated.
     corner_angle : float
         Smallest turn [deg] between two units that counts as a corner.
     forbidden_turns : ndarray of int, shape (M,), optional
-        :func:`~framefree.online.segmentation.turn_kinds` bits a candidate must not show to be
+        :func:`~framefree.online.span_shape.turn_kinds` bits a candidate must not show to be
         accepted as each model's gesture (default: none): a triangle never turns back at a
         corner, a Z always does.
     up : ndarray, shape (3,), optional
@@ -260,7 +261,7 @@ class Spotter:
     one_go : ndarray of bool, shape (M,), optional
         Whether each model's gesture is drawn in one go: a candidate is accepted as such a
         gesture only if its longest rest at a corner
-        (:func:`~framefree.online.segmentation.corner_rest`) lasts at most ``min_pause``
+        (:func:`~framefree.online.span_shape.corner_rest`) lasts at most ``min_pause``
         (default: none is; only the limits above, common to all rests).
     """
 
@@ -388,7 +389,7 @@ class Spotter:
 
     def corners_and_turns(self, n: int) -> tuple[int, int]:
         """Corners between the last ``n`` units (turns sharper than :attr:`corner_angle`) and which
-        ways they turn (:func:`~framefree.online.segmentation.turn_kinds`)."""
+        ways they turn (:func:`~framefree.online.span_shape.turn_kinds`)."""
         span = list(self.units)[len(self.units) - n:]
         return corner_count(span, self.corner_angle), turn_kinds(span, self.corner_angle)
 

@@ -39,12 +39,8 @@ import numpy as np
 from ..core.trajectory import Trajectory
 from .limits import recording_units
 from .negatives import non_gesture_motions
-from .segmentation import (
-    SpeedLevels,
-    closure,
-    corner_count,
-    turn_kinds,
-)
+from .segmentation import SpeedLevels
+from .span_shape import closure, corner_count, turn_kinds
 from .spotting import SegmentClassifier, Spotter, candidate_spans
 
 __all__ = [
@@ -108,7 +104,7 @@ class SegmentScores(NamedTuple):
     corners: np.ndarray
     """(C,)"""
     turns: np.ndarray
-    """(C,): :func:`~framefree.online.segmentation.turn_kinds` bits."""
+    """(C,): :func:`~framefree.online.span_shape.turn_kinds` bits."""
 
 
 def segment_distances(
