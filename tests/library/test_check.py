@@ -22,7 +22,7 @@ from framefree.library import (
     stop_rotations,
 )
 from framefree.online import Recognizer, RecognizerConfig
-from framefree.online.recognizer import model_window_spacing
+from framefree.online.model_settings import model_window_spacing
 from framefree.online.stop import sustained_peak_speed
 from framefree.replica import synthesize_gesture
 

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import framefree.online.recognizer as recognizer_module
+import framefree.online.model_settings as model_settings
 from framefree.library import (
     FORMAT_VERSION,
     GestureLibrary,
@@ -58,10 +58,10 @@ def test_loading_calibrates_nothing(hpm_library_file: Path, monkeypatch: pytest.
     def forbidden(*args, **kwargs):
         raise AssertionError("a library load must not derive or calibrate anything")
 
-    present = [name for name in DERIVATIONS if hasattr(recognizer_module, name)]
+    present = [name for name in DERIVATIONS if hasattr(model_settings, name)]
     assert {"calibrate_segment_thresholds", "speed_levels", "sustained_peak_speed"} <= set(present)
     for name in present:
-        monkeypatch.setattr(recognizer_module, name, forbidden)
+        monkeypatch.setattr(model_settings, name, forbidden)
     rec = Recognizer.load(hpm_library_file)
     assert len(rec.labels) == 35 and len(rec.gestures) == 7
     with pytest.raises(AssertionError, match="must not"):  # the patch is in effect

@@ -9,12 +9,11 @@ import pytest
 from framefree import Trajectory
 from framefree.datasets.layout import load_model_recordings
 from framefree.descriptors import get_descriptor
-from framefree.online import Recognizer, RecognizerConfig, spotting
-from framefree.online import recognizer as recognizer_module
+from framefree.online import Recognizer, RecognizerConfig, model_settings, spotting
 from framefree.online.evaluation import match_events, run_stream
 from framefree.online.events import STOP
 from framefree.online.limits import pooled_closures
-from framefree.online.recognizer import model_window_spacing
+from framefree.online.model_settings import model_window_spacing
 from framefree.online.span_shape import closure
 from framefree.replica import replica_path
 from framefree.replica.faults import FAULT_KINDS, inject
@@ -114,7 +113,7 @@ def test_a_resolved_configuration_rebuilds_without_calibration(recognizer, model
     def fail(*args, **kwargs):
         raise AssertionError("calibration must not run")
 
-    monkeypatch.setattr(recognizer_module, "calibrate_segment_thresholds", fail)
+    monkeypatch.setattr(model_settings, "calibrate_segment_thresholds", fail)
     rebuilt = Recognizer.from_trajectories(*models, restored)
     a, _ = run_stream(recognizer, heldout_stream.traj)
     b, _ = run_stream(rebuilt, heldout_stream.traj)

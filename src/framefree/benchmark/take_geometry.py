@@ -19,7 +19,7 @@ from ..core.trajectory import Trajectory
 from ..datasets.people_layout import load_people
 from ..online.config import RecognizerConfig
 from ..online.limits import gesture_verticality, longest_corner_rest, recording_geometry
-from ..online.recognizer import segment_descriptor
+from ..online.model_settings import segment_descriptor
 from ..online.segmentation import SpeedLevels, speed_levels
 from ..online.spotting import SegmentClassifier
 from ..online.vertical import up_vector

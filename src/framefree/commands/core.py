@@ -197,7 +197,7 @@ def _plausible(read, force: bool):
 def _library_models(path: str):
     """Descriptor, thresholds, takes and labels of a gesture library file."""
     from ..library.store import load_library
-    from ..online.recognizer import segment_descriptor
+    from ..online.model_settings import segment_descriptor
 
     lib = load_library(path)
     click.echo(f"models: {path} is a gesture library: {len(lib.takes)} takes of "

@@ -52,7 +52,7 @@ import numpy as np
 from ..descriptors.base import Descriptor
 from ..descriptors.canonical import CanonicalPath
 from ..online.config import RecognizerConfig
-from ..online.recognizer import model_window_spacing, segment_descriptor
+from ..online.model_settings import model_window_spacing, segment_descriptor
 from ..online.stop import sustained_peak_speed
 from .probes import everyday_motions, perturbed, slowest_stop_speed, stop_rotations
 from .store import TakeSet
@@ -191,7 +191,7 @@ class CheckReport:
 
 def descriptor_for(config: RecognizerConfig | None = None) -> Descriptor:
     """The offline descriptor the recognizer classifies segments with
-    (:func:`~framefree.online.recognizer.segment_descriptor`)."""
+    (:func:`~framefree.online.model_settings.segment_descriptor`)."""
     return segment_descriptor(config or RecognizerConfig())
 
 

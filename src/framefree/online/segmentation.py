@@ -253,8 +253,9 @@ def heading(A: np.ndarray, B: np.ndarray, L: float) -> np.ndarray:
     """Which way the hand moves from pose ``A`` to pose ``B`` (4, 4): the twist-like vector (6,)
     ``(L·φ, p_B − p_A)`` of the rotation vector φ [rad] of ``R_B R_Aᵀ`` (world axes) and the
     tracker's displacement [m]. A change of world frame turns both halves alike, so the angle
-    between two headings (:func:`~framefree.online.span_shape.turn_angle`) does not depend on it; a tracker held off the
-    hand's centre of rotation adds the rotation's lever to the displacement."""
+    between two headings (:func:`~framefree.online.span_shape.turn_angle`) does not depend on
+    it; a tracker held off the hand's centre of rotation adds the rotation's lever to the
+    displacement."""
     A = np.ascontiguousarray(A, dtype=np.float64)
     B = np.ascontiguousarray(B, dtype=np.float64)
     return np.concatenate([L * se3.rotation_increment_one(A, B), B[:3, 3] - A[:3, 3]])
