@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import replace
 
 import numpy as np
@@ -17,7 +18,7 @@ from framefree.replica import (
     person,
     plan_gesture,
 )
-from framefree.replica.motion import Motion, hesitant_stroke, stroke, translation_path
+from framefree.replica.motion import Motion, hesitant_stroke, overlapped, stroke, translation_path
 from framefree.replica.people import POPULATION, STYLES, styled
 from framefree.replica.people_streams import take_session
 
@@ -81,6 +82,60 @@ def test_styles_keep_the_body_and_change_the_movement() -> None:
         assert all(getattr(q, k) == v for k, v in style.items())
     with pytest.raises(ValueError, match="unknown style"):
         styled(p, "nervous")
+
+
+def _square_sides(duration: float = 0.6) -> list:
+    corners = np.array([[0, 0, 0], [0.2, 0, 0], [0.2, 0.2, 0], [0, 0.2, 0.05]], dtype=float)
+    sides, pose = [], np.eye(4)
+    for a, b in itertools.pairwise(corners):
+        side = stroke(translation_path(pose, lambda s, d=b - a: s[:, None] * d), duration)
+        sides.append(side)
+        pose = side.end
+    return sides
+
+
+@settings(max_examples=25, deadline=None)
+@given(overlap=st.floats(0.0, 0.6))
+def test_fluent_strokes_keep_the_path_and_round_the_corners(overlap) -> None:
+    """Superposed strokes end where the chained ones end and take ``overlap`` × a stroke less per
+    corner; the hand stops at a corner only without overlap."""
+    sides = _square_sides()
+    chained, fluent = Motion(sides), overlapped(sides, overlap)
+    np.testing.assert_allclose(fluent.end, chained.end, atol=1e-12)
+    np.testing.assert_allclose(fluent.start, chained.pieces[0].start, atol=1e-12)
+    assert fluent.duration == pytest.approx(chained.duration - 2 * overlap * 0.6)
+    t, v = _speed(fluent, 0.002)
+    corner = (t > 0.45) & (t < fluent.duration - 0.45)  # both corners, away from start and end
+    slowest = v[corner].min() / v.max()
+    if overlap == 0.0:
+        t0 = np.arange(0.0, chained.duration, 0.05)
+        np.testing.assert_allclose(fluent.fn(t0), chained.at(t0), atol=1e-12)
+        assert slowest < 0.01
+    elif overlap > 0.15:
+        assert slowest > 0.05
+
+
+def test_fluent_people_draw_without_stopping_and_the_rest_as_before() -> None:
+    """Half the people draw fluently; every other field, and every HPM gesture, is what it was
+    before fluent drawing was modelled (the golden values above), and a fluent person's drawn
+    shapes are one superposed stroke."""
+    people = [person(s) for s in range(40)]
+    fluent = [p for p in people if p.coarticulation > 0]
+    assert 0.3 < len(fluent) / 40 < 0.7  # POPULATION["fluent"] = 0.5
+    lo, hi = POPULATION["coarticulation"]
+    assert all(lo <= p.coarticulation <= hi for p in fluent)
+    who = fluent[0]
+    zigzag = plan_gesture("zigzag", np.random.default_rng(0), person=who)
+    stopping = plan_gesture("zigzag", np.random.default_rng(0), person=replace(who, coarticulation=0.0))
+    assert len(zigzag.strokes) == 1 and len(stopping.strokes) >= 3
+    assert zigzag.duration < stopping.duration
+    go_left = plan_gesture("go_left", np.random.default_rng(0), person=who)
+    same = plan_gesture("go_left", np.random.default_rng(0), person=replace(who, coarticulation=0.0))
+    assert [s.duration for s in go_left.strokes] == [s.duration for s in same.strokes]
+    with pytest.raises(ValueError, match="coarticulation"):
+        replace(who, coarticulation=1.0)
+    with pytest.raises(ValueError, match="overlap"):
+        overlapped(_square_sides(), -0.1)
 
 
 def _closure(name: str, seed: int) -> float:

@@ -47,6 +47,7 @@ from .motion import (
     hesitant_stroke,
     hold,
     make_pose,
+    overlapped,
     reversed_path,
     rot,
     screw_path,
@@ -305,7 +306,9 @@ def _once(gesture: str, g: _Performance) -> tuple[np.ndarray, Path]:
 
 def _drawn(gesture: str, g: _Performance) -> tuple[np.ndarray, list[Piece]]:
     """Start pose and strokes of a shape drawn in the air (:mod:`~framefree.replica.shapes`):
-    one stroke per side, each with its own deviation, and a short hold at some corners."""
+    one stroke per side, each with its own deviation, and a short hold at some corners; a person
+    who draws fluently (``Person.coarticulation``) joins the sides without stopping instead
+    (:func:`~framefree.replica.motion.overlapped`)."""
     rng = g.rng
     start = g.hand(PALM_DOWN)
     right = -g.left
@@ -322,8 +325,10 @@ def _drawn(gesture: str, g: _Performance) -> tuple[np.ndarray, list[Piece]]:
         piece = g.stroke(deviated(translation_path(pose, planar), bp, br, *ends))
         pieces.append(piece)
         pose = piece.end
-        if k < len(strokes) - 1 and rng.random() < 0.5:
+        if k < len(strokes) - 1 and not g.who.coarticulation and rng.random() < 0.5:
             pieces.append(hold(pose, rng.uniform(0.0, 0.08)))
+    if g.who.coarticulation and len(pieces) > 1:
+        pieces = [overlapped(pieces, g.who.coarticulation)]
     return start, pieces
 
 

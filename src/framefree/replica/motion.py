@@ -24,6 +24,7 @@ __all__ = [
     "hold",
     "make_pose",
     "minimum_jerk",
+    "overlapped",
     "reversed_path",
     "rot",
     "sclerp_path",
@@ -264,6 +265,50 @@ def hesitant_stroke(path: Path, duration: float, skew: float, at: float, pause: 
         return path(minimum_jerk(tt ** skew))
 
     return Piece(end, fn)
+
+
+def overlapped(pieces: Sequence[Piece], overlap: float) -> Piece:
+    """Consecutive strokes superposed, as fluent movement joins them: each stroke begins
+    ``overlap`` × the previous stroke's duration before that one ends, and the displacements of
+    the strokes add up (the superposition model of continuous movement: Flash & Hogan,
+    J Neurosci 5:1688, 1985; Morasso & Mussa-Ivaldi, Biol Cybern 45:131, 1982).
+
+    Where two strokes meet at a corner, the hand no longer stops: the corner is rounded and the
+    speed dips only partway (with minimum-jerk strokes at right angles, to about 0.2 of the peak at
+    an overlap of 0.2 and 0.6 at 0.4). Every stroke still moves the hand by its own displacement,
+    so the path ends where the chained strokes end.
+
+    Parameters
+    ----------
+    pieces : sequence of Piece
+        Chained strokes (each starts where the previous one ends).
+    overlap : float
+        In [0, 1): 0 chains them as they are (the hand stops at every corner).
+
+    Returns
+    -------
+    Piece
+        Lasting ``Σ durations − overlap × Σ durations but the last``.
+    """
+    if not 0.0 <= overlap < 1.0:
+        raise ValueError(f"overlap must be in [0, 1), got {overlap}")
+    if not pieces:
+        raise ValueError("overlapped() needs at least one piece")
+    starts = np.concatenate([[0.0], np.cumsum([(1.0 - overlap) * p.duration for p in pieces[:-1]])])
+    total = float(starts[-1] + pieces[-1].duration)
+    first = pieces[0].start
+    origins = [p.start for p in pieces]
+
+    def fn(t: np.ndarray) -> np.ndarray:
+        t = np.asarray(t, dtype=np.float64)
+        T = np.broadcast_to(first, (t.shape[0], 4, 4)).copy()
+        for start, piece, origin in zip(starts, pieces, origins, strict=True):
+            P = piece.fn(np.clip(t - start, 0.0, piece.duration))
+            T[:, :3, 3] += P[:, :3, 3] - origin[:3, 3]
+            T[:, :3, :3] = P[:, :3, :3] @ origin[:3, :3].T @ T[:, :3, :3]
+        return T
+
+    return Piece(total, fn)
 
 
 class Motion:

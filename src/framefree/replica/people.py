@@ -100,6 +100,10 @@ POPULATION = {
     "hesitation": (0.08, 0.5),
     "hesitation_centre": (0.15, 0.45),
     "hesitation_spread": (0.7, 1.4),
+    # drawing fluently: share of people who join the strokes of a drawn shape without stopping
+    # at its corners, and how much consecutive strokes overlap (uniform; motion.overlapped)
+    "fluent": 0.5,
+    "coarticulation": (0.1, 0.4),
 }
 
 #: Trial-to-trial wobble of a habitual grip: rotation [rad] per axis and offset [m] per axis (std).
@@ -160,6 +164,9 @@ class Person:
         Probability that a stroke of a gesture nearly stops on the way (0: never).
     hesitation_pause : tuple of float
         Range [s] of the slow phase of a hesitation (uniform per hesitation).
+    coarticulation : float
+        How much consecutive strokes of a drawn shape overlap, in [0, 1) (0: the hand stops at
+        every corner; :func:`~framefree.replica.motion.overlapped`).
     """
 
     seed: int | None = None
@@ -184,6 +191,7 @@ class Person:
     walk_speed: float = 1.0
     hesitation: float = 0.0
     hesitation_pause: tuple[float, float] = (0.0, 0.0)
+    coarticulation: float = 0.0
 
     def __post_init__(self) -> None:
         if self.grip not in ("random", "habitual"):
@@ -194,6 +202,8 @@ class Person:
                 raise ValueError(f"Person.{name} must be positive, got {getattr(self, name)}")
         if not 0 <= self.hesitation <= 1:
             raise ValueError(f"Person.hesitation must be a probability, got {self.hesitation}")
+        if not 0 <= self.coarticulation < 1:
+            raise ValueError(f"Person.coarticulation must be in [0, 1), got {self.coarticulation}")
         for name in ("pause", "rest", "grip_offset", "hesitation_pause"):
             lo, hi = getattr(self, name)
             if not 0 <= lo <= hi:
@@ -286,10 +296,14 @@ def draw_person(rng: np.random.Generator) -> Person:
         walk_speed=rng.uniform(*P["walk_speed"]),
     )
     # drawn last, so that every other field is the one drawn before hesitations were modelled
-    if rng.random() >= P["hesitant"]:
-        return person
-    return replace(person, hesitation=_log_uniform(rng, *P["hesitation"]),
-                   hesitation_pause=_range(rng, P["hesitation_centre"], P["hesitation_spread"]))
+    if rng.random() < P["hesitant"]:
+        person = replace(person, hesitation=_log_uniform(rng, *P["hesitation"]),
+                         hesitation_pause=_range(rng, P["hesitation_centre"],
+                                                 P["hesitation_spread"]))
+    # ... and after them, fluent drawing
+    if rng.random() < P["fluent"]:
+        person = replace(person, coarticulation=rng.uniform(*P["coarticulation"]))
+    return person
 
 
 def person(seed: int) -> Person:
