@@ -101,9 +101,10 @@ POPULATION = {
     "hesitation_centre": (0.15, 0.45),
     "hesitation_spread": (0.7, 1.4),
     # drawing fluently: share of people who join the strokes of a drawn shape without stopping
-    # at its corners, and how much consecutive strokes overlap (uniform; motion.overlapped)
+    # at its corners, and how much consecutive strokes overlap (uniform; motion.overlapped): up
+    # to a third of each side of a square curved, the hand slowing to 0.01-0.37 of its peak
     "fluent": 0.5,
-    "coarticulation": (0.1, 0.4),
+    "coarticulation": (0.05, 0.3),
 }
 
 #: Trial-to-trial wobble of a habitual grip: rotation [rad] per axis and offset [m] per axis (std).
