@@ -31,6 +31,24 @@ def drawn_positions(points: np.ndarray, stroke_s: float = 0.6, hold_s: float = 0
     return np.concatenate(parts)
 
 
+def fluent_positions(points: np.ndarray, overlap: float, stroke_s: float = 0.6) -> np.ndarray:
+    """Positions (n, 3) of a polyline through ``points`` (k, 3) drawn fluently: each side a
+    minimum-jerk stroke that begins ``overlap`` × a stroke before the previous one ends, the
+    displacements adding up (the hand slows at a corner without stopping), and a second of rest
+    at either end."""
+    n = round(stroke_s / DT)
+    step = round((1.0 - overlap) * n)
+    total = step * (len(points) - 2) + n
+    p = np.repeat(points[:1], total, axis=0).astype(float)
+    for k, (a, b) in enumerate(itertools.pairwise(points)):
+        s = np.zeros(total)
+        s[k * step:k * step + n] = min_jerk(n)
+        s[k * step + n:] = 1.0
+        p += s[:, None] * (b - a)
+    rest = round(1.0 / DT)
+    return np.concatenate([np.repeat(p[:1], rest, axis=0), p, np.repeat(p[-1:], rest, axis=0)])
+
+
 def circle_positions(radius: float = 0.12, duration: float = 2.0, pause_at: float | None = None,
             pause_s: float = 0.4, creep: float = 0.08) -> np.ndarray:
     """Positions (n, 3) of one turn of a circle in a minimum-jerk sweep; with ``pause_at`` (a

@@ -11,7 +11,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from drawing import DT, LEVELS, circle_positions, drawn_positions, drawn_takes, tracker_poses
+from drawing import (
+    DT,
+    LEVELS,
+    circle_positions,
+    drawn_positions,
+    drawn_takes,
+    fluent_positions,
+    tracker_poses,
+)
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -20,8 +28,8 @@ from framefree.core import se3
 from framefree.datasets.layout import load_model_recordings
 from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.limits import corner_limit
-from framefree.online.segmentation import MotionSegmenter, heading
-from framefree.online.span_shape import corner_count, turn_angle
+from framefree.online.segmentation import MotionSegmenter, Unit, heading
+from framefree.online.span_shape import corner_count, is_corner, turn_angle
 from framefree.replica import replica_path
 from real_data import MACHETE
 
@@ -69,6 +77,40 @@ def test_drawn_polylines_have_their_corners_in_any_world_frame(X, hold):
     assert _corners(drawn_positions(SQUARE, hold_s=hold), X) == 3  # the fourth corner is the end
     assert _corners(drawn_positions(ZIGZAG, hold_s=hold), X) == 2
     assert _corners(drawn_positions(OUT_AND_BACK, hold_s=hold), X) == 1  # a reversal is a corner too
+
+
+@settings(max_examples=15, deadline=None)
+@given(X=frames, overlap=st.floats(0.1, 0.3))
+def test_a_polygon_drawn_fluently_has_its_corners_in_any_world_frame(X, overlap):
+    """The hand slows at each corner without stopping: the units meet at a speed minimum inside
+    the rounded corner, where the headings have partly turned already; the chords of the sides
+    turn by the full angle."""
+    square = fluent_positions(SQUARE, overlap)
+    seg = MotionSegmenter(LEVELS, L=0.1, dt=DT)
+    units = [u for k, T in enumerate(tracker_poses(square, X)) if (u := seg.push(DT * k, T))]
+    assert len(units) == 4
+    assert corner_count(units, 60.0) == 3
+    assert _corners(fluent_positions(ZIGZAG, overlap), X) == 2
+    assert _corners(fluent_positions(TRIANGLE, overlap), X) == 2
+
+
+def test_the_chords_confirm_a_corner_only_where_the_heading_turns_too():
+    """A unit pair whose chords turn sharply is a corner only if the heading at their meeting
+    turns by more than half the corner angle: two arcs of a circle cut by a near-stop turn,
+    chord to chord, by half their sum, while the hand there goes on the same way."""
+    east, north = np.array([0, 0, 0, 1.0, 0, 0]), np.array([0, 0, 0, 0, 1.0, 0])
+    half = np.array([0, 0, 0, 1.0, 1.0, 0])  # 45° from east
+
+    def unit(h_in, h_out, chord):
+        return Unit(0, 1, 0.0, 1.0, 1.0, False, h_in, h_out, chord)
+
+    side_a, side_b = unit(east, east, east), unit(north, north, north)
+    assert is_corner(side_a, side_b, 60.0)  # a sharp corner: the headings turn by 90°
+    fluent_a, fluent_b = unit(east, east, east), unit(half, north, north)  # 45° at the meeting
+    assert is_corner(fluent_a, fluent_b, 60.0)
+    arc_a, arc_b = unit(east, half, east), unit(half, north, north)  # on the same way there
+    assert not is_corner(arc_a, arc_b, 60.0)
+    assert not is_corner(fluent_a, unit(half, east, east), 60.0)  # chords do not turn
 
 
 @pytest.mark.parametrize("pause_at", [None, 0.3, 0.5, 0.7])

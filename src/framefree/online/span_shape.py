@@ -50,17 +50,27 @@ def turn_angle(a: np.ndarray | None, b: np.ndarray | None) -> float:
     return math.degrees(math.acos(min(1.0, max(-1.0, float(a @ b) / norm))))
 
 
+def is_corner(a: Unit, b: Unit, angle: float) -> bool:
+    """Whether consecutive units meet at a corner: the heading turns by more than ``angle`` [deg]
+    from ``a``'s end to ``b``'s start, or by more than half of it while their chords turn by more
+    than ``angle``."""
+    turn = turn_angle(a.heading_out, b.heading_in)
+    return turn > angle or (turn > angle / 2 and turn_angle(a.chord, b.chord) > angle)
+
+
 def corner_count(units: Sequence[Unit], angle: float) -> int:
     """Corners of a span of consecutive units: turns of the heading sharper than ``angle`` [deg]
     from one unit to the next (:func:`turn_angle`)."""
-    return sum(turn_angle(a.heading_out, b.heading_in) > angle for a, b in itertools.pairwise(units))
+    return sum(is_corner(a, b, angle) for a, b in itertools.pairwise(units))
 
 
 def corner_rest(units: Sequence[Unit], angle: float) -> float:
-    """The longest rest [s] between two consecutive units of a span that meet at a corner (a
-    turn sharper than ``angle`` [deg], :func:`corner_count`); 0 without one. A hesitation on a
+    """The longest rest [s] between two consecutive units of a span where the hand's heading
+    turns by more than ``angle`` [deg] (:func:`turn_angle`); 0 without one. A hesitation on a
     straight stroke or a smooth curve rests where the hand goes on the same way, so it does not
-    count; the rest after a reposition, before a drawn shape turns away from it, does."""
+    count, even where the arcs on either side of it turn, chord to chord, like the sides of a
+    corner (:func:`is_corner`; a corner drawn fluently has no rest to count); the rest after a
+    reposition, before a drawn shape turns away from it, does."""
     return max((b.start_t - a.end_t for a, b in itertools.pairwise(units)
                 if turn_angle(a.heading_out, b.heading_in) > angle), default=0.0)
 
@@ -99,8 +109,7 @@ def turn_kinds(units: Sequence[Unit], angle: float) -> int:
     alike with any change of world frame, so the kinds do not depend on it, and a polygon turns
     the same way however it lies in space, while a Z turns back at its second corner. A pair
     with a reversal (chords more than :data:`REVERSAL_ANGLE` apart) says nothing."""
-    planes = [(a.chord, b.chord) for a, b in itertools.pairwise(units)
-              if turn_angle(a.heading_out, b.heading_in) > angle]
+    planes = [(a.chord, b.chord) for a, b in itertools.pairwise(units) if is_corner(a, b, angle)]
     kinds = 0
     for (a, b), (c, d) in itertools.pairwise(planes):
         if any(v is None for v in (a, b, c, d)):
