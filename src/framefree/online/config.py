@@ -142,10 +142,12 @@ class RecognizerConfig:
     corners : bool
         Accept a candidate only with no more corners than its gesture's demonstrations have
         (True; only where they agree). A *corner* is a turn of the hand's heading of more than
-        ``corner_angle`` between two movement units
-        (:func:`~framefree.online.span_shape.turn_angle`): people slow down where a path bends
-        sharply, so the units of a square drawn in the air meet at right angles, while a
-        hesitation on a circle leaves the heading nearly as it was.
+        ``corner_angle`` between two movement units, or of more than half of it where the
+        units' chords turn by more than ``corner_angle`` (v16,
+        :func:`~framefree.online.span_shape.is_corner`): people slow down where a path bends
+        sharply, so the units of a square drawn in the air meet at right angles, or, drawn
+        fluently, at a speed minimum inside the rounded corner, while a hesitation on a circle
+        leaves the heading nearly as it was.
     corner_angle : float
         Smallest turn [deg] that counts as a corner (60; a near-stop on a smooth path turns the
         heading by the arc it creeps along, a corner by the angle drawn. Development people,
