@@ -33,6 +33,7 @@ __all__ = [
     "closure",
     "corner_count",
     "corner_rest",
+    "is_corner",
     "plane_cosine",
     "turn_angle",
     "turn_kinds",
@@ -51,16 +52,22 @@ def turn_angle(a: np.ndarray | None, b: np.ndarray | None) -> float:
 
 
 def is_corner(a: Unit, b: Unit, angle: float) -> bool:
-    """Whether consecutive units meet at a corner: the heading turns by more than ``angle`` [deg]
-    from ``a``'s end to ``b``'s start, or by more than half of it while their chords turn by more
-    than ``angle``."""
+    """Whether consecutive units ``a`` and ``b`` meet at a corner sharper than ``angle`` [deg].
+
+    Either the heading turns by more than ``angle`` from where ``a`` ends to where ``b`` begins
+    (:func:`turn_angle` of ``a.heading_out`` and ``b.heading_in``), or it turns by more than
+    half of it there while the units' chords turn by more than ``angle`` (v16). The second case
+    is a polygon drawn fluently: the hand slows at a corner without stopping, the units split at
+    the speed minimum inside the rounded corner, and the headings there have partly turned
+    already. Two arcs of a circle that a near-stop cuts apart turn, chord to chord, by half
+    their sum, but the hand there goes on the same way: no corner."""
     turn = turn_angle(a.heading_out, b.heading_in)
     return turn > angle or (turn > angle / 2 and turn_angle(a.chord, b.chord) > angle)
 
 
 def corner_count(units: Sequence[Unit], angle: float) -> int:
-    """Corners of a span of consecutive units: turns of the heading sharper than ``angle`` [deg]
-    from one unit to the next (:func:`turn_angle`)."""
+    """Corners of a span of consecutive units: meetings of one unit and the next that
+    :func:`is_corner` calls sharper than ``angle`` [deg]."""
     return sum(is_corner(a, b, angle) for a, b in itertools.pairwise(units))
 
 

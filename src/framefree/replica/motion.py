@@ -270,8 +270,9 @@ def hesitant_stroke(path: Path, duration: float, skew: float, at: float, pause: 
 def overlapped(pieces: Sequence[Piece], overlap: float) -> Piece:
     """Consecutive strokes superposed, as fluent movement joins them: each stroke begins
     ``overlap`` × the previous stroke's duration before that one ends, and the displacements of
-    the strokes add up (the superposition model of continuous movement: Flash & Hogan,
-    J Neurosci 5:1688, 1985; Morasso & Mussa-Ivaldi, Biol Cybern 45:131, 1982).
+    the strokes add up (the superposition of movement units: Morasso & Mussa-Ivaldi, Biol Cybern
+    45:131, 1982, for handwriting; Flash & Henis, J Cogn Neurosci 3:220, 1991, for minimum-jerk
+    units).
 
     Where two strokes meet at a corner, the hand no longer stops: the corner is rounded and the
     speed dips only partway (with minimum-jerk strokes at right angles, to about 0.2 of the peak at
