@@ -5,9 +5,12 @@ Every value here comes from data, never from a simulated population:
 * **size range** of gesture g: [smallest take / ``size_factor``, largest take × ``size_growth``],
   a take's size being the screw path of its pre-smoothed poses (what the classifier measures on a
   candidate);
-* **durations**: a take's *active* time runs from the first to the last moment its smoothed speed
-  exceeds a fifth of its peak; candidates last from the shortest active time / ``tempo_factor``
-  to the longest × ``tempo_factor``;
+* **durations and speed**: a take's *active* time runs from the first to the last moment its
+  smoothed speed exceeds a fifth of its peak; candidates last from the shortest active time /
+  ``tempo_factor`` to the longest × ``tempo_factor``, and a candidate's peak smoothed speed must
+  reach the slowest take's peak / ``tempo_factor`` (a person may be that much slower); the
+  longest pause inside a take's active time (speed below a fifth of its peak) × ``tempo_factor``
+  is how long a candidate waits for the rest of a longer gesture;
 * **threshold** τ_g = P_g^(1−a) · N_g^a (a = ``threshold_position``) between
   P_g, the 90th percentile of the takes' leave-one-out distances (each take classified against the
   other takes of g: how far another performance of g lies), and N_g, the nearest motion that is
@@ -28,12 +31,12 @@ import numpy as np
 
 from ..core.trajectory import Trajectory
 from ..errors import FramefreeError, TrajectoryError
-from .segmentation import motion_speed
 from .spotting import SegmentClassifier
 from .stroke_config import StrokeConfig
 from .valleys import boundaries_of
 
-__all__ = ["StrokeCalibration", "calibrate", "everyday_motions", "take_sizes"]
+__all__ = ["StrokeCalibration", "calibrate", "durations", "everyday_motions", "longest_pause",
+           "take_sizes", "take_speeds"]
 
 #: Fraction of a take's peak smoothed speed that bounds its active time.
 ACTIVE_FRACTION = 0.2
@@ -97,55 +100,81 @@ def take_sizes(classifier: SegmentClassifier, trajectories: Sequence[Trajectory]
     return out
 
 
-def _active_duration(tr: Trajectory, c: StrokeConfig) -> float:
-    _, poses = tr.uniform_poses(c.dt)
-    v = motion_speed(poses, c.dt, c.L, 5)[5:]
-    if v.size < 3 or not np.nanmax(v) > 0:
-        return math.nan
-    k = max(1, round(c.smoothing / c.dt))
-    smooth = np.convolve(v, np.ones(2 * k + 1) / (2 * k + 1), mode="same")
-    fast = np.flatnonzero(smooth > ACTIVE_FRACTION * smooth.max())
-    return float((fast[-1] - fast[0]) * c.dt) if fast.size else math.nan
+def take_speeds(trajectories: Sequence[Trajectory], c: StrokeConfig) -> list[np.ndarray]:
+    """The smoothed motion speed [m/s] of each take on the uniform grid, as the boundary detector
+    measures it (empty for a take too short to measure)."""
+    out = []
+    for tr in trajectories:
+        try:
+            _, poses = tr.uniform_poses(c.dt)
+        except TrajectoryError:
+            out.append(np.zeros(0))
+            continue
+        out.append(boundaries_of(poses, c.L, c.dt, sigma=c.smoothing)[1])
+    return out
 
 
-def durations(trajectories: Sequence[Trajectory], c: StrokeConfig) -> tuple[float, float]:
-    """Shortest and longest candidate [s] (see the module docstring)."""
-    active = np.array([_active_duration(tr, c) for tr in trajectories])
-    active = active[np.isfinite(active) & (active > 0)]
+def longest_pause(speeds: Sequence[np.ndarray], c: StrokeConfig) -> float:
+    """Longest pause [s] inside a take's active time (smoothed speed below a fifth of its peak),
+    × ``tempo_factor``, and at least ``wait``."""
+    longest = 0.0
+    for v in speeds:
+        if not (v.size and v.max() > 0):
+            continue
+        slow = v < ACTIVE_FRACTION * v.max()
+        fast = np.flatnonzero(~slow)
+        run = best = 0
+        for k in range(fast[0], fast[-1] + 1):
+            run = run + 1 if slow[k] else 0
+            best = max(best, run)
+        longest = max(longest, best * c.dt)
+    return max(c.wait, longest * c.tempo_factor)
+
+
+def durations(speeds: Sequence[np.ndarray], c: StrokeConfig) -> tuple[float, float]:
+    """Shortest and longest candidate [s] from the takes' smoothed speeds (module docstring)."""
+    active = []
+    for v in speeds:
+        if v.size and v.max() > 0:
+            fast = np.flatnonzero(v > ACTIVE_FRACTION * v.max())
+            active.append((fast[-1] - fast[0]) * c.dt)
+    active = np.array([a for a in active if a > 0])
     if active.size == 0:
         raise FramefreeError("no movement found in the model recordings: every take is still")
-    return max(2 * c.dt * 5, float(active.min()) / c.tempo_factor), float(active.max()) * c.tempo_factor
+    return max(10 * c.dt, float(active.min()) / c.tempo_factor), float(active.max()) * c.tempo_factor
 
 
 def _everyday_distances(classifier: SegmentClassifier, recordings: Sequence[Trajectory],
-                        sizes: dict[str, tuple[float, float]], labels: Sequence[str],
-                        c: StrokeConfig, lo: float, hi: float) -> tuple[dict[str, float], int]:
+                        labels: Sequence[str], c: StrokeConfig) -> tuple[dict[str, float], int]:
     """Nearest distance to each gesture of any candidate (as the spotter cuts them) of the
-    everyday recordings whose size fits that gesture; and the number of candidates."""
+    everyday recordings whose size and peak speed fit that gesture; and the number of
+    candidates."""
     labels_arr = np.asarray(labels)
-    nearest = dict.fromkeys(sizes, math.inf)
+    nearest = dict.fromkeys(c.size_limits, math.inf)
     n = 0
     for tr in recordings:
         try:
             t, poses = tr.uniform_poses(c.dt)
         except TrajectoryError:
             continue
-        bounds = boundaries_of(poses, c.L, c.dt, sigma=c.smoothing)
+        bounds, speeds = boundaries_of(poses, c.L, c.dt, sigma=c.smoothing)
         for i, (a, _) in enumerate(bounds):
             for b, _ in bounds[i + 1:]:
                 span = (b - a) * c.dt
-                if span > hi:
+                if span > c.max_duration:
                     break
-                if span < lo:
+                if span < c.min_duration:
                     continue
-                described = classifier.describe(t[max(0, a - 5):b + 6], poses[max(0, a - 5):b + 6])
+                cut = slice(max(0, a - 5), b + 6)
+                described = classifier.describe(t[cut], poses[cut])
                 if described is None:
                     continue
                 n += 1
                 desc, size = described
+                peak = float(speeds[a:b + 1].max())
                 d = classifier.descriptor.distance_matrix([desc], classifier.models)[0]
-                for g, (s_lo, s_hi) in sizes.items():
-                    if s_lo <= size <= s_hi:
+                for g, (s_lo, s_hi) in c.size_limits.items():
+                    if s_lo <= size <= s_hi and peak >= c.min_speeds[g]:
                         nearest[g] = min(nearest[g], float(d[labels_arr == g].min()))
     return nearest, n
 
@@ -167,17 +196,23 @@ def calibrate(classifier: SegmentClassifier, trajectories: Sequence[Trajectory],
                 raise FramefreeError(f"no movement found in the model recordings of {g!r}")
             limits[g] = (float(s.min()) / c.size_factor, float(s.max()) * c.size_growth)
         c = c.replace(size_limits=limits)
-    if c.min_duration is None or c.max_duration is None:
-        lo, hi = durations(trajectories, c)
+    if None in (c.min_duration, c.max_duration, c.min_speeds, c.max_pause):
+        speeds = take_speeds(trajectories, c)
+        if c.max_pause is None:
+            c = c.replace(max_pause=longest_pause(speeds, c))
+        lo, hi = durations(speeds, c)
         c = c.replace(min_duration=c.min_duration or lo, max_duration=c.max_duration or hi)
+        if c.min_speeds is None:
+            peaks = np.array([v.max() if v.size else np.nan for v in speeds])
+            c = c.replace(min_speeds={g: float(np.nanmin(peaks[labels_arr == g])) / c.tempo_factor
+                                      for g in gestures})
     cal = StrokeCalibration()
     if c.gesture_thresholds is not None:
         return c, cal
     D = classifier.descriptor.distance_matrix(classifier.models, classifier.models)
     np.fill_diagonal(D, np.inf)
     recordings = everyday_motions() if everyday is None else list(everyday)
-    cal.everyday, cal.n_everyday = _everyday_distances(classifier, recordings, c.size_limits,
-                                                       labels_arr, c, c.min_duration, c.max_duration)
+    cal.everyday, cal.n_everyday = _everyday_distances(classifier, recordings, labels_arr, c)
     loo_all = []
     for g in gestures:
         own = labels_arr == g

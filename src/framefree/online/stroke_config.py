@@ -1,9 +1,9 @@
 """What a user may set on the stroke recognizer (:class:`~framefree.online.StrokeRecognizer`).
 
-Twenty fields: the classifier's descriptor (as offline), the time scales of the boundary detector,
+Twenty-three fields: the classifier's descriptor (as offline), the time scales of the boundary detector,
 how long a candidate waits, how differently from the takes a person may perform (sizes and
 tempo), where the thresholds sit between the takes and non-gesture motion, and the stop signal.
-The six fields that default to ``None`` are measured on the takes when the recognizer is built
+The eight fields that default to ``None`` are measured on the takes when the recognizer is built
 (:mod:`~framefree.online.stroke_calibration`) and kept with a gesture library, so a library
 restores without recalibrating. See ``docs/online.md``.
 """
@@ -57,6 +57,12 @@ class StrokeConfig:
     min_duration, max_duration : float or None
         Shortest and longest candidate [s]; ``None``: from the takes' active durations with
         ``tempo_factor``.
+    min_speeds : dict of str to float or None
+        Lowest peak speed [m/s] of a candidate per gesture; ``None``: the slowest take's peak
+        smoothed speed / ``tempo_factor``.
+    max_pause : float or None
+        Longest pause [s] inside a gesture; ``None``: the longest pause inside a take's active time
+        × ``tempo_factor``, at least ``wait``.
     stop_threshold : float or None
         Angular speed [rad/s] of the stop signal; ``None``: ``stop_margin`` × the fastest sustained
         rotation of any take, at least 3 rad/s.
@@ -84,6 +90,8 @@ class StrokeConfig:
     size_limits: dict[str, tuple[float, float]] | None = None
     min_duration: float | None = None
     max_duration: float | None = None
+    min_speeds: dict[str, float] | None = None
+    max_pause: float | None = None
     stop_threshold: float | None = None
     stop_margin: float = 1.3
     max_bridge: float = 0.5
@@ -103,7 +111,7 @@ class StrokeConfig:
             raise ValueError(f"align must be one of {', '.join(ALIGNMENTS)}, got {self.align!r}")
         if self.window_spacing is not None and not self.window_spacing >= 1:
             raise ValueError(f"window_spacing must be at least 1, got {self.window_spacing}")
-        for name in ("min_duration", "max_duration", "stop_threshold"):
+        for name in ("min_duration", "max_duration", "max_pause", "stop_threshold"):
             value = getattr(self, name)
             if value is not None and not value > 0:
                 raise ValueError(f"{name} must be positive, got {value}")
@@ -113,6 +121,8 @@ class StrokeConfig:
                 raise ValueError(f"gesture thresholds must be positive, got {bad}")
             object.__setattr__(self, "gesture_thresholds",
                                {str(g): float(v) for g, v in self.gesture_thresholds.items()})
+        if self.min_speeds is not None:
+            object.__setattr__(self, "min_speeds", {str(g): float(v) for g, v in self.min_speeds.items()})
         if self.size_limits is not None:
             object.__setattr__(self, "size_limits", {str(g): (float(v[0]), float(v[1]))
                                                      for g, v in self.size_limits.items()})

@@ -88,7 +88,8 @@ class StrokeRecognizer(StreamingRecognizer):
                  calibration: StrokeCalibration | None = None) -> None:
         c = config
         missing = [n for n in ("gesture_thresholds", "size_limits", "min_duration", "max_duration",
-                               "stop_threshold") if getattr(c, n) is None]
+                               "min_speeds", "max_pause", "stop_threshold")
+                   if getattr(c, n) is None]
         if missing:
             raise ValueError(f"unresolved settings {missing}: use StrokeRecognizer.from_trajectories")
         self.classifier = classifier
@@ -103,11 +104,13 @@ class StrokeRecognizer(StreamingRecognizer):
         self.gate = SampleGate(max_bridge=c.max_bridge, nominal_period=c.dt)
         self.stop = StopDetector(self.stop_threshold, confirm=0.3)
         self.resampler = UniformResampler(c.dt)
-        capacity = math.ceil((c.max_duration + c.wait + 2.0) / c.dt) + 64
+        capacity = math.ceil((c.max_duration + c.max_pause + c.wait + 2.0) / c.dt) + 64
         self.valleys = Valleys(c.L, c.dt, sigma=c.smoothing, capacity=capacity)
         taus = np.array([self.gesture_thresholds[g] for g in self.labels])
         sizes = np.array([c.size_limits[g] for g in self.labels])
-        self.spotter = StrokeSpotter(classifier, taus, sizes, c.min_duration, c.max_duration, c.wait)
+        speeds = np.array([c.min_speeds[g] for g in self.labels])
+        self.spotter = StrokeSpotter(classifier, taus, sizes, speeds, c.min_duration,
+                                     c.max_duration, c.wait, c.max_pause)
         self._counts = dict.fromkeys(STAT_KEYS, 0)
         self.observations: list[tuple[float, np.ndarray]] = []
 
@@ -218,7 +221,7 @@ class StrokeRecognizer(StreamingRecognizer):
         self.spotter.evaluated.clear()
         if found is not None:
             self._counts["boundaries"] += 1
-            self.spotter.boundary(found[0], found[1], self.valleys.buffer, t)
+            self.spotter.boundary(found[0], found[1], self.valleys, t)
             self._counts["candidates"] += len(self.spotter.evaluated)
             self.observations.extend(self.spotter.evaluated)
         fired = self.spotter.poll(t)

@@ -8,14 +8,16 @@ the pose buffer with a short margin and classified exactly as the offline 1-NN c
 classifies a recording (:class:`~framefree.online.spotting.SegmentClassifier`).
 
 A candidate is **accepted** when its nearest model (among the gestures whose size range holds the
-candidate's size) is nearer than that model's gesture threshold τ_g; its *ratio* is
-distance / τ_g. Acceptance is all the recognizer decides from the candidate; no rest, closure or
+candidate's size and whose slowest take its peak speed reaches, over ``tempo_factor``) is nearer
+than that model's gesture threshold τ_g; its *ratio* is distance / τ_g. Acceptance is all the recognizer decides from the candidate; no rest, closure or
 corner rule is applied.
 
 The **decision**: the best accepted candidate is held pending; an accepted candidate that
 overlaps it with a lower ratio replaces it (a whole gesture wins over a part of it, a well-cut
-span over a badly cut one). It fires ``wait`` seconds after the boundary that ended it became
-known, and candidates that begin before its end are not considered again.
+span over a badly cut one). It fires once the next stroke after it has ended and been tried as
+its continuation (at least ``wait`` seconds after the boundary that ended it became known), or
+``max_pause`` seconds after its end if the hand does not move on; candidates that begin before
+its end are not considered again.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import numpy as np
 
 from .segmentation import PoseBuffer
 from .spotting import SegmentClassifier
+from .valleys import Valleys
 
 __all__ = ["StrokeCandidate", "StrokeSpotter"]
 
@@ -60,24 +63,33 @@ class StrokeSpotter:
         τ of each model's gesture.
     size_ranges : ndarray, shape (M, 2)
         Smallest and largest size [m] of each model's gesture.
+    min_speeds : ndarray, shape (M,)
+        Lowest peak speed [m/s] of a performance of each model's gesture.
     min_duration, max_duration : float
         Shortest and longest candidate [s].
     wait : float
         Seconds a pending candidate waits for a better one after its end became known.
+    max_pause : float
+        Longest pause [s] inside a gesture: a pending candidate also waits until the next stroke
+        after it has ended (it may be the rest of a longer gesture), but no longer than this after
+        its end.
     margin : int
         Grid samples added on each side of a candidate before it is described.
     """
 
     def __init__(self, classifier: SegmentClassifier, model_thresholds: np.ndarray,
-                 size_ranges: np.ndarray, min_duration: float, max_duration: float,
-                 wait: float, margin: int = 5) -> None:
+                 size_ranges: np.ndarray, min_speeds: np.ndarray, min_duration: float,
+                 max_duration: float, wait: float, max_pause: float, margin: int = 5) -> None:
         self.classifier = classifier
         self.tau = np.asarray(model_thresholds, dtype=float)
         self.size_ranges = np.asarray(size_ranges, dtype=float).reshape(-1, 2)
         self.min_duration, self.max_duration = float(min_duration), float(max_duration)
         self.wait = float(wait)
+        self.max_pause = float(max_pause)
         self.margin = int(margin)
+        self.min_speeds = np.asarray(min_speeds, dtype=float)
         self._path_lo = float(self.size_ranges[:, 0].min()) / 2.0
+        self._speed_lo = float(self.min_speeds.min())
         self._boundaries: deque[tuple[int, float, float]] = deque(maxlen=256)
         #: (end time [s], distances (M,)) of every candidate classified during the latest call
         self.evaluated: list[tuple[float, np.ndarray]] = []
@@ -89,6 +101,7 @@ class StrokeSpotter:
         self._boundaries.clear()
         self.pending: StrokeCandidate | None = None
         self.queued: StrokeCandidate | None = None  # accepted after the pending one's end
+        self.extended = False  # a stroke after the pending candidate ended and was tried
         self.after = -1
 
     def discard_before(self, index: int) -> None:
@@ -96,8 +109,10 @@ class StrokeSpotter:
         self.pending = self.queued = None
         self.after = max(self.after, index)
 
-    def boundary(self, index: int, path: float, buffer: PoseBuffer, now: float) -> None:
-        """A boundary at running ``index`` (smoothed path ``path`` [m]) became known at ``now``."""
+    def boundary(self, index: int, path: float, valleys: Valleys, now: float) -> None:
+        """A boundary at running ``index`` (smoothed path ``path`` [m]) of ``valleys`` became
+        known at ``now``."""
+        buffer = valleys.buffer
         t_end = buffer.time(index)
         for start, start_t, start_path in reversed(self._boundaries):
             span = t_end - start_t
@@ -105,17 +120,24 @@ class StrokeSpotter:
                 break
             if span < self.min_duration or path - start_path < self._path_lo:
                 continue
-            self._consider(self._classify(start, index, buffer, now))
+            peak = valleys.peak_speed(start, index)
+            if peak < self._speed_lo:
+                continue
+            self._consider(self._classify(start, index, buffer, peak, now))
+        p = self.pending
+        if p is not None and index > p.end and valleys.peak_speed(p.end, index) >= self._speed_lo:
+            self.extended = True
         self._boundaries.append((index, t_end, path))
 
-    def _classify(self, start: int, end: int, buffer: PoseBuffer, now: float
+    def _classify(self, start: int, end: int, buffer: PoseBuffer, peak: float, now: float
                   ) -> StrokeCandidate | None:
         times, poses = buffer.slice(start - self.margin, end + self.margin)
         described = self.classifier.describe(times, poses)
         if described is None:
             return None
         descriptor, size = described
-        fits = (self.size_ranges[:, 0] <= size) & (size <= self.size_ranges[:, 1])
+        fits = ((self.size_ranges[:, 0] <= size) & (size <= self.size_ranges[:, 1])
+                & (peak >= self.min_speeds))
         accept_below = np.where(fits, self.tau, 0.0)
         if self.classifier.pruning:
             d = self.classifier.search_described(descriptor, accept_below)
@@ -135,7 +157,7 @@ class StrokeSpotter:
             return
         p = self.pending
         if p is None or (cand.start < p.end and cand.ratio < p.ratio):
-            self.pending = cand
+            self.pending, self.extended = cand, False
         elif cand.start >= p.end:  # a next gesture already: the pending one fires now
             self.pending = StrokeCandidate(**{**p.__dict__, "fire_at": -math.inf})
             if self.queued is None or cand.ratio < self.queued.ratio:
@@ -146,6 +168,8 @@ class StrokeSpotter:
         p = self.pending
         if p is None or now < p.fire_at:
             return None
-        self.pending, self.queued = self.queued, None
+        if not self.extended and now < p.end_t + self.max_pause:
+            return None
+        self.pending, self.queued, self.extended = self.queued, None, False
         self.after = p.end
         return p

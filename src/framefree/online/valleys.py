@@ -69,6 +69,7 @@ class Valleys:
         self._kernel = kernel / kernel.sum()
         self._w = max(1, round(window / dt))
         self.buffer = PoseBuffer(capacity)
+        self._speeds = np.zeros(capacity)  # smoothed speed by running index (ring)
         #: delay [grid samples] between a pose and the moment it can be a boundary
         self.delay = self.lag // 2 + half + self._w
         self.reset()
@@ -80,6 +81,7 @@ class Valleys:
         self._smooth: deque[tuple[int, float, float]] = deque(maxlen=2 * self._w + 1)
         self._since_restart = 0
         self._last = -math.inf
+        self._speeds[:] = 0.0
         self.path = 0.0
         self.speed = math.nan
 
@@ -100,6 +102,7 @@ class Valleys:
         self.speed = float(np.dot(self._kernel, self._raw))
         self.path += self.speed * self.dt
         centre = k - self.lag // 2 - self._kernel.size // 2  # the pose the smoothed speed describes
+        self._speeds[centre % self.buffer.capacity] = self.speed
         self._smooth.append((centre, self.speed, self.path))
         if len(self._smooth) < self._smooth.maxlen:
             return None
@@ -107,6 +110,13 @@ class Valleys:
         if value <= min(s[1] for s in self._smooth):
             return self._emit(index, path)
         return None
+
+    def peak_speed(self, start: int, end: int) -> float:
+        """Highest smoothed speed [m/s] between two running indices (inclusive) still held."""
+        start = max(start, self.buffer.oldest)
+        if end < start:
+            return 0.0
+        return float(self._speeds[np.arange(start, end + 1) % self.buffer.capacity].max())
 
     def _emit(self, index: int, path: float) -> tuple[int, float] | None:
         if index - self._last <= self._w:  # a flat minimum: its first sample only
@@ -116,15 +126,23 @@ class Valleys:
 
 
 def boundaries_of(poses: np.ndarray, L: float, dt: float = 0.02, **kwargs: float
-                  ) -> list[tuple[int, float]]:
-    """The boundaries a :class:`Valleys` finds in a whole recording (uniform poses (n, 4, 4)):
-    ``(index into poses, smoothed path [m])`` pairs, the last pose included as a boundary."""
-    det = Valleys(L, dt, capacity=max(2, poses.shape[0]), **kwargs)
+                  ) -> tuple[list[tuple[int, float]], np.ndarray]:
+    """The boundaries a :class:`Valleys` finds in a whole recording (uniform poses (n, 4, 4)).
+
+    Returns
+    -------
+    boundaries : list of (int, float)
+        ``(index into poses, smoothed path [m])``, the last pose included as a boundary.
+    speeds : ndarray, shape (n,)
+        The smoothed speed [m/s] of each pose (0 where none was measured).
+    """
+    n = poses.shape[0]
+    det = Valleys(L, dt, capacity=max(2, n), **kwargs)
     out = []
-    for k in range(poses.shape[0]):
+    for k in range(n):
         b = det.push(k * dt, poses[k])
         if b is not None:
             out.append(b)
-    if not out or out[-1][0] != poses.shape[0] - 1:
-        out.append((poses.shape[0] - 1, det.path))
-    return out
+    if not out or out[-1][0] != n - 1:
+        out.append((n - 1, det.path))
+    return out, det._speeds[:n].copy()
