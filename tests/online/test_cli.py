@@ -111,3 +111,27 @@ def test_live_drives_the_simulated_robot(tiny, tmp_path):
     assert res.exit_code == 0, res.output
     assert "robot:" in res.output and "simulated" in res.output
     assert fig.is_file()
+
+
+def test_evaluate_stream_restricted_to_some_gestures(tiny, tmp_path):
+    """--gestures keeps only those models, and the other labels become non-gesture motion."""
+    root, stream = tiny
+    out = tmp_path / "eval.json"
+    res = CliRunner().invoke(cli, ["evaluate-stream", "--models", str(root), "--stream", str(stream),
+                                   "--gestures", "go_left", "--json", str(out)])
+    assert res.exit_code == 0, res.output
+    data = json.loads(out.read_text())
+    assert data["recognizer"]["gestures"] == ["go_left"]
+    tot = data["total"]
+    assert tot["tp"] + tot["fn"] == 1  # open_gripper is no longer a labelled gesture
+    assert set(tot["gestures"]) <= {"go_left"}
+    assert "go_left: TP" in res.output and "latency median" in res.output
+
+
+def test_evaluate_stream_names_a_gesture_without_models(tiny):
+    root, stream = tiny
+    res = CliRunner().invoke(cli, ["evaluate-stream", "--models", str(root), "--stream", str(stream),
+                                   "--gestures", "go_left,wave"])
+    assert res.exit_code == 2
+    assert "no model recordings of wave" in res.output
+    assert "Traceback" not in res.output

@@ -105,6 +105,21 @@ def test_event_matching_rule():
     assert r.nongesture_minutes == pytest.approx((60 - 1.5 - 1.5 - 1.0) / 60)
 
 
+def test_per_gesture_counts_a_miss_for_the_label_and_a_false_positive_for_the_event():
+    from framefree.online.evaluation import per_gesture
+
+    segs = [Seg("a", 1.0, 2.0), Seg("b", 5.0, 6.0), Seg("stop", 8.0, 8.5)]
+    events = [Event("a", 1.9, 0.1, 0), Event("a", 2.3, 0.1, 0), Event("b", 4.0, 0.1, 1),
+              Event("b", 6.4, 0.1, 1), Event("a", 8.2, 0.1, 0)]
+    rows = per_gesture([match_events(events, segs, duration=60.0, tolerance=0.5)] * 2)
+    assert (rows["a"]["tp"], rows["a"]["fp"], rows["a"]["fn"]) == (2, 4, 0)
+    assert (rows["b"]["tp"], rows["b"]["fp"], rows["b"]["fn"]) == (2, 2, 0)
+    assert (rows["stop"]["tp"], rows["stop"]["fp"], rows["stop"]["fn"]) == (0, 0, 2)
+    assert rows["a"]["latency_median_s"] == pytest.approx(-0.1)
+    assert rows["b"]["latency_median_s"] == pytest.approx(0.4)
+    assert rows["stop"]["latency_median_s"] is None
+
+
 def test_timeline_draws_each_candidate_against_its_gestures_threshold(tmp_path):
     """The lower panel shows the nearest gesture's distance over that gesture's τ_g (one line at
     1); a single float threshold still works."""

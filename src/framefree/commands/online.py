@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import shutil
@@ -73,9 +74,8 @@ def _stop_and_resolution(rec: Any) -> str:
 
 
 def _recognizer(models: str, model_context: str, model_quat_order: str, units: str,
-                method: str = "segments", **kw: Any):
-    from ..online import Recognizer
-    from ..online.paper import PaperRecognizer
+                method: str = "segments", gestures: list[str] | None = None, **kw: Any):
+    from ..online.methods import recognizer_class
 
     overrides = {k: v for k, v in kw.items() if v is not None}
     if method == "segments":
@@ -86,11 +86,16 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
     if "latency_min" in overrides:
         overrides["latency_min"] = int(overrides["latency_min"])
     if Path(models).is_file():
+        if gestures:
+            raise FramefreeError("--gestures does not apply to a gesture library file; enroll a "
+                                 "library of those gestures instead")
         return _library_recognizer(models, method, overrides)
     found = read_models(models, model_context, model_quat_order, units)
+    if gestures:
+        found = _only(found, gestures, models)
     click.echo(f"building the gesture models ({method} method) and calibrating ...", err=True)
     t0 = time.perf_counter()
-    cls = Recognizer if method == "segments" else PaperRecognizer
+    cls = recognizer_class(method)
     rec = cls.from_trajectories(found.trajectories, found.labels, **overrides)
     rec.warmup()
     click.echo(
@@ -99,6 +104,17 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
         err=True,
     )
     return rec
+
+
+def _only(found: Any, gestures: list[str], models: str) -> Any:
+    """The model recordings of ``gestures`` only (a one-line error naming any that has none)."""
+    missing = [g for g in gestures if g not in set(found.labels)]
+    if missing:
+        raise FramefreeError(f"{models}: no model recordings of {', '.join(missing)} (it has "
+                             f"{', '.join(sorted(set(found.labels)))})")
+    keep = [k for k, g in enumerate(found.labels) if g in gestures]
+    return dataclasses.replace(found, trajectories=[found.trajectories[k] for k in keep],
+                               labels=[found.labels[k] for k in keep])
 
 
 def _library_recognizer(path: str, method: str, overrides: dict[str, Any]):
@@ -436,13 +452,17 @@ def _robot_sim():
 @click.option("--compare/--no-compare", default=False, show_default=True,
               help="Also evaluate the other method (default settings) on the same streams and "
               "report both side by side.")
+@click.option("--gestures", "gesture_list", default=None, metavar="G1,G2,...",
+              help="Evaluate these gestures only: only their models are used, and the streams' "
+              "other labels count as non-gesture motion.")
 @_emit_option
 @_save_option
 def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_context: str,
                         model_quat_order: str, units: str, streams: tuple[str, ...],
                         quat_order: str, tolerance: float, json_path: str | None,
                         figures: str | None, compare: bool, method: str,
-                        emit: tuple[str, ...] = (), save_rrd: str | None = None, **kw: Any):
+                        emit: tuple[str, ...] = (), save_rrd: str | None = None,
+                        gesture_list: str | None = None, **kw: Any):
     """Event-level precision, recall, F1, false positives per minute and latency on labelled streams
     (--stream FILE, repeatable, and/or STREAM arguments)."""
     from ..datasets.stream_files import load_stream
@@ -459,8 +479,11 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
     _check_emit(emit)
     if figures:
         writable_folder(figures, "--figures")
+    gestures = [g.strip() for g in gesture_list.split(",") if g.strip()] if gesture_list else None
     loaded = [(path, *load_stream(path, quat_order=quat_order)) for path in streams]
-    rec = _recognizer(models, model_context, model_quat_order, units, method, **kw)
+    if gestures:
+        loaded = [(path, traj, [s for s in segs if s.label in gestures]) for path, traj, segs in loaded]
+    rec = _recognizer(models, model_context, model_quat_order, units, method, gestures, **kw)
     out = _emitters(emit, rec)
     rview = _rerun_view(rec, False, save_rrd)
     try:
@@ -474,7 +497,7 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
            "tolerance_s": tolerance}
     if compare:
         other = next(m for m in METHODS if m != method)
-        rec2 = _recognizer(models, model_context, model_quat_order, units, other)
+        rec2 = _recognizer(models, model_context, model_quat_order, units, other, gestures)
         total2, per_stream2 = _evaluate(rec2, loaded, tolerance, None)
         out["compare"] = {"method": other, "total": total2, "streams": per_stream2,
                           "recognizer": rec2.describe()}
@@ -490,7 +513,7 @@ def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None, emi
               rview: Any = None) -> tuple[dict, dict]:
     """Run ``rec`` over every loaded ``(path, traj, segments)``; print and return the pooled and
     per-stream metrics."""
-    from ..online.evaluation import combine, match_events, plot_timeline, run_stream
+    from ..online.evaluation import combine, match_events, per_gesture, plot_timeline, run_stream
 
     per_stream = {}
     results = []
@@ -511,12 +534,21 @@ def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None, emi
                                 trace, rec.gesture_thresholds, title=Path(path).name)
             per_stream[str(path)]["figure"] = str(fig)
     total = combine(results).summary()
+    total["gestures"] = per_gesture(results)
+    _print_gestures(total["gestures"])
     click.echo(
         f"all: TP {total['tp']} FP {total['fp']} FN {total['fn']}  precision {total['precision']:.3f} "
         f"recall {total['recall']:.3f} F1 {total['f1']:.3f}  FP/min {total['fp_per_minute']:.3f}  "
         f"latency after end: median {_seconds(total['latency_median_s'])}"
     )
     return total, per_stream
+
+
+def _print_gestures(table: dict[str, dict]) -> None:
+    """One line per gesture: its counts and latency after its end."""
+    for g, row in table.items():
+        click.echo(f"  {g:>16}: TP {row['tp']:3d} FP {row['fp']:3d} FN {row['fn']:3d}  "
+                   f"F1 {row['f1']:.3f}  latency median {_seconds(row['latency_median_s'])}")
 
 
 def register(group: click.Group) -> None:

@@ -28,6 +28,7 @@ __all__ = [
     "TracingRecognizer",
     "combine",
     "match_events",
+    "per_gesture",
     "plot_timeline",
     "run_stream",
 ]
@@ -156,7 +157,8 @@ def match_events(
             if match is not None:
                 verdict = "fp-repeat"
         res.details.append({"time": ev.time, "label": ev.label, "dissimilarity": ev.dissimilarity,
-                            "model": ev.model, "segment": match, "verdict": verdict})
+                            "model": ev.model, "segment": match, "verdict": verdict,
+                            "latency": res.latencies[-1] if verdict == "tp" else None})
     for k, seg in enumerate(segments):
         if not detected[k]:
             res.fn += 1
@@ -187,6 +189,36 @@ def combine(results: Sequence[StreamResult]) -> StreamResult:
         out.fn += r.fn
         out.latencies += r.latencies
         out.nongesture_minutes += r.nongesture_minutes
+    return out
+
+
+def per_gesture(results: Sequence[StreamResult]) -> dict[str, dict[str, Any]]:
+    """Counts, F1 and latencies per gesture over several streams: a true positive and a miss
+    count for the labelled gesture, a false positive for the event's label.
+
+    Returns
+    -------
+    dict of str to dict
+        Per gesture (sorted): ``tp``, ``fp``, ``fn``, ``precision``, ``recall``, ``f1``,
+        ``latency_median_s`` (``None`` without a true positive).
+    """
+    rows: dict[str, StreamResult] = {}
+    for res in results:
+        for d in res.details:
+            row = rows.setdefault(d["label"], StreamResult())
+            if d["verdict"] == "tp":
+                row.tp += 1
+                row.latencies.append(d["latency"])
+            else:
+                row.fp += 1
+        for m in res.missed:
+            rows.setdefault(m["label"], StreamResult()).fn += 1
+    out = {}
+    for g in sorted(rows):
+        r = rows[g]
+        out[g] = {"tp": r.tp, "fp": r.fp, "fn": r.fn, "precision": r.precision,
+                  "recall": r.recall, "f1": r.f1,
+                  "latency_median_s": float(np.median(r.latencies)) if r.latencies else None}
     return out
 
 

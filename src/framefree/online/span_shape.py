@@ -142,6 +142,8 @@ def closure(poses: np.ndarray, L: float) -> float:
         Scale length of the screw path [m].
     """
     P = np.ascontiguousarray(poses, dtype=np.float64)
+    if P.shape[0] < 2:
+        return 1.0
     total = float(progress_increments(P, "screw", L).sum())
     if not total > 0:
         return 1.0
