@@ -193,8 +193,9 @@ class FrankaBackend:
 
     Attributes
     ----------
-    trace : list of (float, ndarray (3,), ndarray (3,))
-        Every period: backend time [s], measured TCP position [m], linear velocity sent [m/s].
+    trace : list of (float, ndarray (3,), ndarray (3,), float)
+        Every period: backend time [s], measured TCP position [m], linear velocity sent [m/s],
+        measured finger opening [m].
     """
 
     def __init__(self, host: str, dt: float = 0.01, limits: FrankaLimits | None = None,
@@ -229,7 +230,7 @@ class FrankaBackend:
         self._sent_at = -np.inf
         self._gripper_dir = 0
         self._closed = False
-        self.trace: list[tuple[float, np.ndarray, np.ndarray]] = []
+        self.trace: list[tuple[float, np.ndarray, np.ndarray, float]] = []
         self._read_state()
         self._time0 = self._state_time
         self._next = 0.0
@@ -302,7 +303,7 @@ class FrankaBackend:
             self._sent_v, self._sent_at = lin, now
         elif not moving and self._sent_v is not None and np.any(self._sent_v):
             self._sent_v = lin  # the last motion runs out within `hold`: the arm comes to rest
-        self.trace.append((now, T[:3, 3].copy(), lin))
+        self.trace.append((now, T[:3, 3].copy(), lin, self.measured_gripper_width()))
         self._gripper(command)
         self._next += self.dt
         while self.time < self._next - 1e-6:  # the next period on the arm's clock

@@ -1,0 +1,108 @@
+"""The Franka backend end to end: franky (the real client, libfranka inside) against the FR3 that
+franky-sim serves over the libfranka protocol on loopback, started and stopped by the tests."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+
+import framefree.robot.sim  # noqa: F401  (chooses MuJoCo's offscreen GL backend before mujoco loads)
+from framefree.errors import FramefreeError
+from framefree.robot.backends import FrankaBackend, RobotSession
+from framefree.robot.backends.franka import FR3_Q_MAX, FrankaLimits, franka_twist
+from framefree.robot.franka_sim import ProtocolSimulator
+from framefree.robot.planner import Command
+from framefree.robot.scenario import STACKING_PLANNER, STACKING_START
+
+#: The first eight commands of the demo's session (pick the red block up and set it down), in the
+#: demo's order, at a brisker pace than the paper's (the arm runs in real time).
+PICK_AND_PLACE = [(2.0, "go_home"), (8.5, "go_left"), (13.0, "go_down"), (17.5, "close_gripper"),
+                  (20.5, "go_up"), (25.0, "go_right"), (29.5, "go_down"), (34.0, "open_gripper")]
+
+
+@pytest.fixture
+def simulator():
+    """An FR3 at Franka's ready pose on a free loopback address; stopped at the end."""
+    sim = ProtocolSimulator(q0=STACKING_START)
+    sim.start()
+    try:
+        yield sim
+    finally:
+        sim.stop()
+    assert not sim.running
+
+
+def test_a_live_session_drives_the_simulated_arm_as_planned(simulator):
+    """A held-out person gives the demo's first eight commands; the recognizer, the planner and
+    franky drive the FR3 over the libfranka protocol: the commands are obeyed in the demo's order,
+    the fingers close and open, the TCP stays within 15 mm of where an ideal arm under the same
+    events is and ends within 5 mm of it, and everything stops by itself."""
+    from framefree.robot.demo import build_recognizer
+    from framefree.robot.franka_demo import run_franka_session
+
+    recognizer = build_recognizer()
+    run = run_franka_session(recognizer, PICK_AND_PLACE, seed=0, host=simulator.host)
+    assert run.accepted == [label for _, label in PICK_AND_PLACE]
+    assert all(c["obeyed"] for c in run.command_log)
+    assert [label for label, _ in run.gripper_widths] == ["close_gripper", "open_gripper"]
+    closed, opened = (w for _, w in run.gripper_widths)
+    assert closed < 0.005 and opened > 0.065
+    assert run.path_error < 0.015, run.path_error
+    assert run.end_error < 0.005, (run.end_position, run.planned_end)
+    np.testing.assert_allclose(run.planned_end, [0.5, 0.0, 0.02], atol=0.005)  # set down at y=0
+    assert run.robot_seconds > PICK_AND_PLACE[-1][0]
+
+
+def test_a_lost_connection_ends_in_one_line_and_never_hangs(simulator):
+    backend = FrankaBackend(simulator.host, realtime=False)
+    session = RobotSession(backend, STACKING_PLANNER)
+    session.advance_to(0.2)
+    simulator.stop()
+    t0 = time.perf_counter()
+    with pytest.raises(FramefreeError) as err:
+        session.advance_to(10.0)
+    assert time.perf_counter() - t0 < 5.0
+    message = str(err.value)
+    assert "\n" not in message and "arm stopped" in message and simulator.host in message
+
+
+def test_a_joint_near_its_limit_stops_before_anything_is_sent():
+    q0 = STACKING_START.copy()
+    q0[5] = FR3_Q_MAX[5] - 0.02  # joint 6 within the 0.05 rad margin
+    with ProtocolSimulator(q0=q0) as sim:
+        backend = FrankaBackend(sim.host)
+        session = RobotSession(backend, STACKING_PLANNER)
+        with pytest.raises(FramefreeError, match=r"joint 6 at .* of its limit"):
+            session.step()
+        assert backend.trace == []  # refused before the first command
+
+
+def test_nobody_at_the_address_is_one_line():
+    with pytest.raises(FramefreeError, match="cannot connect"):
+        FrankaBackend("127.0.0.250")
+
+
+def _command(v, orientation=None) -> Command:
+    twist = np.zeros(6)
+    twist[3:] = v
+    R = np.diag([1.0, -1.0, -1.0]) if orientation is None else orientation
+    return Command(twist=twist, orientation=R, gripper_width=0.07, gripper_velocity=0.0,
+                   state="move", label="go_down")
+
+
+def test_the_workspace_speed_and_turn_rate_are_enforced_in_the_twist():
+    limits = FrankaLimits(max_speed=0.1, max_angular_speed=0.2, workspace_min=(0.2, -0.5, 0.05))
+    at_floor = np.eye(4)
+    at_floor[:3, :3] = np.diag([1.0, -1.0, -1.0])
+    at_floor[:3, 3] = (0.5, 0.0, 0.0501)
+    lin, ang = franka_twist(_command([0.3, 0.0, -0.06]), at_floor, limits, dt=0.01)
+    scale = 0.1 / np.hypot(0.3, 0.06)  # the speed clamped along the direction, then the
+    np.testing.assert_allclose(lin, [0.3 * scale, 0.0, 0.0])  # downward part cut at the floor
+    assert not np.any(ang)
+    lin, _ = franka_twist(_command([0.0, 0.0, 0.06]), at_floor, limits)
+    np.testing.assert_allclose(lin, [0.0, 0.0, 0.06])  # away from the floor: sent as is
+    tilted = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
+    _, ang = franka_twist(_command([0.0, 0.0, 0.0], tilted), at_floor, limits)
+    assert np.linalg.norm(ang) == pytest.approx(0.2)
