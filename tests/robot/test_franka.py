@@ -106,3 +106,53 @@ def test_the_workspace_speed_and_turn_rate_are_enforced_in_the_twist():
     tilted = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
     _, ang = franka_twist(_command([0.0, 0.0, 0.0], tilted), at_floor, limits)
     assert np.linalg.norm(ang) == pytest.approx(0.2)
+
+
+@pytest.fixture(scope="module")
+def tiny_models(tmp_path_factory):
+    """Models of two gestures and a short stream with one go_left in it."""
+    from framefree.replica import make_stream, save_stream, synthesize_gesture
+
+    root = tmp_path_factory.mktemp("franka_cli")
+    rng = np.random.default_rng(7)
+    for g in ("go_left", "open_gripper"):
+        d = root / "models" / g / "original_1"
+        d.mkdir(parents=True)
+        for k in range(3):
+            synthesize_gesture(g, rng).to_csv(d / f"trial_{k + 1}.csv")
+    return root / "models", save_stream(root / "s.csv", *make_stream(101, sequence=["go_left"]))
+
+
+def test_live_drives_the_arm_at_robot_host(simulator, tiny_models):
+    """``framefree live --robot franka --robot-host HOST``: the stream's go_left moves the arm
+    along +y on the arm's clock; the run ends with one summary line and the arm released."""
+    from click.testing import CliRunner
+
+    from framefree.cli import cli
+
+    models, stream = tiny_models
+    res = CliRunner().invoke(cli, ["live", "--models", str(models), "--source", str(stream),
+                                   "--speed", "0", "--no-view", "--robot", "franka",
+                                   "--robot-host", simulator.host, "--robot-settle", "3"])
+    assert res.exit_code == 0, res.output
+    assert "robot -> go_left [started]" in res.output
+    summary = next(line for line in res.output.splitlines() if line.startswith("robot (Franka"))
+    y = float(summary.split("TCP at (")[1].split(",")[1])
+    assert y == pytest.approx(0.15, abs=0.01)  # the ready pose is at y = 0; go_left travels 0.15
+
+
+@pytest.mark.parametrize(("args", "says"), [
+    (["--robot", "franka"], "needs --robot-host"),
+    (["--robot-host", "127.0.0.1"], "needs --robot franka"),
+    (["--robot", "franka", "--robot-host", "127.0.0.250"], "cannot connect"),
+])
+def test_live_robot_mistakes_are_one_line(tiny_models, args, says):
+    from click.testing import CliRunner
+
+    from framefree.cli import cli
+
+    models, stream = tiny_models
+    res = CliRunner().invoke(cli, ["live", "--models", str(models), "--source", str(stream),
+                                   "--speed", "0", "--no-view", *args])
+    assert res.exit_code == 2
+    assert says in res.output and "Traceback" not in res.output
