@@ -69,10 +69,8 @@ def finish_robot(sim: Any, robot_settle: float, robot_plot: str | None) -> None:
     if getattr(sim.backend, "host", None) is not None:  # a Franka arm
         sim.halt()
         log = sim.planner.decisions
-        trace = sim.backend.trace
-        where = "" if not trace else "TCP at ({:.3f}, {:.3f}, {:.3f}) m, ".format(*trace[-1][1])
         click.echo(f"robot (Franka at {sim.backend.host}): {len(log)} events handled, "
-                   f"{sum(d.accepted for d in log)} changed the plan, {where}"
+                   f"{sum(d.accepted for d in log)} changed the plan, {_where(sim)}"
                    f"{sim.time:.1f} s on the arm's clock", err=True)
         return
     if not hasattr(sim, "log"):  # dry run
@@ -88,6 +86,27 @@ def finish_robot(sim: Any, robot_settle: float, robot_plot: str | None) -> None:
         from ..robot.render import plot_session
 
         click.echo(f"robot session figure: {plot_session(log, robot_plot)}", err=True)
+
+
+def _where(session: Any) -> str:
+    """Where the arm's TCP ended and where the planner's ideal arm (the same events, an arm that
+    moves exactly as commanded) ends, as a phrase."""
+    import numpy as np
+
+    from ..robot.franka_demo import ideal_path
+
+    trace = session.backend.trace
+    if not trace:
+        return ""
+    start = np.eye(4)
+    start[:3, 3] = trace[0][1]
+    planned = ideal_path([d.event for d in session.planner.decisions], start, len(trace),
+                         session.backend.dt, session.planner.params, float(trace[0][3]),
+                         session.time_offset)[-1]
+    end = trace[-1][1]
+    apart = 1000 * float(np.linalg.norm(end - planned))
+    return ("TCP at ({:.3f}, {:.3f}, {:.3f}) m, ".format(*end)
+            + "planned ({:.3f}, {:.3f}, {:.3f}) m, {:.1f} mm apart, ".format(*planned, apart))
 
 
 def _robot_sim():

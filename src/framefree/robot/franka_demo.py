@@ -76,8 +76,8 @@ class FrankaRun:
 
 
 def ideal_path(events: Sequence[Event], start_pose: np.ndarray, periods: int, dt: float,
-               planner: PlannerParams = STACKING_PLANNER, gripper_width: float = 0.07
-               ) -> np.ndarray:
+               planner: PlannerParams = STACKING_PLANNER, gripper_width: float = 0.07,
+               time_offset: float = 0.0) -> np.ndarray:
     """TCP positions of an arm that moves exactly as the planner commands, one per period.
 
     Parameters
@@ -93,13 +93,16 @@ def ideal_path(events: Sequence[Event], start_pose: np.ndarray, periods: int, dt
     planner : PlannerParams
     gripper_width : float
         Initial finger opening [m].
+    time_offset : float
+        An event stamped ``t`` acts at session time ``t - time_offset`` [s].
 
     Returns
     -------
     ndarray, shape (periods, 3)
         TCP position at the start of every period [m].
     """
-    session = RobotSession(DryRunBackend(start_pose, gripper_width, dt=dt), planner)
+    session = RobotSession(DryRunBackend(start_pose, gripper_width, dt=dt), planner,
+                           time_offset=time_offset)
     for ev in events:
         session.handle(ev)
     out = np.empty((periods, 3))
