@@ -40,7 +40,7 @@ from ..robot.demo import DEMO_PEOPLE, METHODS, PAPER_RESULT
               show_default=True,
               help="mujoco: framefree's Panda scene with the blocks; franka-sim: the same session "
               "drives an FR3 served by franky-sim over the libfranka protocol on loopback, "
-              "through franky, in real time (about 4 minutes; no blocks in that scene).")
+              "through franky, in real time (a few minutes; no blocks in that scene).")
 def demo(out, seed, method, no_render, models, robot):
     """Replica dataset → gesture models → a person gives the paper's stacking commands by hand
     gestures → live recognition → planner → simulated Panda stacking blocks.
