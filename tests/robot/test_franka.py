@@ -156,3 +156,23 @@ def test_live_robot_mistakes_are_one_line(tiny_models, args, says):
                                    "--speed", "0", "--no-view", *args])
     assert res.exit_code == 2
     assert says in res.output and "Traceback" not in res.output
+
+
+def test_halting_a_session_stops_the_arm_at_once(simulator):
+    """What Ctrl-C does in ``live --robot franka``: the session halts in the middle of a motion,
+    the arm comes to rest, and no further period runs."""
+    from framefree.online.events import Event
+
+    backend = FrankaBackend(simulator.host)
+    session = RobotSession(backend, STACKING_PLANNER)
+    session.handle(Event("go_up", 0.1, 0.01, 0))
+    session.advance_to(1.0)
+    assert backend.trace[-1][2][2] > 0.05  # moving up at full speed
+    session.halt()
+    periods = len(backend.trace)
+    session.advance_to(3.0)
+    assert len(backend.trace) == periods
+    time.sleep(0.5)
+    z0 = backend.robot.state.O_T_EE.translation[2]
+    time.sleep(0.3)
+    assert abs(backend.robot.state.O_T_EE.translation[2] - z0) < 1e-4
