@@ -66,7 +66,7 @@ def _robot_franka(host: str):
 
 def finish_robot(sim: Any, robot_settle: float, robot_plot: str | None) -> None:
     sim.advance_to(sim.time + robot_settle)
-    if getattr(sim.backend, "host", None) is not None:  # a Franka arm
+    if getattr(getattr(sim, "backend", None), "host", None) is not None:  # a Franka arm
         sim.halt()
         log = sim.planner.decisions
         click.echo(f"robot (Franka at {sim.backend.host}): {len(log)} events handled, "

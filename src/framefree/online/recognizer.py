@@ -235,7 +235,9 @@ class Recognizer(StreamingRecognizer):
         background`), off the pose path: :meth:`push` then returns within a fraction of a
         millisecond whatever the vocabulary, and a gesture event comes out of a later
         :meth:`push` (or :meth:`finish`) as soon as the worker has decided it, stamped with the
-        time of the pose that fired it as inline. The events are those of the inline recognizer.
+        time of the pose that fired it as inline. The events are those of the inline recognizer,
+        and they leave :meth:`push` in time order: a stop waits behind the decisions about
+        earlier poses (:meth:`_stop_event`).
         Off by default; :meth:`close` (or setting it off) stops the thread."""
         return self._worker is not None
 
