@@ -4,6 +4,7 @@ decides, events keep the source's clock, and the pose path never waits for a cla
 from __future__ import annotations
 
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -152,3 +153,36 @@ def test_the_worker_keeps_order_bounds_its_queue_and_raises_errors():
     with pytest.raises(ZeroDivisionError):
         worker.wait()
     worker.close()
+
+
+def test_with_a_slow_classifier_events_leave_in_time_order_and_a_stop_never_overtakes(
+        recognizer, streams, monkeypatch):
+    """Every classification takes 30 ms longer while the poses come as fast as they can: the
+    worker falls seconds behind the pose path, and yet the events leave :meth:`push` in time
+    order (a stop waits for the gestures before it), the same events as inline."""
+    traj = streams[0]
+    reference = _events(recognizer, traj)
+    search = spotting.SegmentClassifier.search_described
+
+    def slow(self, descriptor, accept_below=None):
+        time.sleep(0.03)
+        return search(self, descriptor, accept_below)
+
+    monkeypatch.setattr(spotting.SegmentClassifier, "search_described", slow)
+    recognizer.reset()
+    recognizer.background = True
+    arrived, lag = [], []
+    try:
+        for k in range(len(traj)):
+            for e in recognizer.push(traj.t[k], traj.p[k], traj.q[k]):
+                arrived.append(e)
+                lag.append(traj.t[k] - e.time)
+        arrived += recognizer.finish()
+    finally:
+        recognizer.close()
+    times = [e.time for e in arrived]
+    assert times == sorted(times)
+    assert sorted((e.label, e.time, e.dissimilarity) for e in arrived) == reference
+    stops = [e for e in arrived if e.is_stop]
+    assert stops and len(stops) < len(arrived)
+    assert max(lag) > 1.0  # the worker did fall behind: the order is not a matter of luck

@@ -135,3 +135,36 @@ def test_evaluate_stream_names_a_gesture_without_models(tiny):
     assert res.exit_code == 2
     assert "no model recordings of wave" in res.output
     assert "Traceback" not in res.output
+
+
+def test_live_emits_in_time_order_with_a_slow_classifier(tmp_path, monkeypatch):
+    """``live --speed 0`` with every classification 50 ms slower: the worker falls behind the
+    replay, and still every output gets the events in time order (a stop never overtakes the
+    gesture before it), the same events as inline classification."""
+    from cli_helpers import tiny_dataset
+    from framefree.online import spotting
+
+    root = tmp_path / "data"
+    root.mkdir()
+    stream = tiny_dataset(root, GESTURES, ["go_left", "stop", "open_gripper", "go_left", "stop"])
+    search = spotting.SegmentClassifier.search_described
+
+    def slow(self, descriptor, accept_below=None):
+        time.sleep(0.05)
+        return search(self, descriptor, accept_below)
+
+    runs = {}
+    for how in ("inline", "background"):
+        if how == "background":
+            monkeypatch.setattr(spotting.SegmentClassifier, "search_described", slow)
+        out = tmp_path / f"{how}.jsonl"
+        res = CliRunner().invoke(cli, ["live", "--models", str(root), "--source", str(stream),
+                                       "--speed", "0", "--no-view", "--classify", how,
+                                       "--emit", f"jsonl:{out}"])
+        assert res.exit_code == 0, res.output
+        runs[how] = [json.loads(line) for line in out.read_text().splitlines()]
+    times = [e["time"] for e in runs["background"]]
+    assert times == sorted(times)
+    assert runs["background"] == runs["inline"]
+    labels = [e["label"] for e in runs["inline"]]
+    assert "stop" in labels and "go_left" in labels

@@ -103,7 +103,7 @@ def test_stop_decelerates_with_bounded_deceleration_and_takes_precedence():
     # a stop and a gesture with the same time stamp: stop wins, the gesture is ignored
     decisions = planner.handle_many([ev("go_up", 5.0), ev("stop", 5.0)])
     assert [d.reason for d in decisions] == ["stopping", "ignored while stopping"]
-    assert planner.handle(ev("go_right")).reason == "ignored while stopping"
+    assert planner.handle(ev("go_right", 5.0)).reason == "ignored while stopping"
     arm.run(0.5)
     v = arm.velocities[n0 - 1 :]
     dv = np.linalg.norm(np.diff(v, axis=0), axis=1)
@@ -112,8 +112,29 @@ def test_stop_decelerates_with_bounded_deceleration_and_takes_precedence():
     stopped = np.flatnonzero(np.linalg.norm(v, axis=1) == 0)[0]
     assert stopped * DT <= t_stop + 2 * DT
     assert planner.state == "idle"
-    assert planner.handle(ev("stop")).reason == "at rest"
-    assert planner.handle(ev("go_right")).reason == "started"  # at rest again: gestures work
+    assert planner.handle(ev("stop", 6.0)).reason == "at rest"
+    assert planner.handle(ev("go_right", 6.5)).reason == "started"  # at rest again: gestures work
+
+
+def test_a_gesture_from_before_a_stop_never_moves_the_arm_whenever_it_arrives():
+    """A gesture classified late reaches the planner after the stop that followed it: ignored,
+    also once the arm is at rest again, while a later gesture still acts."""
+    planner = Planner()
+    arm = FollowingArm(planner)
+    planner.handle(ev("go_left", 1.0))
+    arm.run(0.5)
+    assert planner.handle(ev("stop", 3.0)).reason == "stopping"
+    assert planner.handle(ev("go_up", 2.5)).reason == "before a stop"
+    arm.run(2.0)
+    assert planner.state == "idle" and not np.any(planner.velocity)
+    late = planner.handle(ev("go_down", 2.9))  # at rest now: still from before the stop
+    assert (late.accepted, late.reason) == (False, "before a stop")
+    arm.run(1.0)
+    assert not np.any(arm.velocities[-round(1.0 / DT):])
+    idle = Planner()
+    assert idle.handle(ev("stop", 4.0)).reason == "at rest"  # also a stop to an arm at rest
+    assert idle.handle(ev("go_up", 3.0)).reason == "before a stop"
+    assert planner.handle(ev("go_down", 3.1)).reason == "started"
 
 
 def test_stop_keeps_the_gripper_reference():

@@ -17,6 +17,7 @@ from ..core.posecsv import QUAT_ORDERS, UNITS
 from ..errors import FramefreeError
 from ..labels import METHODS
 from .inputs import pose_file_options, read_models, writable_file, writable_folder
+from .robot_live import finish_robot, robot_factory
 
 __all__ = ["register"]
 
@@ -227,10 +228,14 @@ _emit_option = click.option(
               "against thresholds, stop detector, events).")
 @click.option("--no-view", is_flag=True, help="No terminal view.")
 @_save_option
-@click.option("--robot", type=click.Choice(["none", "sim", "dry-run"]), default="none",
+@click.option("--robot", type=click.Choice(["none", "sim", "dry-run", "franka"]), default="none",
               show_default=True,
               help="sim: drive the simulated Panda (MuJoCo, block stacking) with the events; "
-              "dry-run: the planner's commands as JSON lines on stderr, no robot.")
+              "dry-run: the planner's commands as JSON lines on stderr, no robot; franka: a "
+              "Franka arm (FR3 or Panda) through franky at --robot-host (docs/robot.md).")
+@click.option("--robot-host", default=None, metavar="HOST",
+              help="With --robot franka: the arm's FCI address, or the address franky-sim "
+              "reports (127.0.0.1 for the first simulator on this machine).")
 @click.option("--robot-plot", type=click.Path(dir_okay=False), default=None,
               help="With --robot sim: write the session figure (PNG) at the end.")
 @click.option("--robot-settle", type=float, default=3.0, show_default=True,
@@ -242,7 +247,8 @@ _emit_option = click.option(
 @_emit_option
 def live_cmd(models: str, model_context: str, model_quat_order: str, units: str, source: str,
              quat_order: str, speed: float, timeout: float, robot: str,
-             robot_plot: str | None, robot_settle: float, emit: tuple[str, ...] = (),
+             robot_plot: str | None, robot_settle: float, robot_host: str | None = None,
+             emit: tuple[str, ...] = (),
              view_kind: str = "terminal", no_view: bool = False, save_rrd: str | None = None,
              classify: str | None = None, **kw: Any):
     """Recognize gestures live from a pose source and print events as they happen.
@@ -258,7 +264,7 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
         writable_file(save_rrd, "--save")
     _check_emit(emit)
     view = view_kind == "terminal" and not no_view
-    sim = _robot_sim() if robot == "sim" else _robot_dry_run() if robot == "dry-run" else None
+    sim = robot_factory(robot, robot_host)
     # the source is checked (and a ZeroMQ subscriber connected) before the slow model building
     src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units)
     rec = _recognizer(models, model_context, model_quat_order, units, **kw)
@@ -285,7 +291,7 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     skipped = {k: v for k, v in rec.stats.items() if v and k not in ("samples", "accepted")}
     click.echo(f"{n} poses; {json.dumps(skipped)}", err=True)
     if sim is not None and t0 is not None:
-        _finish_robot(sim, robot_settle, robot_plot)
+        finish_robot(sim, robot_settle, robot_plot)
 
 
 def _check_emit(specs: tuple[str, ...]) -> None:
@@ -354,7 +360,9 @@ def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None, rview:
                 line = _view_line(t, rec.gesture_dissimilarities(), short, thresholds)
                 click.echo(f"\r\033[K{line}", nl=False)
     except KeyboardInterrupt:
-        pass
+        if hasattr(sim, "halt"):  # Ctrl-C stops the arm at once
+            sim.halt()
+            click.echo("interrupted: robot stopped", err=True)
     finally:
         deliver(_finish(rec))
     if tty:
@@ -369,68 +377,6 @@ def _finish(rec: Any) -> list:
     events = rec.finish()
     rec.close()
     return events
-
-
-def _robot_dry_run():
-    """Factory ``time_offset -> RobotSession`` for ``--robot dry-run``: the planner's commands,
-    as JSON lines on standard error, instead of a robot (see docs/robot.md)."""
-    from ..robot.backends import DryRunBackend, RobotSession
-    from ..robot.kinematics import PandaKinematics
-    from ..robot.scenario import STACKING_PLANNER, STACKING_START
-
-    def make(time_offset: float) -> RobotSession:
-        # the commands go to stderr beside the other robot messages, not among the events
-        backend = DryRunBackend(PandaKinematics().tcp_pose(STACKING_START), log=sys.stderr,
-                                dt=0.01)
-        return RobotSession(backend, STACKING_PLANNER, time_offset=time_offset)
-
-    return make
-
-
-def _finish_robot(sim: Any, robot_settle: float, robot_plot: str | None) -> None:
-    sim.advance_to(sim.time + robot_settle)
-    if not hasattr(sim, "log"):  # dry run
-        sim.backend.close()
-        click.echo(f"robot (dry run): {len(sim.backend.commands)} commands logged, "
-                   f"{sim.time:.1f} s", err=True)
-        return
-    log = sim.log()
-    acted = sum(1 for d in log.decisions if d.accepted)
-    click.echo(f"robot: {len(log.decisions)} events handled, {acted} changed the plan, "
-               f"{sim.time:.1f} s simulated", err=True)
-    if robot_plot:
-        from ..robot.render import plot_session
-
-        click.echo(f"robot session figure: {plot_session(log, robot_plot)}", err=True)
-
-
-def _robot_sim():
-    """Factory ``time_offset -> RobotSim`` for ``--robot sim``; a clear error without MuJoCo.
-
-    :mod:`framefree.robot.sim` is imported first: it chooses MuJoCo's GL backend (EGL without a
-    display), which MuJoCo fixes at its first import.
-    """
-    try:
-        from ..robot import sim as _sim
-    except ImportError as exc:
-        raise FramefreeError(f"--robot sim is not available: {exc}") from None
-    try:
-        _sim.import_mujoco()
-    except _sim.SimulatorMissing as exc:
-        raise FramefreeError(f"--robot sim: {exc}") from None
-    from ..robot.scenario import STACKING_PLANNER, STACKING_SCENE, STACKING_START
-    from ..robot.session import RobotSim
-
-    def on_event(decision) -> None:
-        ev = decision.event
-        verdict = "->" if decision.accepted else "(ignored)"
-        click.echo(f"{ev.time:9.2f} s  robot {verdict} {ev.label} [{decision.reason}]", err=True)
-
-    def make(time_offset: float) -> RobotSim:
-        return RobotSim(planner=STACKING_PLANNER, scene=STACKING_SCENE, q0=STACKING_START,
-                        time_offset=time_offset, on_event=on_event)
-
-    return make
 
 
 @click.command("evaluate-stream")

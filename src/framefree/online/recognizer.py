@@ -235,7 +235,9 @@ class Recognizer(StreamingRecognizer):
         background`), off the pose path: :meth:`push` then returns within a fraction of a
         millisecond whatever the vocabulary, and a gesture event comes out of a later
         :meth:`push` (or :meth:`finish`) as soon as the worker has decided it, stamped with the
-        time of the pose that fired it as inline. The events are those of the inline recognizer.
+        time of the pose that fired it as inline. The events are those of the inline recognizer,
+        and they leave :meth:`push` in time order: a stop waits behind the decisions about
+        earlier poses (:meth:`_stop_event`).
         Off by default; :meth:`close` (or setting it off) stops the thread."""
         return self._worker is not None
 
@@ -323,15 +325,15 @@ class Recognizer(StreamingRecognizer):
             events.extend(self._on_sample(ts, ps, qs))
         if self._worker is not None:
             events.extend(self._collect(self._worker.done()))
-            events.sort(key=lambda e: e.time)
+        events.sort(key=lambda e: (e.time, not e.is_stop))
         return events
 
     def _on_sample(self, t: float, p: np.ndarray, q: np.ndarray) -> list[Event]:
         events: list[Event] = []
-        if self.stop.update(t, q):
+        stopped = self.stop.update(t, q)
+        if stopped:
             self._counts["stops"] += 1
             self._decide_later(self.spotter.discard_before, self.segmenter.buffer.count)
-            events.append(Event(STOP, t, -1.0, -1))
         T = np.eye(4)
         T[:3, :3] = se3.matrix_from_quaternion(q)
         T[:3, 3] = p
@@ -340,7 +342,22 @@ class Recognizer(StreamingRecognizer):
             event = self._on_grid(float(times[k]), poses[k])
             if event is not None:
                 events.append(event)
+        if stopped:  # in line behind every decision about earlier poses (see _stop_event)
+            event = self._decide_later(self._stop_event, t)
+            if event is not None:
+                events.append(event)
         return events
+
+    @staticmethod
+    def _stop_event(t: float) -> Event:
+        """The stop signal of the pose at ``t`` [s].
+
+        With a worker it is queued like a spotter step, after the steps of every pose up to and
+        including this one, so it leaves :meth:`push` only after every gesture those poses fire:
+        the events come out in time order whatever the worker's lag (a stop never overtakes an
+        earlier gesture; the price is that a stop waits for the classifications already queued,
+        milliseconds in real time, see ``docs/online.md``)."""
+        return Event(STOP, t, -1.0, -1)
 
     def _on_grid(self, t: float, T: np.ndarray) -> Event | None:
         self._counts["grid"] += 1

@@ -56,12 +56,15 @@ class ClosedLoop:
         The simulated person; nothing is streamed until they have acted.
     echo : callable, optional
         Where the robot's reaction to every event is reported (``None``: silent).
+    robot : RobotSim or RobotSession, optional
+        The robot (default: a :class:`~framefree.robot.session.RobotSim` of the stacking scene);
+        a :class:`~framefree.robot.backends.RobotSession` drives any backend, e.g. a Franka arm.
 
     Attributes
     ----------
     tracer : TracingRecognizer
-    robot : RobotSim
-        The stacking scene, planner and controllers (MuJoCo).
+    robot : RobotSim or RobotSession
+        The planner and the robot it drives.
     reactions : dict of int to str
         The robot's verdict on each event, keyed by ``id(event)``.
     command_log : list of dict
@@ -70,17 +73,21 @@ class ClosedLoop:
         Wall time [s] spent in recognition and in the robot simulation, and samples streamed.
     """
 
-    def __init__(self, recognizer: Any, person: Any, echo: Callable[[str], None] | None = None):
+    def __init__(self, recognizer: Any, person: Any, echo: Callable[[str], None] | None = None,
+                 robot: Any = None):
         from ..online.evaluation import TracingRecognizer
-        from .scenario import STACKING_PLANNER, STACKING_SCENE, STACKING_START
-        from .session import RobotSim
 
         self.person = person
         self.echo = echo
         self.tracer = TracingRecognizer(recognizer)
         self.reactions: dict[int, str] = {}
-        self.robot = RobotSim(planner=STACKING_PLANNER, scene=STACKING_SCENE, q0=STACKING_START,
-                              on_event=self._on_decision)
+        if robot is None:
+            from .scenario import STACKING_PLANNER, STACKING_SCENE, STACKING_START
+            from .session import RobotSim
+
+            robot = RobotSim(planner=STACKING_PLANNER, scene=STACKING_SCENE, q0=STACKING_START)
+        robot.on_event = self._on_decision
+        self.robot = robot
         self.command_log: list[dict[str, Any]] = []
         self.timing: dict[str, float] = {"recognition": 0.0, "robot": 0.0, "samples": 0}
 
@@ -163,13 +170,14 @@ class ClosedLoop:
 
         Returns
         -------
-        SessionLog
-            The robot's log of the whole session.
+        SessionLog or None
+            The MuJoCo robot's log of the whole session (None for another robot: its planner's
+            decisions and its backend tell what happened).
         """
         self.person.hold(rest)
         self.stream_to_robot()
         self.robot.advance_to(self.person.time + settle)
-        return self.robot.log()
+        return self.robot.log() if hasattr(self.robot, "log") else None
 
 
 def run_commands(loop: ClosedLoop, commands: Sequence[tuple[float, str]], policy: PersonPolicy,

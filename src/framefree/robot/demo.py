@@ -197,8 +197,8 @@ def build_recognizer(method: str = "segments", replica_seed: int = 0) -> Any:
     return recognizer
 
 
-def build_loop(recognizer: Any, seed: int = 0, echo: Callable[[str], None] | None = None
-               ) -> ClosedLoop:
+def build_loop(recognizer: Any, seed: int = 0, echo: Callable[[str], None] | None = None,
+               robot: Any = None) -> ClosedLoop:
     """The person of demo session ``seed`` (:func:`demo_person`) and the robot, around a recognizer.
 
     Parameters
@@ -208,11 +208,14 @@ def build_loop(recognizer: Any, seed: int = 0, echo: Callable[[str], None] | Non
         Demo seed: picks the held-out person and seeds their session.
     echo : callable, optional
         Where the robot's reactions are reported.
+    robot : RobotSim or RobotSession, optional
+        Default: the MuJoCo stacking scene.
     """
     from ..replica import LivePerson
 
     who = demo_person(seed)
-    return ClosedLoop(recognizer, LivePerson(seed + _SESSION_SEED_OFFSET, person=who), echo)
+    return ClosedLoop(recognizer, LivePerson(seed + _SESSION_SEED_OFFSET, person=who), echo,
+                      robot)
 
 
 def evaluate_loop(loop: ClosedLoop, log: Any, method: str) -> DemoResult:

@@ -35,7 +35,9 @@ Rules for events that do not simply start a motion:
 
 * **stop takes precedence**: it aborts any motion; gestures that arrive while the arm is
   decelerating are ignored (reported as such) until it is at rest; among events with the same
-  time stamp a stop is handled first (:meth:`Planner.handle_many`). Stop does not touch the
+  time stamp a stop is handled first (:meth:`Planner.handle_many`); a gesture stamped
+  before a stop already handled is ignored whenever it arrives (``"before a stop"``: a gesture
+  classified late never moves the arm after the stop that followed it). Stop does not touch the
   gripper: a held object stays held.
 * **the next event ends a motion**: a different direction starts at once (the velocity blends
   with bounded acceleration); a gripper event or go_home ends a directional motion too.
@@ -213,7 +215,7 @@ class Decision:
         Whether the plan changed.
     reason : str
         ``"started"``, ``"stopping"``, ``"repeated"``, ``"at rest"`` (stop while at rest),
-        ``"ignored while stopping"`` or ``"unknown label"``.
+        ``"ignored while stopping"``, ``"before a stop"`` or ``"unknown label"``.
     time : float
         Planner clock when the event was handled [s].
     """
@@ -244,6 +246,9 @@ class Planner:
         Every handled event with the reaction.
     time : float
         Sum of the ``dt`` of all steps [s].
+    last_stop : float
+        Time stamp of the latest stop signal handled [s] (-inf before the first): a gesture
+        stamped at or before it is ignored (``"before a stop"``), whenever it arrives.
     """
 
     def __init__(self, params: PlannerParams | None = None, gripper_width: float | None = None):
@@ -266,6 +271,7 @@ class Planner:
         self._p_cmd: np.ndarray | None = None
         self._hard_brake = False
         self.contact = False
+        self.last_stop = -math.inf
 
     # ------------------------------------------------------------------ events
     def handle(self, event: Event) -> Decision:
@@ -285,6 +291,7 @@ class Planner:
         label = event.label
         moving = bool(np.any(self.velocity != 0.0))
         if event.is_stop:
+            self.last_stop = max(self.last_stop, float(event.time))
             if self.state == "stop":
                 return self._decide(event, False, "repeated")
             if self.state == "idle" and not moving:
@@ -293,6 +300,8 @@ class Planner:
             self.label = label
             self._hard_brake = True
             return self._decide(event, True, "stopping")
+        if event.time < self.last_stop:
+            return self._decide(event, False, "before a stop")
         if self.state == "stop":
             return self._decide(event, False, "ignored while stopping")
         if self._recent_repeat(label):

@@ -72,6 +72,7 @@ class RobotSession:
         self.on_event = on_event
         self._pending: list[Event] = []
         self.command: Command | None = None
+        self.halted = False
 
     @property
     def time(self) -> float:
@@ -95,6 +96,12 @@ class RobotSession:
         self.backend.apply(self.command)
 
     def advance_to(self, t: float) -> None:
-        """Run control periods until backend time ``t`` [s]."""
-        while self.time < t - 0.5 * self.backend.dt:
+        """Run control periods until backend time ``t`` [s] (none after :meth:`halt`)."""
+        while not self.halted and self.time < t - 0.5 * self.backend.dt:
             self.step()
+
+    def halt(self) -> None:
+        """Stop at once (Ctrl-C): the backend brings the robot to rest and is released; no
+        further control period runs."""
+        self.halted = True
+        self.backend.close()
