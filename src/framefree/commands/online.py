@@ -244,15 +244,17 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     err = _human_to_stderr(emit)
     view = view_kind == "terminal" and not no_view
     sim = _robot_sim() if robot == "sim" else _robot_dry_run() if robot == "dry-run" else None
-    # the source is checked (and a ZeroMQ subscriber connected) before the slow model building
+    # the source and the viewer are checked (a ZeroMQ subscriber connected, a rerun viewer on
+    # 127.0.0.1 started) before the slow model building
     src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units)
+    viewer = _start_viewer() if view_kind == "rerun" and not save_rrd else None
     rec = _recognizer(models, model_context, model_quat_order, units, **kw)
     if classify == "background" and not hasattr(rec, "background"):
         raise FramefreeError("--classify background needs --method segments")
     if hasattr(rec, "background"):
         rec.background = classify != "inline"
     out = _emitters(emit, rec)
-    rview = _rerun_view(rec, view_kind == "rerun", save_rrd)
+    rview = _rerun_view(rec, view_kind == "rerun", save_rrd, viewer)
     try:
         n, t0, sim = _run_live(rec, src, view, sim, out, rview, err=err)
     finally:
@@ -297,13 +299,20 @@ def _emitters(specs: tuple[str, ...], rec: Any):
     return Emitters(specs, rec.gesture_thresholds)
 
 
-def _rerun_view(rec: Any, spawn: bool, save: str | None):
+def _start_viewer() -> str:
+    """A rerun viewer on 127.0.0.1 (its URL), or one line saying why none can start."""
+    from ..view.viewer import start_viewer
+
+    return start_viewer()
+
+
+def _rerun_view(rec: Any, spawn: bool, save: str | None, url: str | None = None):
     """The rerun view (None unless ``--view rerun`` or ``--save``)."""
     if not spawn and not save:
         return None
     from ..view.rerun_view import RerunView
 
-    return RerunView(rec, save=save, spawn=spawn)
+    return RerunView(rec, save=save, spawn=spawn, url=url)
 
 
 def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None, rview: Any = None,
