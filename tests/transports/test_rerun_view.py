@@ -145,3 +145,37 @@ def test_view_that_cannot_start_is_one_line(tiny, display):
     lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
     assert len(lines) == 1 and "--view rerun" in lines[0] and "--save" in lines[0], lines
     assert "127.0.0.1" in lines[0]
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+def test_ctrl_c_ends_a_live_view(tiny, loopback_server):
+    """Ctrl-C (SIGINT) during a real-time replay into a viewer ends the command normally."""
+    import os
+    import signal
+    import subprocess
+    import time
+
+    port, _ = loopback_server
+    root, stream = tiny
+    code = ("import framefree.view.viewer as v; v.DEFAULT_PORT = int(__import__('sys').argv[1]); "
+            "import sys; sys.argv = sys.argv[1:]; from framefree.cli import main; main()")
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    proc = subprocess.Popen(
+        [sys.executable, "-c", code, str(port), "live", "--models", str(root), "--source",
+         str(stream), "--speed", "1", "--view", "rerun"], stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE, text=True, env=env,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        for line in proc.stderr:  # the models are built once this line is printed
+            if "thresholds" in line:
+                break
+        time.sleep(1.0)
+        assert proc.poll() is None  # still replaying (the session lasts tens of seconds)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+    assert proc.returncode == 0, err
+    assert " poses; " in err and "Traceback" not in err
