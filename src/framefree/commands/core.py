@@ -173,8 +173,8 @@ def classify(queries, models, model_context, model_quat_order, descriptor, progr
         if Path(models).is_file():
             desc, thresholds, model_samples, labels = _library_models(models)
         else:
-            found = _plausible(lambda: read_models(models, model_context, model_quat_order, units),
-                               force)
+            found = _plausible(lambda: read_models(models, model_context, model_quat_order, units,
+                                                   skip_header), force)
             model_samples, labels = found.trajectories, found.labels
     clf = NearestNeighborClassifier(desc, invariance=invariance, thresholds=thresholds)
     clf.fit(model_samples, labels)

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..core.multitrajectory import MultiTrajectory
+from ..core.posecsv import header_kind
 from ..core.trajectory import Trajectory
 from ..errors import DatasetError, TrajectoryError
 from ..io.conventions import UP, Convention
@@ -112,9 +113,16 @@ def read_recording(path: str | Path, convention: str | Convention | None = None)
 
 
 def _has_multi_header(path: Path) -> bool:
-    """Whether a file starts like framefree's multi-tracker CSV (``t,...``)."""
+    """Whether a file's header says it is framefree's multi-tracker CSV (``t,NAME.x,...``); a
+    single-tracker header ``t,x,y,z,qw,qx,qy,qz`` is not one."""
     with path.open("rb") as fh:
-        return fh.read(2) in (b"t,", b"t\r")
+        head = fh.read(4096)
+    if not head.startswith((b"t,", b"t\r", b"t\n")):
+        return False
+    first = head.decode("utf-8", errors="replace").splitlines()[0]
+    # a malformed multi-tracker header (a NAME.field column) still goes to its own reader, which
+    # names the faulty columns
+    return header_kind(first) == "multi" or "." in first
 
 
 def is_multi_tracker_file(path: str | Path) -> bool:
