@@ -24,6 +24,18 @@ def test_a_png_given_as_a_pose_file(tmp_path):
     one_line_error(run("plot", png, "-o", tmp_path / "x.png"), "PNG image, not a pose CSV")
 
 
+def test_a_png_given_as_a_query_is_not_a_pose_recording(tmp_path):
+    """A query that is not a .csv is read as a recording of several trackers: a PNG is named as
+    one, not taken for a broken Machete file."""
+    from cli_helpers import tiny_dataset
+
+    png = Path(__file__).resolve().parents[2] / "docs" / "images" / "replica_gallery.png"
+    tiny_dataset(tmp_path / "models", ("go_left", "open_gripper"), ("go_left",))
+    line = one_line_error(run("classify", png, "-m", tmp_path / "models"),
+                          "replica_gallery.png", "PNG image, not a pose recording")
+    assert "Machete" not in line.split("not a pose recording")[0]
+
+
 def test_a_binary_file_and_a_folder(tmp_path):
     blob = tmp_path / "blob.bin"
     blob.write_bytes(bytes(range(256)) * 4)

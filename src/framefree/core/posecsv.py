@@ -27,6 +27,7 @@ __all__ = [
     "UNITS",
     "PlausibilityWarning",
     "header_kind",
+    "known_non_pose",
     "plausibility_problems",
     "read_pose_csv",
     "warn_if_implausible",
@@ -70,10 +71,22 @@ class PlausibilityWarning(FramefreeWarning):
         super().__init__(f"{source}: {problem}")
 
 
+def known_non_pose(head: bytes) -> str | None:
+    """What a file is when its first bytes say it is no pose recording (``"a PNG image"``, ...),
+    else None.
+
+    Parameters
+    ----------
+    head : bytes
+        The file's first bytes (8 are enough).
+    """
+    return next((what for magic, what in _MAGIC if head.startswith(magic)), None)
+
+
 def _decode(raw: bytes, path: Path) -> str:
-    for magic, what in _MAGIC:
-        if raw.startswith(magic):
-            raise TrajectoryError(f"this is {what}, not a pose CSV file", path)
+    what = known_non_pose(raw[:8])
+    if what is not None:
+        raise TrajectoryError(f"this is {what}, not a pose CSV file", path)
     if b"\x00" in raw:
         raise TrajectoryError("binary data (NUL bytes), not a pose CSV text file", path)
     try:

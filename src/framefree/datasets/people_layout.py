@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..core.multitrajectory import MultiTrajectory
-from ..core.posecsv import header_kind
+from ..core.posecsv import header_kind, known_non_pose
 from ..core.trajectory import Trajectory
 from ..errors import DatasetError, TrajectoryError
 from ..io.conventions import UP, Convention
@@ -100,6 +100,12 @@ def read_recording(path: str | Path, convention: str | Convention | None = None)
         Machete files, ``framefree`` for CSV).
     """
     path = Path(path)
+    if path.is_file():
+        with path.open("rb") as fh:
+            what = known_non_pose(fh.read(8))
+        if what is not None:
+            raise TrajectoryError(f"this is {what}, not a pose recording (a pose CSV file or a "
+                                  "Machete recording)", path)
     multi = _has_multi_header(path)
     if path.suffix.lower() == ".csv" or multi:
         if multi:
