@@ -94,8 +94,8 @@ class NearestNeighborClassifier:
     preset : {"recommended", "paper"}, default "recommended"
         Where the descriptor parameters left ``None`` come from when ``descriptor`` is the name
         ``"bilts+"``: ``"recommended"``, :data:`RECOMMENDED`; ``"paper"``, the descriptor's own
-        defaults (the paper's Table I settings). Another descriptor, or a descriptor instance,
-        always keeps its own defaults.
+        defaults (the paper's Table I settings). Another descriptor, a descriptor instance, or
+        another ``progress`` than the preset's always keeps the descriptor's own defaults.
     progress : {"screw", "angle", "arclength"}, optional
         Geometric progress the trajectories are resampled by (``None``: the preset's value).
     L : float, optional
@@ -245,7 +245,10 @@ class NearestNeighborClassifier:
             raise ValueError(f"unknown preset {self.preset!r}; choose one of {', '.join(PRESETS)}")
         preset = dict(PRESETS[self.preset])
         named = preset.pop("descriptor", None)
-        params = dict(preset) if isinstance(self.descriptor, str) and self.descriptor == named else {}
+        same = isinstance(self.descriptor, str) and self.descriptor == named
+        # the preset's values belong to its progress (ds_scale is in metres for screw progress)
+        same = same and self.progress in (None, preset.get("progress"))
+        params = dict(preset) if same else {}
         params.update(self.descriptor_params or {})
         params.update(
             {k: getattr(self, k) for k in _DESCRIPTOR_PARAMS if getattr(self, k) is not None}

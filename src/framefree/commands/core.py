@@ -11,7 +11,7 @@ from typing import Any
 import click
 import numpy as np
 
-from ..classifier import NearestNeighborClassifier
+from ..classifier import PRESETS, RECOMMENDED, NearestNeighborClassifier
 from ..core.posecsv import PlausibilityWarning
 from ..core.trajectory import Trajectory
 from ..datasets.people_layout import is_multi_tracker_file, load_labelled, read_recording
@@ -48,6 +48,12 @@ def descriptor_options(func: Callable[..., Any]) -> Callable[..., Any]:
             "--ds-scale", type=float, default=None, help="BILTS window scale (m, or rad for angle)."
         ),
         click.option("--lam", type=float, default=None, help="λ weight (DHB, eFS, ISA)."),
+        click.option(
+            "--preset", type=click.Choice(tuple(PRESETS)), default="recommended",
+            show_default=True,
+            help="Settings of BILTS+ left unset: recommended (L 0.1 m, ds_scale 0.06 m, "
+            "pre-smoothing, open end, axis prior; as NearestNeighborClassifier()) or paper "
+            "(L 0.5 m, ds_scale 0.09 m: the paper's Table I settings)."),
     ]
     for option in reversed(options):
         func = option(func)
@@ -55,10 +61,16 @@ def descriptor_options(func: Callable[..., Any]) -> Callable[..., Any]:
 
 
 def descriptor_from_options(
-    descriptor: str, progress: str, L: float | None, ds_scale: float | None, lam: float | None
+    descriptor: str, progress: str, L: float | None, ds_scale: float | None, lam: float | None,
+    preset: str = "recommended",
 ) -> Descriptor:
-    """Build a descriptor from the shared CLI options (unset options keep their defaults)."""
-    params: dict[str, Any] = {"progress": progress}
+    """Build a descriptor from the shared CLI options (unset options take the preset's values for
+    BILTS+, else the descriptor's defaults), as ``NearestNeighborClassifier`` does."""
+    params: dict[str, Any] = {}
+    chosen = PRESETS[preset]
+    if descriptor == RECOMMENDED["descriptor"] and progress == chosen.get("progress", progress):
+        params.update({k: v for k, v in chosen.items() if k != "descriptor"})
+    params["progress"] = progress
     for key, value in (("L", L), ("ds_scale", ds_scale), ("lam", lam)):
         if value is not None:
             params[key] = value
@@ -107,9 +119,10 @@ def _describe_targets(files: tuple[str, ...], out: Path, tag: str) -> list[tuple
     show_default=True,
     help="Folder for the descriptor CSVs <stem>_<descriptor>.csv (never next to the inputs).",
 )
-def describe(files, descriptor, progress, L, ds_scale, lam, quat_order, units, skip_header, out):
+def describe(files, descriptor, progress, L, ds_scale, lam, preset, quat_order, units, skip_header,
+             out):
     """Compute the descriptor of each pose FILE and write it as CSV (one row per sample)."""
-    desc = descriptor_from_options(descriptor, progress, L, ds_scale, lam)
+    desc = descriptor_from_options(descriptor, progress, L, ds_scale, lam, preset)
     tag = desc.name.replace("+", "plus")
     pairs = _describe_targets(files, Path(out), tag)
     # every input is read and described before anything is written: a bad file leaves no output
@@ -168,13 +181,13 @@ def _say_reduced(path: str | Path, traj: Trajectory, n_out: int, desc: Descripto
     "--json", "json_path", type=click.Path(dir_okay=False), help="Also write results as JSON."
 )
 def classify(queries, models, model_context, model_quat_order, descriptor, progress, L, ds_scale,
-             lam, quat_order, units, skip_header, invariance, reject, force, json_path):
+             lam, preset, quat_order, units, skip_header, invariance, reject, force, json_path):
     """Recognize each QUERY pose file by its nearest labelled model (1-NN).
 
     QUERY files with several trackers (a framefree multi-tracker CSV or a Machete recording) are
     compared with MODELS of the same kind, <label>/<recording>.
     """
-    desc = descriptor_from_options(descriptor, progress, L, ds_scale, lam)
+    desc = descriptor_from_options(descriptor, progress, L, ds_scale, lam, preset)
     if json_path:
         writable_file(json_path, "--json")
     thresholds = "auto" if reject else None
