@@ -86,8 +86,10 @@ def out_of_scope(query: Trajectory | MultiTrajectory, scope: ModelScope,
         return (f"it lasts {_seconds(duration)}, the longest model {_seconds(scope.longest)}: "
                 "far longer than any gesture")
     if extent > far * scope.largest:
+        units = (" (a factor near 100 or 1000: are the query and the models in the same units? "
+                 "--units applies to both)" if extent > 50 * scope.largest else "")
         return (f"it spans {extent:.3g} m, the largest model {scope.largest:.3g} m: far larger "
-                "than any gesture")
+                f"than any gesture{units}")
     if speed * far < scope.slowest:
         return (f"it moves at {speed:.3g} m/s on average, the slowest model at "
                 f"{scope.slowest:.3g} m/s: far slower than any gesture")

@@ -149,7 +149,8 @@ def test_view_that_cannot_start_is_one_line(tiny, display):
 
 @pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
 def test_ctrl_c_ends_a_live_view(tiny, loopback_server):
-    """Ctrl-C (SIGINT) during a real-time replay into a viewer ends the command normally."""
+    """Ctrl-C (SIGINT) during a real-time replay into a viewer ends the command normally (the
+    signal is sent once the first event shows that the replay loop runs)."""
     import os
     import signal
     import subprocess
@@ -166,10 +167,9 @@ def test_ctrl_c_ends_a_live_view(tiny, loopback_server):
         stderr=subprocess.PIPE, text=True, env=env,
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
-        for line in proc.stderr:  # the models are built once this line is printed
-            if "thresholds" in line:
-                break
-        time.sleep(1.0)
+        first = proc.stdout.readline()  # the first event: poses are being replayed into the view
+        assert " s  " in first, first
+        time.sleep(0.2)
         assert proc.poll() is None  # still replaying (the session lasts tens of seconds)
         proc.send_signal(signal.SIGINT)
         _, err = proc.communicate(timeout=60)
