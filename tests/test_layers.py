@@ -14,7 +14,7 @@ SRC = Path(__file__).resolve().parents[1] / "src"
 LAYERS = [
     {"errors", "labels", "_version", "_lazy"},
     {"core"},
-    {"descriptors", "samples", "rejection"},
+    {"descriptors", "samples", "rejection", "scope"},
     {"classifier", "io"},
     {"datasets"},
     {"plots", "replica"},

@@ -207,3 +207,50 @@ def test_every_readme_block_runs(tmp_path):
     # what the README says the commands write, they wrote — and the replica is untouched
     assert (tmp_path / "hpm_replica_gallery.png").is_file()
     assert not list((tmp_path / "hpm_replica").glob("*.png"))
+    # run from the repository root, nothing the examples wrote would be an untracked file
+    written = {p.name for p in tmp_path.iterdir()} - _TEST_ARTIFACTS - set(PLACEHOLDER_FILES)
+    written = {n for n in written if not n.startswith("readme_block_line")
+               and not n.endswith("_labels.csv")}
+    as_paths = [f"{n}/" if (tmp_path / n).is_dir() else n for n in written]
+    assert as_paths and not [n for n in as_paths if not _ignored(n)], as_paths
+
+
+#: what this test itself puts in the working folder (the stand-in files, the tests/data link)
+_TEST_ARTIFACTS = {"tests"}
+
+#: options whose value is a file or folder a README command writes
+_OUTPUT_OPTIONS = ("--out", "-o", "--json", "--save", "--library", "--figures")
+
+
+def _ignored(path: str) -> bool:
+    """Whether the repository's .gitignore ignores ``path`` (relative to the repository root)."""
+    git = shutil.which("git")
+    if git is None:
+        pytest.skip("git is not installed")
+    proc = subprocess.run([git, "check-ignore", "--no-index", "-q", path], cwd=REPO)
+    if proc.returncode == 128:
+        pytest.skip("not a git checkout")
+    return proc.returncode == 0
+
+
+def readme_outputs() -> list[str]:
+    """Every file or folder the README's commands and Python blocks name as an output."""
+    out = []
+    for block in readme_blocks():
+        if block.lang == "python":
+            out += re.findall(r"(?:to_csv|save_stream)\(\"([^\"]+)\"", block.text)
+            continue
+        for line in commands(block):
+            argv = shlex.split(line)
+            out += [argv[k + 1] for k, a in enumerate(argv[:-1]) if a in _OUTPUT_OPTIONS]
+            out += [a[len("jsonl:"):] for a in argv if a.startswith("jsonl:") and a != "jsonl:-"]
+    return out
+
+
+def test_readme_outputs_are_distinct_and_ignored_by_git():
+    """No two examples write the same file, and everything they write is ignored by git when they
+    are run from the repository root (under out/, or the replica they make)."""
+    outputs = [o.rstrip("/") for o in readme_outputs()]
+    assert len(outputs) >= 10, outputs
+    assert len(set(outputs)) == len(outputs), sorted(o for o in outputs if outputs.count(o) > 1)
+    assert not [o for o in outputs if not _ignored(o)]

@@ -59,3 +59,43 @@ def test_bad_input_is_one_clear_line_and_nonzero_exit(tmp_path):
     still.write_text("".join(f"{0.02 * k},0.1,0.2,0.3,1,0,0,0\n" for k in range(50)))
     result = CliRunner().invoke(cli, ["describe", str(still)])
     assert result.exit_code == 2 and "no screw progress" in result.output
+
+
+def test_a_motionless_recording_has_no_progress_even_presmoothed(tmp_path):
+    """Pre-smoothing (the recommended settings) leaves rounding noise on a motionless recording;
+    it is still refused as motionless, not described as noise."""
+    import numpy as np
+    import pytest
+
+    from framefree import NearestNeighborClassifier, Trajectory
+    from framefree.errors import DegenerateMotionError
+
+    t = 0.02 * np.arange(50)
+    still = Trajectory(t, np.tile([0.1, 0.2, 0.3], (50, 1)), np.tile([1.0, 0, 0, 0], (50, 1)))
+    with pytest.raises(DegenerateMotionError, match="no screw progress"):
+        NearestNeighborClassifier().build_descriptor().compute(still)
+    with pytest.raises(DegenerateMotionError, match="no screw progress"):
+        NearestNeighborClassifier.paper().build_descriptor().compute(still)
+
+
+def test_classify_defaults_are_the_recommended_settings(tmp_path, kettle_files):
+    """``classify`` builds NearestNeighborClassifier()'s descriptor unless told ``--preset paper``."""
+    import shutil
+
+    from framefree import NearestNeighborClassifier
+
+    models = tmp_path / "models" / "pour"
+    models.mkdir(parents=True)
+    for f in kettle_files[:2]:
+        shutil.copy(f, models)
+    shutil.copytree(models, tmp_path / "models" / "pour_too")
+    shown = {}
+    for preset in ("recommended", "paper"):
+        js = tmp_path / f"{preset}.json"
+        flag = [] if preset == "recommended" else ["--preset", "paper"]
+        res = CliRunner().invoke(cli, ["classify", "-m", str(tmp_path / "models"),
+                                       str(kettle_files[3]), *flag, "--json", str(js)])
+        assert res.exit_code == 0, res.output
+        shown[preset] = json.loads(js.read_text())["descriptor"]
+    assert shown["recommended"] == repr(NearestNeighborClassifier().build_descriptor())
+    assert shown["paper"] == repr(NearestNeighborClassifier.paper().build_descriptor())

@@ -24,6 +24,18 @@ def test_a_png_given_as_a_pose_file(tmp_path):
     one_line_error(run("plot", png, "-o", tmp_path / "x.png"), "PNG image, not a pose CSV")
 
 
+def test_a_png_given_as_a_query_is_not_a_pose_recording(tmp_path):
+    """A query that is not a .csv is read as a recording of several trackers: a PNG is named as
+    one, not taken for a broken Machete file."""
+    from cli_helpers import tiny_dataset
+
+    png = Path(__file__).resolve().parents[2] / "docs" / "images" / "replica_gallery.png"
+    tiny_dataset(tmp_path / "models", ("go_left", "open_gripper"), ("go_left",))
+    line = one_line_error(run("classify", png, "-m", tmp_path / "models"),
+                          "replica_gallery.png", "PNG image, not a pose recording")
+    assert "Machete" not in line.split("not a pose recording")[0]
+
+
 def test_a_binary_file_and_a_folder(tmp_path):
     blob = tmp_path / "blob.bin"
     blob.write_bytes(bytes(range(256)) * 4)
@@ -33,7 +45,7 @@ def test_a_binary_file_and_a_folder(tmp_path):
 
 def test_a_header_row_and_skip_header(tmp_path, kettle):
     with_header = tmp_path / "h.csv"
-    with_header.write_text("t,x,y,z,qw,qx,qy,qz\n" + kettle.read_text())
+    with_header.write_text("time,px,py,pz,w,i,j,k\n" + kettle.read_text())
     one_line_error(run("describe", with_header, "-o", tmp_path), "looks like a header row",
                    "--skip-header")
     res = run("describe", with_header, "--skip-header", "-o", tmp_path / "out")
@@ -42,6 +54,29 @@ def test_a_header_row_and_skip_header(tmp_path, kettle):
     assert (tmp_path / "out" / "h_biltsplus.csv").read_text() == (
         tmp_path / "ref" / f"{kettle.stem}_biltsplus.csv"
     ).read_text()
+
+
+@pytest.mark.parametrize("flag", [[], ["--skip-header"]])
+def test_the_natural_header_in_queries_and_model_folders(tmp_path, flag):
+    """``t,x,y,z,qw,qx,qy,qz`` is a single-tracker header (not a multi-tracker one), in a query
+    and in every file of a --models folder; ``--skip-header`` reaches the model files too."""
+    from cli_helpers import tiny_dataset
+
+    plain = tmp_path / "plain"
+    tiny_dataset(plain, ("go_left", "open_gripper"), ("go_left",))
+    headed = tmp_path / "headed"
+    header = "t,x,y,z,qw,qx,qy,qz\n" if not flag else "time,px,py,pz,w,i,j,k\n"
+    for f in plain.glob("*/original_1/*.csv"):
+        out = headed / f.relative_to(plain)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_text(header + f.read_text())
+    query = headed / "go_left" / "original_1" / "trial_1.csv"
+    results = []
+    for models in (plain, headed):
+        res = run("classify", query, "--models", models, *flag, "--json", tmp_path / "r.json")
+        assert res.exit_code == 0, res.output
+        results.append(json.loads((tmp_path / "r.json").read_text())["results"])
+    assert results[0] == results[1] and results[0][0]["label"] == "go_left"
 
 
 def test_another_separator_is_named(tmp_path, kettle):

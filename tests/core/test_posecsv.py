@@ -12,7 +12,12 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from framefree import Trajectory
-from framefree.core.posecsv import PlausibilityWarning, plausibility_problems, read_pose_csv
+from framefree.core.posecsv import (
+    PlausibilityWarning,
+    header_kind,
+    plausibility_problems,
+    read_pose_csv,
+)
 from framefree.errors import FramefreeError, TrajectoryError
 
 
@@ -54,18 +59,44 @@ def test_a_folder(tmp_path):
 
 
 def test_a_header_row_is_named_and_can_be_skipped(tmp_path):
+    """A header of other names than the pose columns is named in the error and skipped on
+    request; the flag never drops a first line of numbers."""
     rows = _rows()
+    plain = _write(tmp_path / "plain.csv", rows)
     path = tmp_path / "h.csv"
-    path.write_text("t,x,y,z,qw,qx,qy,qz\n" + _write(tmp_path / "plain.csv", rows).read_text())
+    path.write_text("time,px,py,pz,w,i,j,k\n" + plain.read_text())
     with pytest.raises(
         TrajectoryError,
-        match=r"h.csv, row 1: 't,x,y,z,qw,qx,qy,qz' looks like a header row; drop the header "
+        match=r"h.csv, row 1: 'time,px,py,pz,w,i,j,k' looks like a header row; drop the header "
         r"line \(command line: --skip-header",
     ):
         read_pose_csv(path)
-    np.testing.assert_array_equal(
-        read_pose_csv(path, skip_header=True), read_pose_csv(tmp_path / "plain.csv")
-    )
+    np.testing.assert_array_equal(read_pose_csv(path, skip_header=True), read_pose_csv(plain))
+    np.testing.assert_array_equal(read_pose_csv(plain, skip_header=True), read_pose_csv(plain))
+
+
+@pytest.mark.parametrize("skip", [False, True])
+def test_the_pose_column_header_is_read_by_its_names(tmp_path, skip):
+    """``t,x,y,z,qw,qx,qy,qz`` is a single-tracker header, with or without ``skip_header``; a
+    scalar-last header must agree with the quaternion order given."""
+    plain = _write(tmp_path / "plain.csv", _rows())
+    path = tmp_path / "h.csv"
+    path.write_text("t,x,y,z,qw,qx,qy,qz\n" + plain.read_text())
+    np.testing.assert_array_equal(read_pose_csv(path, skip_header=skip), read_pose_csv(plain))
+    last = tmp_path / "xyzw.csv"
+    last.write_text("t,x,y,z,qx,qy,qz,qw\n" + plain.read_text())
+    with pytest.raises(TrajectoryError, match=r"xyzw.csv, row 1: the header names the quaternion "
+                       r"columns qx,qy,qz,qw \(xyzw\).*--quat-order xyzw"):
+        read_pose_csv(last, skip_header=skip)
+    assert read_pose_csv(last, "xyzw", skip_header=skip).shape == read_pose_csv(plain).shape
+
+
+@pytest.mark.parametrize(("line", "kind"), [
+    ("t,x,y,z,qw,qx,qy,qz", "wxyz"), ("T, X, Y, Z, QX, QY, QZ, QW", "xyzw"),
+    ("t,right.x,right.y,right.z,right.qw,right.qx,right.qy,right.qz", "multi"),
+    ("0.0,1,2,3,1,0,0,0", None), ("time,x,y,z,qw,qx,qy,qz", None)])
+def test_header_kind(line, kind):
+    assert header_kind(line) == kind
 
 
 @pytest.mark.parametrize(("sep", "name"), [(";", "semicolons"), ("\t", "tabs"), (" ", "spaces")])

@@ -12,6 +12,7 @@ from sklearn.preprocessing import FunctionTransformer
 from sklearn.utils.validation import check_is_fitted
 
 from framefree import NearestNeighborClassifier, get_descriptor
+from framefree.classifier import RECOMMENDED
 
 
 @pytest.fixture(scope="module")
@@ -35,11 +36,30 @@ def test_parameters_are_stored_as_given_and_round_trip():
     assert is_classifier(clf)
 
 
+def test_the_bare_classifier_is_the_recommended_one_and_the_paper_is_one_option_away():
+    bare = NearestNeighborClassifier().build_descriptor()
+    assert bare.params == NearestNeighborClassifier.recommended().build_descriptor().params
+    assert NearestNeighborClassifier("bilts+").build_descriptor().params == bare.params
+    paper = NearestNeighborClassifier(preset="paper").build_descriptor()
+    assert paper.params == get_descriptor("bilts+").params != bare.params
+    assert NearestNeighborClassifier.paper().get_params()["preset"] == "paper"
+    assert (paper.L, paper.ds_scale, paper.open_end) == (0.5, 0.09, False)
+    # another descriptor keeps its own defaults; an unknown preset is refused at fit
+    assert (NearestNeighborClassifier("dhb").build_descriptor().params
+            == get_descriptor("dhb").params)
+    with pytest.raises(ValueError, match="unknown preset 'best'"):
+        NearestNeighborClassifier(preset="best").build_descriptor()
+
+
 def test_fit_builds_the_descriptor_from_the_parameters(xy):
     X, y = xy
     clf = NearestNeighborClassifier("bilts+", L=0.4, ds_scale=0.07).fit(X[:14], y[:14])
-    assert clf.descriptor_.params == get_descriptor("bilts+", L=0.4, ds_scale=0.07).params
+    # the parameters left unset come from the recommended settings (the default preset)
+    expected = {**RECOMMENDED, "L": 0.4, "ds_scale": 0.07}
+    assert clf.descriptor_.params == get_descriptor(expected.pop("descriptor"), **expected).params
     assert list(clf.classes_) == sorted(set(y[:14]))
+    paper = NearestNeighborClassifier.paper(L=0.4, ds_scale=0.07).fit(X[:14], y[:14])
+    assert paper.descriptor_.params == get_descriptor("bilts+", L=0.4, ds_scale=0.07).params
     # a descriptor instance plus an override: the instance is not modified
     desc = get_descriptor("bilts+", L=0.5)
     clf2 = NearestNeighborClassifier(desc, L=0.3).fit(X[:14], y[:14])
@@ -142,3 +162,24 @@ def test_rejection_says_no_gesture_for_motion_that_is_none(xy, real_dir):
     assert clf.predict([pour])[0] == "no_gesture"
     queries = [x for x, h in zip(X, held_out, strict=True) if h]
     assert (clf.predict(queries) == y[held_out]).mean() >= 0.8
+
+
+def test_auto_thresholds_keep_genuine_gestures_and_reject_everyday_motion(replica, real_dir):
+    """``thresholds="auto"`` with the default settings, models = original_1: at most 2 % of the
+    held-out trials of seven other contexts (moved world frames, other speeds, another person)
+    are rejected, and most recorded everyday motions (pouring, scooping, free motion) are."""
+    from framefree import Trajectory
+
+    models = replica.select(context="original_1")
+    clf = NearestNeighborClassifier(thresholds="auto").fit(
+        [t.trajectory for t in models], [t.gesture for t in models])
+    held = replica.select(context=("original_2", "slower", "faster", "world_frame_1",
+                                   "world_frame_2", "world_frame_3", "other_person"))
+    predicted = clf.predict([t.trajectory for t in held])
+    assert np.mean(predicted == "no_gesture") <= 0.02
+    assert np.mean(predicted == np.array([t.gesture for t in held])) >= 0.95
+    everyday = [*sorted(real_dir.glob("kettle_pour_*.csv")),
+                *(real_dir / "reference_set" / f"ip_{n}_motion.csv"
+                  for n in ("pouring", "recorded", "scooping"))]
+    said = clf.predict([Trajectory.from_csv(f) for f in everyday])
+    assert np.mean(said == "no_gesture") >= 0.75, dict(zip([f.name for f in everyday], said, strict=True))

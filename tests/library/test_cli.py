@@ -245,8 +245,19 @@ def test_classify_stops_on_millimetres(tmp_path) -> None:
     np.savetxt(mm, data, delimiter=",")
     res = CliRunner().invoke(cli, ["classify", "-m", str(root), str(mm)])
     assert res.exit_code == 2 and "--units mm" in res.output and "--force" in res.output
+    # --units applies to the models too: the replica read in millimetres is a thousand times too
+    # small, and the query is said to be far larger than any gesture, with a hint at the units
     res = CliRunner().invoke(cli, ["classify", "-m", str(root), str(mm), "--units", "mm"])
-    assert res.exit_code == 0 and "go_up" in res.output
+    assert res.exit_code == 0 and "no_gesture" in res.stdout
+    assert "far larger than any gesture" in res.stderr and "same units" in res.stderr
+    models = tmp_path / "models_mm"
+    for f in root.glob("*/original_1/*.csv"):
+        trial = np.loadtxt(f, delimiter=",")
+        trial[:, 1:4] *= 1000.0
+        (models / f.parent.parent.name / "original_1").mkdir(parents=True, exist_ok=True)
+        np.savetxt(models / f.parent.parent.name / "original_1" / f.name, trial, delimiter=",")
+    res = CliRunner().invoke(cli, ["classify", "-m", str(models), str(mm), "--units", "mm"])
+    assert res.exit_code == 0 and "go_up" in res.stdout, res.output
 
 
 def test_record_leaves_out_the_way_back_of_an_open_stroke(tmp_path) -> None:

@@ -14,7 +14,7 @@ from click.testing import CliRunner
 
 from framefree.cli import cli
 from framefree.datasets import load_stream
-from framefree.io.lsl import LSL_CONFIG, configure_liblsl, import_pylsl
+from framefree.io.lsl import configure_liblsl, import_pylsl, lsl_config
 
 
 def test_configuration_keeps_discovery_on_this_machine():
@@ -23,7 +23,7 @@ def test_configuration_keeps_discovery_on_this_machine():
         pytest.skip("LSLAPICFG set by the user: framefree leaves it alone")
     assert os.environ["LSLAPICFG"] == str(path)
     text = path.read_text()
-    assert text == LSL_CONFIG
+    assert text == lsl_config(path.parent)
     assert "ResolveScope = machine" in text and "KnownPeers = {127.0.0.1}" in text
 
 
@@ -92,3 +92,44 @@ def test_lsl_in_markers_out_match_evaluate_stream(tiny, tmp_path, loopback_only)
     for r in expected:
         if r["label"] != "stop":
             assert r["distance"] <= r["threshold"]
+
+
+#: a sender that ends its outlet after 40 poses while framefree's source still reads (the normal
+#: end of a stream); run in a child process, so that liblsl loads with framefree's configuration
+_SENDER_ENDS = """
+import sys, threading, time, uuid
+from framefree.io.lsl import LslSource, import_pylsl
+pylsl = import_pylsl()
+name = f"ff-end-{uuid.uuid4().hex[:8]}"
+
+def send():
+    outlet = pylsl.StreamOutlet(pylsl.StreamInfo(name, "MoCap", 7, 50.0, pylsl.cf_double64, name))
+    outlet.wait_for_consumers(30.0)
+    for k in range(40):
+        outlet.push_sample([0.0, 0.0, 0.01 * k, 1.0, 0.0, 0.0, 0.0], 100.0 + 0.02 * k)
+        time.sleep(0.002)
+    time.sleep(0.3)
+    del outlet
+
+sender = threading.Thread(target=send)
+sender.start()
+source = LslSource(name, timeout=10.0)
+print(sum(1 for _ in source), source.timed_out)
+sender.join()
+time.sleep(0.5)
+"""
+
+
+def test_the_normal_end_of_a_stream_prints_no_error(loopback_only):
+    """liblsl's 'Stream transmission broke off' at a sender's normal end goes to framefree's
+    liblsl log, not to the console; every pose arrived and the source ended without a timeout."""
+    import subprocess
+    import sys
+
+    pytest.importorskip("pylsl", reason="pip install 'framefree[lsl]'")
+    env = {k: v for k, v in os.environ.items() if k != "LSLAPICFG"}
+    proc = subprocess.run([sys.executable, "-c", _SENDER_ENDS], capture_output=True, text=True,
+                          env=env, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["40", "False"]
+    assert "ERR|" not in proc.stderr and "broke off" not in proc.stderr, proc.stderr

@@ -85,3 +85,23 @@ def test_bad_emit_is_refused_before_the_models(tiny, bad):
                                    "--emit", bad])
     assert res.exit_code == 2 and "--emit" in res.output
     assert "building the gesture models" not in res.output
+
+
+@pytest.mark.parametrize("command", ["evaluate-stream", "live"])
+def test_jsonl_to_stdout_keeps_stdout_pure_json(tiny, command):
+    """With ``--emit jsonl:-`` every stdout line parses as an event; the summary goes to stderr."""
+    from click.testing import CliRunner
+
+    from framefree.cli import cli
+
+    root, stream = tiny
+    args = (["evaluate-stream", "--stream", str(stream)] if command == "evaluate-stream" else
+            ["live", "--source", str(stream), "--speed", "0"])
+    res = CliRunner().invoke(cli, [*args, "--models", str(root), "--emit", "jsonl:-"])
+    assert res.exit_code == 0, res.output
+    lines = res.stdout.splitlines()
+    assert lines, res.stderr
+    records = [json.loads(line) for line in lines]
+    assert {"go_left", "open_gripper"} <= {r["label"] for r in records}
+    summary = "all: TP" if command == "evaluate-stream" else " poses; "
+    assert summary in res.stderr and summary not in res.stdout

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import sys
 
 import pytest
 from click.testing import CliRunner
@@ -59,3 +60,122 @@ def test_view_does_not_change_the_events(tiny, tmp_path):
         assert res.exit_code == 0, res.output
         out.append([json.loads(s) for s in path.read_text().splitlines()])
     assert out[0] == out[1]
+
+
+def _listeners(port: int) -> set[str]:
+    """Local addresses (hex, as /proc/net/tcp* writes them) of sockets listening on ``port``."""
+    from pathlib import Path
+
+    found = set()
+    for table in ("/proc/net/tcp", "/proc/net/tcp6"):
+        for line in Path(table).read_text().splitlines()[1:]:
+            local, state = line.split()[1], line.split()[3]
+            addr, _, hexport = local.partition(":")
+            if state == "0A" and int(hexport, 16) == port:
+                found.add(addr)
+    return found
+
+
+@pytest.fixture
+def loopback_server():
+    """The real rerun program, started with the view's own arguments plus ``--serve-grpc`` (a
+    server without a window, so it runs here): ``(port, process)``."""
+    import subprocess
+    import time
+
+    from cli_helpers import free_port
+    from framefree.view.viewer import _listening, viewer_command
+
+    port = free_port()
+    proc = subprocess.Popen([*viewer_command(port), "--serve-grpc"], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL)
+    try:
+        for _ in range(400):
+            if _listening(port) or proc.poll() is not None:
+                break
+            time.sleep(0.05)
+        assert proc.poll() is None and _listening(port)
+        yield port, proc
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc/net")
+def test_viewer_listens_on_loopback_only(loopback_server):
+    port, _ = loopback_server
+    assert _listeners(port) == {"0100007F"}  # 127.0.0.1, and no 0.0.0.0 or :: socket
+
+
+def test_view_streams_to_a_running_viewer_and_closes(tiny, loopback_server, monkeypatch):
+    """``--view rerun`` reuses a viewer already listening on 127.0.0.1 (no display needed) and
+    the command ends normally."""
+    monkeypatch.delenv("DISPLAY", raising=False)
+    port, proc = loopback_server
+    monkeypatch.setattr("framefree.view.viewer.DEFAULT_PORT", port)
+    root, stream = tiny
+    res = CliRunner().invoke(cli, ["live", "--models", str(root), "--source", str(stream),
+                                   "--speed", "0", "--view", "rerun"])
+    assert res.exit_code == 0, res.output
+    assert proc.poll() is None  # the viewer is the user's: it keeps running
+
+
+def _live_rerun(stream, root, env_display: str | None):
+    """``framefree live --view rerun`` in a child process (so that a hang cannot hold the suite)."""
+    import os
+    import subprocess
+
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    if env_display is not None:
+        env["DISPLAY"] = env_display
+    code = "from framefree.cli import main; main()"
+    return subprocess.run([sys.executable, "-c", code, "live", "--models", str(root),
+                           "--source", str(stream), "--speed", "1", "--view", "rerun"],
+                          capture_output=True, text=True, env=env, timeout=120)
+
+
+@pytest.mark.parametrize("display", [None, ":987"], ids=["no-display", "unreachable-display"])
+def test_view_that_cannot_start_is_one_line(tiny, display):
+    """No display, or a display the real viewer cannot open: exit 2 with one line naming
+    ``--save`` and nothing half-started left behind (the command is never stuck)."""
+    root, stream = tiny
+    proc = _live_rerun(stream, root, display)
+    assert proc.returncode == 2, proc.stderr
+    assert "Traceback" not in proc.stderr
+    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "--view rerun" in lines[0] and "--save" in lines[0], lines
+    assert "127.0.0.1" in lines[0]
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+def test_ctrl_c_ends_a_live_view(tiny, loopback_server):
+    """Ctrl-C (SIGINT) during a real-time replay into a viewer ends the command normally (the
+    signal is sent once the first event shows that the replay loop runs)."""
+    import os
+    import signal
+    import subprocess
+    import time
+
+    port, _ = loopback_server
+    root, stream = tiny
+    code = ("import framefree.view.viewer as v; v.DEFAULT_PORT = int(__import__('sys').argv[1]); "
+            "import sys; sys.argv = sys.argv[1:]; from framefree.cli import main; main()")
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    proc = subprocess.Popen(
+        [sys.executable, "-c", code, str(port), "live", "--models", str(root), "--source",
+         str(stream), "--speed", "1", "--view", "rerun"], stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE, text=True, env=env,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        first = proc.stdout.readline()  # the first event: poses are being replayed into the view
+        assert " s  " in first, first
+        time.sleep(0.2)
+        assert proc.poll() is None  # still replaying (the session lasts tens of seconds)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+    assert proc.returncode == 0, err
+    assert " poses; " in err and "Traceback" not in err

@@ -133,7 +133,7 @@ def distance_matrix(method: str, queries: Sequence[MultiTrajectory], models: Seq
         clf = NearestNeighborClassifier(invariance=invariance).fit(list(models), list(labels))
         return clf.distance_matrix(list(queries))
     if method == "paper":
-        return _per_tracker(lambda: NearestNeighborClassifier("bilts+"), queries, models, labels)
+        return _per_tracker(NearestNeighborClassifier.paper, queries, models, labels)
     if method == "recommended":
         return _per_tracker(NearestNeighborClassifier.recommended, queries, models, labels)
     if method in ("baseline", "baseline-heading"):

@@ -115,7 +115,7 @@ def plot_command(target: Path, out: Path | None, context: str | None, trial: str
         from ..datasets import load_dataset
 
         out = writable_file(out or Path(f"{name}_gallery.png"))
-        ds = load_dataset(target, quat_order=quat_order, units=units)
+        ds = load_dataset(target, quat_order=quat_order, units=units, skip_header=skip_header)
         plot_gallery(ds, out, context=context, trial=trial)
     else:
         # named after the file and its folders (go_up_original_1_trial_1.png), so that trials of

@@ -51,8 +51,9 @@ _UNITS = click.option(
     help="Unit of the positions in the pose files (models included).",
 )
 _SKIP_HEADER = click.option(
-    "--skip-header", is_flag=True, help="The pose files start with a header row."
-)
+    "--skip-header", is_flag=True,
+    help="The pose files (and --models files) start with a header row of other names than "
+    "t,x,y,z,qw,qx,qy,qz (that one is always read as a header).")
 
 
 def pose_file_options(func: Callable[..., Any]) -> Callable[..., Any]:
@@ -87,12 +88,14 @@ def model_options(func: Callable[..., Any]) -> Callable[..., Any]:
     )
 
 
-def read_models(folder: str | Path, model_context: str, quat_order: str, units: str) -> ModelSet:
+def read_models(folder: str | Path, model_context: str, quat_order: str, units: str,
+                skip_header: bool = False) -> ModelSet:
     """Models from either layout (see :func:`~framefree.datasets.resolve_models`); says on stderr
-    which layout it found."""
+    which layout it found. ``skip_header``: the model files start with a header row too."""
     from ..datasets.layout import resolve_models  # the dataset generators load on first use
 
-    found = resolve_models(folder, model_context=model_context, quat_order=quat_order, units=units)
+    found = resolve_models(folder, model_context=model_context, quat_order=quat_order, units=units,
+                           skip_header=skip_header)
     click.echo(found.description, err=True)
     return found
 

@@ -263,19 +263,22 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     if save_rrd:
         writable_file(save_rrd, "--save")
     _check_emit(emit)
+    err = _human_to_stderr(emit)
     view = view_kind == "terminal" and not no_view
     sim = robot_factory(robot, robot_host)
-    # the source is checked (and a ZeroMQ subscriber connected) before the slow model building
+    # the source and the viewer are checked (a ZeroMQ subscriber connected, a rerun viewer on
+    # 127.0.0.1 started) before the slow model building
     src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units)
+    viewer = _start_viewer() if view_kind == "rerun" and not save_rrd else None
     rec = _recognizer(models, model_context, model_quat_order, units, **kw)
     if classify == "background" and not hasattr(rec, "background"):
         raise FramefreeError("--classify background needs --method segments")
     if hasattr(rec, "background"):
         rec.background = classify != "inline"
     out = _emitters(emit, rec)
-    rview = _rerun_view(rec, view_kind == "rerun", save_rrd)
+    rview = _rerun_view(rec, view_kind == "rerun", save_rrd, viewer)
     try:
-        n, t0, sim = _run_live(rec, src, view, sim, out, rview)
+        n, t0, sim = _run_live(rec, src, view, sim, out, rview, err=err)
     finally:
         if out is not None:
             out.close()
@@ -302,6 +305,13 @@ def _check_emit(specs: tuple[str, ...]) -> None:
         check_spec(spec)
 
 
+def _human_to_stderr(specs: tuple[str, ...]) -> bool:
+    """True when an ``--emit`` writes JSON lines to stdout: the human lines then go to stderr."""
+    from ..io.outputs import to_stdout
+
+    return to_stdout(specs)
+
+
 def _emitters(specs: tuple[str, ...], rec: Any):
     """The ``--emit`` outputs (None when there are none)."""
     if not specs:
@@ -311,20 +321,28 @@ def _emitters(specs: tuple[str, ...], rec: Any):
     return Emitters(specs, rec.gesture_thresholds)
 
 
-def _rerun_view(rec: Any, spawn: bool, save: str | None):
+def _start_viewer() -> str:
+    """A rerun viewer on 127.0.0.1 (its URL), or one line saying why none can start."""
+    from ..view.viewer import start_viewer
+
+    return start_viewer()
+
+
+def _rerun_view(rec: Any, spawn: bool, save: str | None, url: str | None = None):
     """The rerun view (None unless ``--view rerun`` or ``--save``)."""
     if not spawn and not save:
         return None
     from ..view.rerun_view import RerunView
 
-    return RerunView(rec, save=save, spawn=spawn)
+    return RerunView(rec, save=save, spawn=spawn, url=url)
 
 
-def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None, rview: Any = None
-              ) -> tuple[int, float | None, Any]:
-    """Push every pose of ``src``; print events (and a live view). Returns (poses, t0, robot)."""
+def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None, rview: Any = None,
+              err: bool = False) -> tuple[int, float | None, Any]:
+    """Push every pose of ``src``; print events (and a live view) on stdout, or on stderr when
+    ``err``. Returns (poses, t0, robot)."""
     t0: float | None = None
-    tty = view and sys.stdout.isatty()
+    tty = view and (sys.stderr if err else sys.stdout).isatty()
     short = {g: g.replace("go_", "").replace("_gripper", "")[:6] for g in rec.gestures}
     thresholds = rec.gesture_thresholds
     n = 0
@@ -333,10 +351,10 @@ def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None, rview:
     def deliver(events: list) -> None:
         for ev in events:
             if tty:
-                click.echo("\r\033[K", nl=False)
+                click.echo("\r\033[K", nl=False, err=err)
             d = "" if ev.is_stop else f"  d={ev.dissimilarity:.4g}  model {ev.model}"
             click.secho(f"{ev.time:9.2f} s  {ev.label.upper():<14}{d}", bold=True,
-                        fg="red" if ev.is_stop else "green")
+                        fg="red" if ev.is_stop else "green", err=err)
             if emit is not None:
                 emit(ev)
             if sim is not None:
@@ -358,7 +376,7 @@ def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None, rview:
             if tty and now - last_view > 0.1:
                 last_view = now
                 line = _view_line(t, rec.gesture_dissimilarities(), short, thresholds)
-                click.echo(f"\r\033[K{line}", nl=False)
+                click.echo(f"\r\033[K{line}", nl=False, err=err)
     except KeyboardInterrupt:
         if hasattr(sim, "halt"):  # Ctrl-C stops the arm at once
             sim.halt()
@@ -366,7 +384,7 @@ def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None, rview:
     finally:
         deliver(_finish(rec))
     if tty:
-        click.echo()
+        click.echo(err=err)
     return n, t0, sim
 
 
@@ -423,6 +441,7 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
     if save_rrd:
         writable_file(save_rrd, "--save")
     _check_emit(emit)
+    err = _human_to_stderr(emit)
     if figures:
         writable_folder(figures, "--figures")
     gestures = [g.strip() for g in gesture_list.split(",") if g.strip()] if gesture_list else None
@@ -433,7 +452,7 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
     out = _emitters(emit, rec)
     rview = _rerun_view(rec, False, save_rrd)
     try:
-        total, per_stream = _evaluate(rec, loaded, tolerance, figures, out, rview)
+        total, per_stream = _evaluate(rec, loaded, tolerance, figures, out, rview, err=err)
     finally:
         if out is not None:
             out.close()
@@ -444,21 +463,21 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
     if compare:
         other = next(m for m in METHODS if m != method)
         rec2 = _recognizer(models, model_context, model_quat_order, units, other, gestures)
-        total2, per_stream2 = _evaluate(rec2, loaded, tolerance, None)
+        total2, per_stream2 = _evaluate(rec2, loaded, tolerance, None, err=err)
         out["compare"] = {"method": other, "total": total2, "streams": per_stream2,
                           "recognizer": rec2.describe()}
         for name, t in ((method, total), (other, total2)):
             click.echo(f"{name:>9}: precision {t['precision']:.3f} recall {t['recall']:.3f} "
-                       f"F1 {t['f1']:.3f} FP {t['fp']} FP/min {t['fp_per_minute']:.3f}")
+                       f"F1 {t['f1']:.3f} FP {t['fp']} FP/min {t['fp_per_minute']:.3f}", err=err)
     if json_path:
         Path(json_path).parent.mkdir(parents=True, exist_ok=True)
         Path(json_path).write_text(json.dumps(out, indent=2, default=float))
 
 
 def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None, emit: Any = None,
-              rview: Any = None) -> tuple[dict, dict]:
-    """Run ``rec`` over every loaded ``(path, traj, segments)``; print and return the pooled and
-    per-stream metrics."""
+              rview: Any = None, err: bool = False) -> tuple[dict, dict]:
+    """Run ``rec`` over every loaded ``(path, traj, segments)``; print (on stderr when ``err``)
+    and return the pooled and per-stream metrics."""
     from ..online.evaluation import combine, match_events, per_gesture, plot_timeline, run_stream
 
     per_stream = {}
@@ -472,7 +491,8 @@ def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None, emi
         res = match_events(events, segs, float(traj.t[-1] - traj.t[0]), tolerance)
         results.append(res)
         click.echo(f"{Path(path).name}: TP {res.tp} FP {res.fp} FN {res.fn}  P {res.precision:.3f} "
-                   f"R {res.recall:.3f} F1 {res.f1:.3f}  ({wall:.1f} s for {len(traj)} poses)")
+                   f"R {res.recall:.3f} F1 {res.f1:.3f}  ({wall:.1f} s for {len(traj)} poses)",
+                   err=err)
         per_stream[str(path)] = {**res.summary(), "events": res.details, "missed": res.missed,
                                  "stats": dict(rec.stats), "wall_s": wall}
         if figures:
@@ -481,20 +501,20 @@ def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None, emi
             per_stream[str(path)]["figure"] = str(fig)
     total = combine(results).summary()
     total["gestures"] = per_gesture(results)
-    _print_gestures(total["gestures"])
+    _print_gestures(total["gestures"], err)
     click.echo(
         f"all: TP {total['tp']} FP {total['fp']} FN {total['fn']}  precision {total['precision']:.3f} "
         f"recall {total['recall']:.3f} F1 {total['f1']:.3f}  FP/min {total['fp_per_minute']:.3f}  "
-        f"latency after end: median {_seconds(total['latency_median_s'])}"
+        f"latency after end: median {_seconds(total['latency_median_s'])}", err=err
     )
     return total, per_stream
 
 
-def _print_gestures(table: dict[str, dict]) -> None:
-    """One line per gesture: its counts and latency after its end."""
+def _print_gestures(table: dict[str, dict], err: bool = False) -> None:
+    """One line per gesture: its counts and latency after its end (on stderr when ``err``)."""
     for g, row in table.items():
         click.echo(f"  {g:>16}: TP {row['tp']:3d} FP {row['fp']:3d} FN {row['fn']:3d}  "
-                   f"F1 {row['f1']:.3f}  latency median {_seconds(row['latency_median_s'])}")
+                   f"F1 {row['f1']:.3f}  latency median {_seconds(row['latency_median_s'])}", err=err)
 
 
 def register(group: click.Group) -> None:

@@ -2,7 +2,11 @@
 plausibility checks that catch wrong units and quaternion orders.
 
 A pose file is UTF-8 text, one sample per line, 8 comma-separated numbers
-``t, x, y, z, qw, qx, qy, qz`` (time [s], position [m], unit quaternion scalar first), no header.
+``t, x, y, z, qw, qx, qy, qz`` (time [s], position [m], unit quaternion scalar first). A first
+row that names exactly these columns (``t,x,y,z,qw,qx,qy,qz``, or ``...,qx,qy,qz,qw`` for a
+scalar-last file) is a header and is read as one; any other header needs ``skip_header``.
+Headers are told apart by what they say (:func:`header_kind`): framefree's multi-tracker CSV
+names its columns ``t,NAME.x,NAME.y,...``.
 Whatever bytes a file holds, :func:`read_pose_csv` either returns an array or raises
 :class:`~framefree.errors.TrajectoryError` naming the file, the row and the problem.
 """
@@ -22,6 +26,8 @@ __all__ = [
     "QUAT_ORDERS",
     "UNITS",
     "PlausibilityWarning",
+    "header_kind",
+    "known_non_pose",
     "plausibility_problems",
     "read_pose_csv",
     "warn_if_implausible",
@@ -65,10 +71,22 @@ class PlausibilityWarning(FramefreeWarning):
         super().__init__(f"{source}: {problem}")
 
 
+def known_non_pose(head: bytes) -> str | None:
+    """What a file is when its first bytes say it is no pose recording (``"a PNG image"``, ...),
+    else None.
+
+    Parameters
+    ----------
+    head : bytes
+        The file's first bytes (8 are enough).
+    """
+    return next((what for magic, what in _MAGIC if head.startswith(magic)), None)
+
+
 def _decode(raw: bytes, path: Path) -> str:
-    for magic, what in _MAGIC:
-        if raw.startswith(magic):
-            raise TrajectoryError(f"this is {what}, not a pose CSV file", path)
+    what = known_non_pose(raw[:8])
+    if what is not None:
+        raise TrajectoryError(f"this is {what}, not a pose CSV file", path)
     if b"\x00" in raw:
         raise TrajectoryError("binary data (NUL bytes), not a pose CSV text file", path)
     try:
@@ -149,6 +167,69 @@ def _looks_like_header(line: str) -> bool:
     )
 
 
+#: the column names of a single-tracker header, per quaternion order
+SINGLE_HEADERS = {
+    "wxyz": ("t", "x", "y", "z", "qw", "qx", "qy", "qz"),
+    "xyzw": ("t", "x", "y", "z", "qx", "qy", "qz", "qw"),
+}
+
+
+def _header_cells(line: str) -> list[str]:
+    return [c.strip().strip("'\"").lower() for c in line.split(",")]
+
+
+def header_kind(line: str) -> str | None:
+    """What a file's first line says it is.
+
+    Parameters
+    ----------
+    line : str
+        The first non-empty line of a CSV file.
+
+    Returns
+    -------
+    {"wxyz", "xyzw", "multi"} or None
+        ``"wxyz"`` / ``"xyzw"``: a single-tracker header naming exactly the 8 pose columns (in
+        that quaternion order); ``"multi"``: a multi-tracker header (``t`` then ``NAME.x``-style
+        columns); None: anything else (samples, or a header of other names).
+    """
+    cells = _header_cells(line)
+    for order, names in SINGLE_HEADERS.items():
+        if tuple(cells) == names:
+            return order
+    if len(cells) > 1 and cells[0] == "t" and all("." in c for c in cells[1:]):
+        return "multi"
+    return None
+
+
+def _drop_header(lines: list[tuple[int, str]], path: Path, quat_order: str,
+                 skip_header: bool) -> list[tuple[int, str]]:
+    """The sample lines: a single-tracker header is read by its names, ``skip_header`` drops any
+    other first line that is not numbers, another header-like first line is one clear error."""
+    if not lines:
+        return lines
+    kind = header_kind(lines[0][1])
+    if kind in SINGLE_HEADERS:
+        if kind != quat_order:
+            order = ",".join(SINGLE_HEADERS[kind][4:])
+            raise TrajectoryError(
+                f"the header names the quaternion columns {order} ({kind}) but the quaternion "
+                f"order given is {quat_order}; use --quat-order {kind} (Python: "
+                f"quat_order={kind!r})", path, lines[0][0])
+        return lines[1:]
+    if skip_header:  # a first line of numbers is a sample, never dropped
+        first = lines[0][1].split(",")
+        return lines if all(_is_number(f) for f in first) else lines[1:]
+    if _looks_like_header(lines[0][1]):
+        raise TrajectoryError(
+            f"{lines[0][1][:60]!r} looks like a header row; drop the header line "
+            "(command line: --skip-header; Python: skip_header=True)",
+            path,
+            lines[0][0],
+        )
+    return lines
+
+
 def read_pose_csv(
     path: str | Path, quat_order: str = "wxyz", *, skip_header: bool = False, units: str = "m"
 ) -> np.ndarray:
@@ -160,11 +241,13 @@ def read_pose_csv(
     Parameters
     ----------
     path : str or Path
-        CSV file, comma separated, no header (unless ``skip_header``).
+        CSV file, comma separated; a first row ``t,x,y,z,qw,qx,qy,qz`` (or ``...,qx,qy,qz,qw``)
+        is read as the header it is; any other header needs ``skip_header``.
     quat_order : {"wxyz", "xyzw"}
         Order of the quaternion columns in the file; the result is always scalar first.
     skip_header : bool
-        Ignore the first non-empty line (a header row such as ``t,x,y,z,qw,qx,qy,qz``).
+        Ignore a header row of any names (e.g. ``time,px,py,...``) in the first non-empty line;
+        a first line of numbers is a sample and is kept, so the flag is safe on files without one.
     units : {"m", "cm", "mm"}
         Unit of the position columns in the file; the result is always in metres.
 
@@ -184,16 +267,7 @@ def read_pose_csv(
         raise ValueError(f"units must be one of {tuple(UNITS)}, got {units!r}")
     path = Path(path)
     lines = [(k, s.strip()) for k, s in enumerate(_read_text(path).splitlines(), start=1)]
-    lines = [(k, s) for k, s in lines if s]
-    if lines and skip_header:
-        lines = lines[1:]
-    elif lines and _looks_like_header(lines[0][1]):
-        raise TrajectoryError(
-            f"{lines[0][1][:60]!r} looks like a header row; drop the header line "
-            "(command line: --skip-header; Python: skip_header=True)",
-            path,
-            lines[0][0],
-        )
+    lines = _drop_header([(k, s) for k, s in lines if s], path, quat_order, skip_header)
     if not lines:
         raise TrajectoryError("the file is empty (no samples)", path)
     data = np.asarray([_parse_row(s, path, k) for k, s in lines], dtype=np.float64)

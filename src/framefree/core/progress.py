@@ -41,6 +41,10 @@ __all__ = [
     "screw_path_increment",
 ]
 
+#: Total progress [m or rad] at or below which a motion has none: far below any tracker's
+#: resolution, far above the rounding noise (1e-13) that pre-smoothing a motionless recording leaves
+MIN_TOTAL_PROGRESS = 1e-9
+
 PROGRESS_TYPES = ("arclength", "angle", "screw")
 _PROGRESS_CODES = {"arclength": 0, "angle": 1, "screw": 2}
 
@@ -197,14 +201,16 @@ def reparameterize_poses(
     Raises
     ------
     DegenerateMotionError
-        If the total progress is zero (no motion of the kind the progress measures).
+        If the total progress is zero (no motion of the kind the progress measures): at most
+        :data:`MIN_TOTAL_PROGRESS`, the rounding noise that smoothing a motionless recording
+        leaves.
     """
     if n < 2:
         raise ValueError(f"n must be at least 2, got {n}")
     poses = np.ascontiguousarray(poses, dtype=np.float64)
     s = cumulative_progress(poses, progress, L)
     total = float(s[-1])
-    if not total > 0 or not math.isfinite(total):
+    if not total > MIN_TOTAL_PROGRESS or not math.isfinite(total):
         unit = "rad" if progress == "angle" else "m"
         raise DegenerateMotionError(
             f"the motion has no {progress} progress (total {total:g} {unit}): "

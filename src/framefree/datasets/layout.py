@@ -208,9 +208,9 @@ def _trial_files(cdir: Path) -> list[Path]:
     return files
 
 
-def _load_trial(f: Path, quat_order: str, units: str) -> Trajectory:
+def _load_trial(f: Path, quat_order: str, units: str, skip_header: bool = False) -> Trajectory:
     try:
-        return Trajectory.from_csv(f, quat_order=quat_order, units=units)
+        return Trajectory.from_csv(f, quat_order=quat_order, units=units, skip_header=skip_header)
     except TrajectoryError as exc:
         raise DatasetError(f"bad trial file: {exc}") from exc
 
@@ -232,6 +232,7 @@ def load_dataset(
     model_context: str = MODEL_CONTEXT,
     quat_order: str = "wxyz",
     units: str = "m",
+    skip_header: bool = False,
 ) -> Dataset:
     """Load a dataset laid out as ``<root>/<gesture>/<context>/<trial>.csv``.
 
@@ -248,6 +249,9 @@ def load_dataset(
         Quaternion column order of the files.
     units : {"m", "cm", "mm"}
         Unit of the files' positions.
+    skip_header : bool
+        Every file starts with a header row of other names than ``t,x,y,z,qw,qx,qy,qz`` (that
+        one is always read as a header).
 
     Returns
     -------
@@ -275,7 +279,8 @@ def load_dataset(
         for cdir in sorted(cdirs, key=lambda p: _context_order(names).index(p.name)):
             for f in _trial_files(cdir):
                 trials.append(
-                    Trial(gdir.name, cdir.name, f.stem, f, _load_trial(f, quat_order, units))
+                    Trial(gdir.name, cdir.name, f.stem, f,
+                          _load_trial(f, quat_order, units, skip_header))
                 )
     return Dataset(
         root=root,
@@ -335,6 +340,7 @@ def resolve_models(
     model_context: str = MODEL_CONTEXT,
     quat_order: str = "wxyz",
     units: str = "m",
+    skip_header: bool = False,
 ) -> ModelSet:
     """Model recordings from either layout every command accepts, and a line saying which it found.
 
@@ -351,6 +357,9 @@ def resolve_models(
         Quaternion column order of the model files.
     units : {"m", "cm", "mm"}
         Unit of the model files' positions.
+    skip_header : bool
+        Every model file starts with a header row of other names than ``t,x,y,z,qw,qx,qy,qz``
+        (that one is always read as a header).
 
     Raises
     ------
@@ -377,7 +386,7 @@ def resolve_models(
         else:
             files = _trial_files(gdir)
         for f in files:
-            trajs.append(_load_trial(f, quat_order, units))
+            trajs.append(_load_trial(f, quat_order, units, skip_header))
             labels.append(gdir.name)
     n_labels = len(set(labels))
     if layout == "dataset":

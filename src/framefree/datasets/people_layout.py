@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..core.multitrajectory import MultiTrajectory
+from ..core.posecsv import header_kind, known_non_pose
 from ..core.trajectory import Trajectory
 from ..errors import DatasetError, TrajectoryError
 from ..io.conventions import UP, Convention
@@ -99,6 +100,12 @@ def read_recording(path: str | Path, convention: str | Convention | None = None)
         Machete files, ``framefree`` for CSV).
     """
     path = Path(path)
+    if path.is_file():
+        with path.open("rb") as fh:
+            what = known_non_pose(fh.read(8))
+        if what is not None:
+            raise TrajectoryError(f"this is {what}, not a pose recording (a pose CSV file or a "
+                                  "Machete recording)", path)
     multi = _has_multi_header(path)
     if path.suffix.lower() == ".csv" or multi:
         if multi:
@@ -112,9 +119,16 @@ def read_recording(path: str | Path, convention: str | Convention | None = None)
 
 
 def _has_multi_header(path: Path) -> bool:
-    """Whether a file starts like framefree's multi-tracker CSV (``t,...``)."""
+    """Whether a file's header says it is framefree's multi-tracker CSV (``t,NAME.x,...``); a
+    single-tracker header ``t,x,y,z,qw,qx,qy,qz`` is not one."""
     with path.open("rb") as fh:
-        return fh.read(2) in (b"t,", b"t\r")
+        head = fh.read(4096)
+    if not head.startswith((b"t,", b"t\r", b"t\n")):
+        return False
+    first = head.decode("utf-8", errors="replace").splitlines()[0]
+    # a malformed multi-tracker header (a NAME.field column) still goes to its own reader, which
+    # names the faulty columns
+    return header_kind(first) == "multi" or "." in first
 
 
 def is_multi_tracker_file(path: str | Path) -> bool:

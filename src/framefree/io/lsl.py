@@ -30,6 +30,16 @@ framefree (``<tmp>/framefree-<uid>/lsl_api.cfg``) with resolve scope ``machine``
 known peer ``127.0.0.1``, and points the ``LSLAPICFG`` environment variable at it. Widening the
 scope is the user's explicit choice: set ``LSLAPICFG`` to your own lsl_api.cfg (e.g. with
 ``ResolveScope = site``) before running framefree, and framefree leaves it alone.
+
+liblsl's log
+------------
+liblsl reports the normal end of every stream, an outlet that goes while an inlet is connected to
+it, as an error (``ERR| Stream transmission broke off ...; re-connecting...``, printed by the
+inlet's side): the sending app decides when its outlet goes, so no order of closing on the
+receiving side avoids it. framefree's configuration therefore sends liblsl's messages (errors
+only) to ``<tmp>/framefree-<uid>/liblsl.log`` instead of the console; the console keeps one line
+saying where that log is. An LSL problem framefree can name (no stream, a wrong layout) is still
+one line of its own.
 """
 
 from __future__ import annotations
@@ -49,7 +59,8 @@ import numpy as np
 
 from ..errors import FramefreeError
 
-__all__ = ["LSL_CONFIG", "LslMarkerEmitter", "LslSource", "configure_liblsl", "import_pylsl"]
+__all__ = ["LSL_CONFIG", "LslMarkerEmitter", "LslSource", "configure_liblsl", "import_pylsl",
+           "lsl_config"]
 
 _MISSING = "LSL needs pylsl: pip install 'framefree[lsl]'"
 
@@ -66,6 +77,13 @@ MachineAddresses = {127.0.0.1}
 [lab]
 KnownPeers = {127.0.0.1}
 """
+
+
+def lsl_config(folder: Path) -> str:
+    """The configuration framefree writes: :data:`LSL_CONFIG`, and liblsl's log (errors only) in
+    ``folder/liblsl.log`` rather than on the console (see the module docstring)."""
+    return (f"{LSL_CONFIG}\n[log]\n; errors only, to this file: liblsl calls the normal end of a "
+            f"stream an error\nlevel = -2\nfile = {folder / 'liblsl.log'}\n")
 
 
 def configure_liblsl() -> Path | None:
@@ -87,8 +105,9 @@ def configure_liblsl() -> Path | None:
         warnings.warn("pylsl was imported before framefree could configure it; liblsl may "
                       "discover streams on the whole network", stacklevel=2)
     ours.parent.mkdir(mode=0o700, parents=True, exist_ok=True)
-    if not ours.is_file() or ours.read_text() != LSL_CONFIG:
-        ours.write_text(LSL_CONFIG)
+    text = lsl_config(ours.parent)
+    if not ours.is_file() or ours.read_text() != text:
+        ours.write_text(text)
     os.environ["LSLAPICFG"] = str(ours)
     return ours
 

@@ -76,6 +76,15 @@ def check_spec(spec: str) -> None:
                              "osc://HOST:PORT/ADDRESS, lsl://NAME or ros2:///TOPIC")
 
 
+def to_stdout(specs: list[str] | tuple[str, ...]) -> bool:
+    """Whether any ``--emit`` spec writes to standard output (``jsonl:-``).
+
+    A command that emits there sends its human-readable lines to standard error instead, so that
+    standard output stays pure JSON lines for a pipe.
+    """
+    return any(spec == "jsonl:-" for spec in specs)
+
+
 def open_emitter(spec: str) -> Emitter:
     """Output from an ``--emit`` spec; a malformed spec or a missing extra raise FramefreeError."""
     if spec.startswith("jsonl:"):

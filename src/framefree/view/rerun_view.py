@@ -15,12 +15,14 @@ the timeline ``source_time`` (the pose source's clock, seconds):
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..errors import FramefreeError
+from .viewer import start_viewer
 
 __all__ = ["RerunView"]
 
@@ -39,10 +41,21 @@ class RerunView:
     save : str or Path, optional
         Write the recording to this ``.rrd`` file instead of opening a viewer.
     spawn : bool
-        Open a rerun viewer (ignored when ``save`` is given).
+        Open a rerun viewer (ignored when ``save`` is given): one listening on ``127.0.0.1`` only,
+        started by :func:`~framefree.view.viewer.start_viewer`, which fails fast with one line
+        where no viewer can start (no display, say).
+    port : int, optional
+        The viewer's port on ``127.0.0.1`` (a viewer already listening there is reused).
+    url : str, optional
+        A viewer already started (``start_viewer``'s URL): connect to it instead of starting one.
     """
 
-    def __init__(self, recognizer: Any, save: str | Path | None = None, spawn: bool = True) -> None:
+    #: Longest wait for the viewer to take the last data when the view closes [s]; a viewer
+    #: closed early must never hold the command.
+    FLUSH_TIMEOUT = 2.0
+
+    def __init__(self, recognizer: Any, save: str | Path | None = None, spawn: bool = True,
+                 port: int | None = None, url: str | None = None) -> None:
         try:
             import rerun as rr
         except ImportError:
@@ -52,11 +65,16 @@ class RerunView:
         self.gestures = list(recognizer.gestures)
         self._gidx = np.array([self.gestures.index(s) for s in recognizer.labels])
         self.thresholds = {g: float(v) for g, v in recognizer.gesture_thresholds.items()}
+        if save is not None or not spawn:
+            url = None
+        elif url is None:
+            url = start_viewer(port)
         self.stream = rr.RecordingStream("framefree")
         if save is not None:
             self.stream.save(str(save))
-        elif spawn:
-            self.stream.spawn()
+        elif url is not None:
+            self.stream.connect_grpc(url)
+        self._viewer = url is not None and save is None
         self._static()
 
     def _static(self) -> None:
@@ -105,6 +123,14 @@ class RerunView:
                     s.log(f"distance/{g}", rr.Scalars(d))
 
     def close(self) -> None:
-        """Flush and close the recording."""
-        self.stream.flush()
+        """Flush and close the recording; a viewer gets at most :attr:`FLUSH_TIMEOUT` seconds
+        (one line on stderr says when it did not take the last data)."""
+        try:
+            if self._viewer:
+                self.stream.flush(timeout_sec=self.FLUSH_TIMEOUT)
+            else:
+                self.stream.flush()
+        except RuntimeError as exc:  # the viewer was closed or is gone
+            print(f"warning: the rerun viewer did not take the last data ({exc})",
+                  file=sys.stderr)
         self.stream.disconnect()
