@@ -43,6 +43,10 @@ SHORTENED = [
     ("framefree benchmark --out", "{} --methods bilts+:screw --no-figures",
      "all 17 rows take minutes on a shared machine: one row"),
     ("framefree benchmark --methods", "{} --no-figures", "no figures (the first run drew them)"),
+    ("framefree evaluate-stream --models ../shared/data/sfinge_dev/templates",
+     "framefree evaluate-stream --models hpm_replica --gestures go_left,go_right "
+     "hpm_replica/streams/stream_1.csv",
+     "SFINGE3D is not shipped (no licence): the same options on the replica's first stream"),
 ]
 
 #: a Python block that iterates over a live ``source`` gets one: the replica trial replayed

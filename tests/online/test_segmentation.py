@@ -202,6 +202,21 @@ def test_one_take_cut_without_a_rest_does_not_raise_the_rest_level_above_the_str
     assert len(units) == 2  # the out and back strokes of a new performance are found
 
 
+def test_takes_all_cut_from_continuous_motion_still_give_units():
+    """Every take a circle at 0.3 m/s, none with a rest: the move level falls to half the slowest
+    peak, and a performance between rests gives its strokes."""
+    tc = np.arange(0.0, 2.0, 0.02)
+    takes = []
+    for k, radius in enumerate((0.10, 0.12, 0.09)):
+        C = np.repeat(np.eye(4)[None], tc.size, axis=0)
+        C[:, 0, 3], C[:, 1, 3] = radius * np.cos(3.0 * tc), radius * np.sin(3.0 * tc)
+        takes.append(_noisy_take(tc, C, 3e-4, k))
+    levels = speed_levels(takes, L=0.1)
+    peaks = [motion_speed(tr.uniform_poses(0.02)[1], 0.02, 0.1, 5)[5:].max() for tr in takes]
+    assert levels.move == pytest.approx(0.5 * min(peaks))
+    assert len(_units(*_out_and_back(), levels=levels)) == 2
+
+
 def test_closure_of_fewer_than_two_poses_is_that_of_a_motion_that_does_not_return():
     assert closure(np.eye(4)[None], 0.1) == 1.0
     assert closure(np.zeros((0, 4, 4)), 0.1) == 1.0

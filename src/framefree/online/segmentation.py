@@ -281,7 +281,9 @@ def speed_levels(
     The median, not the largest floor (before v17): a recording cut without a rest has no noise
     floor, only its slowest motion, and on real data one such take put the rest level above
     every take's peak speed (SFINGE3D's swipes: 0.58 m/s from the largest floor, 0.10 m/s from
-    the median; docs/online.md, *Real streams*).
+    the median; docs/online.md, *v17*). Where most takes are cut without a rest, even the median
+    lies above the slowest take's peak; the move level is then half that peak, so every take's
+    stroke starts a unit.
 
     Parameters
     ----------
@@ -301,6 +303,8 @@ def speed_levels(
     if not peaks:
         raise ValueError("no model recording is long enough to measure its motion speed")
     rest = max(noise_factor * float(np.median(floors)), peak_fraction * min(peaks))
+    if move_factor * rest >= min(peaks):  # most takes cut without a rest: the slowest could not
+        rest = 0.5 * min(peaks) / move_factor  # start a unit; it must rise to twice the move level
     return SpeedLevels(rest=rest, move=move_factor * rest)
 
 
