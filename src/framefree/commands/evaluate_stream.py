@@ -1,0 +1,147 @@
+"""``framefree evaluate-stream``: event-level metrics of a live recognizer on labelled streams."""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import click
+
+from ..core.posecsv import QUAT_ORDERS
+from ..labels import METHODS
+from .inputs import writable_file, writable_folder
+from .online import (
+    _check_emit,
+    _emit_option,
+    _emitters,
+    _human_to_stderr,
+    _model_options,
+    _recognizer,
+    _rerun_view,
+    _save_option,
+    _seconds,
+)
+
+__all__ = ["evaluate_stream_cmd"]
+
+
+@click.command("evaluate-stream")
+@click.argument("more_streams", nargs=-1, type=click.Path(exists=True, dir_okay=False),
+                metavar="[STREAM]...")
+@_model_options
+@click.option("--stream", "streams", multiple=True,
+              type=click.Path(exists=True, dir_okay=False),
+              help="Stream CSV (with <name>_labels.csv beside it); repeatable, or give the "
+              "streams as arguments.")
+@click.option("--quat-order", default="wxyz", show_default=True, type=click.Choice(QUAT_ORDERS),
+              help="Quaternion column order of the stream files.")
+@click.option("--tolerance", type=float, default=0.5, show_default=True,
+              help="Seconds after a gesture's end during which its detection counts.")
+@click.option("--json", "json_path", type=click.Path(dir_okay=False), default=None,
+              help="Write all metrics and events to this JSON file.")
+@click.option("--figures", type=click.Path(file_okay=False), default=None,
+              help="Folder for one timeline figure per stream (PNG).")
+@click.option("--compare/--no-compare", default=False, show_default=True,
+              help="Also evaluate the other method (default settings) on the same streams and "
+              "report both side by side.")
+@click.option("--gestures", "gesture_list", default=None, metavar="G1,G2,...",
+              help="Evaluate these gestures only: only their models are used, and the streams' "
+              "other labels count as non-gesture motion.")
+@_emit_option
+@_save_option
+def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_context: str,
+                        model_quat_order: str, units: str, streams: tuple[str, ...],
+                        quat_order: str, tolerance: float, json_path: str | None,
+                        figures: str | None, compare: bool, method: str,
+                        emit: tuple[str, ...] = (), save_rrd: str | None = None,
+                        gesture_list: str | None = None, **kw: Any):
+    """Event-level precision, recall, F1, false positives per minute and latency on labelled streams
+    (--stream FILE, repeatable, and/or STREAM arguments)."""
+    from ..datasets.stream_files import load_stream
+
+    streams = (*streams, *more_streams)
+    if not streams:
+        raise click.UsageError("give at least one labelled stream (--stream FILE)")
+    if units != "m":
+        raise click.BadParameter("labelled streams are read in metres", param_hint="--units")
+    if json_path:
+        writable_file(json_path, "--json")
+    if save_rrd:
+        writable_file(save_rrd, "--save")
+    _check_emit(emit)
+    err = _human_to_stderr(emit)
+    if figures:
+        writable_folder(figures, "--figures")
+    gestures = [g.strip() for g in gesture_list.split(",") if g.strip()] if gesture_list else None
+    loaded = [(path, *load_stream(path, quat_order=quat_order)) for path in streams]
+    if gestures:
+        loaded = [(path, traj, [s for s in segs if s.label in gestures]) for path, traj, segs in loaded]
+    rec = _recognizer(models, model_context, model_quat_order, units, method, gestures, **kw)
+    out = _emitters(emit, rec)
+    rview = _rerun_view(rec, False, save_rrd)
+    try:
+        total, per_stream = _evaluate(rec, loaded, tolerance, figures, out, rview, err=err)
+    finally:
+        if out is not None:
+            out.close()
+        if rview is not None:
+            rview.close()
+    out = {"total": total, "streams": per_stream, "recognizer": rec.describe(), "method": method,
+           "tolerance_s": tolerance}
+    if compare:
+        other = next(m for m in METHODS if m != method)
+        rec2 = _recognizer(models, model_context, model_quat_order, units, other, gestures)
+        total2, per_stream2 = _evaluate(rec2, loaded, tolerance, None, err=err)
+        out["compare"] = {"method": other, "total": total2, "streams": per_stream2,
+                          "recognizer": rec2.describe()}
+        for name, t in ((method, total), (other, total2)):
+            click.echo(f"{name:>9}: precision {t['precision']:.3f} recall {t['recall']:.3f} "
+                       f"F1 {t['f1']:.3f} FP {t['fp']} FP/min {t['fp_per_minute']:.3f}", err=err)
+    if json_path:
+        Path(json_path).parent.mkdir(parents=True, exist_ok=True)
+        Path(json_path).write_text(json.dumps(out, indent=2, default=float))
+
+
+def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None, emit: Any = None,
+              rview: Any = None, err: bool = False) -> tuple[dict, dict]:
+    """Run ``rec`` over every loaded ``(path, traj, segments)``; print (on stderr when ``err``)
+    and return the pooled and per-stream metrics."""
+    from ..online.evaluation import combine, match_events, per_gesture, plot_timeline, run_stream
+
+    per_stream = {}
+    results = []
+    for path, traj, segs in loaded:
+        t0 = time.perf_counter()
+        events, trace = run_stream(rec, traj, rview)
+        wall = time.perf_counter() - t0
+        for ev in events if emit is not None else ():
+            emit(ev)
+        res = match_events(events, segs, float(traj.t[-1] - traj.t[0]), tolerance)
+        results.append(res)
+        click.echo(f"{Path(path).name}: TP {res.tp} FP {res.fp} FN {res.fn}  P {res.precision:.3f} "
+                   f"R {res.recall:.3f} F1 {res.f1:.3f}  ({wall:.1f} s for {len(traj)} poses)",
+                   err=err)
+        per_stream[str(path)] = {**res.summary(), "events": res.details, "missed": res.missed,
+                                 "stats": dict(rec.stats), "wall_s": wall}
+        if figures:
+            fig = plot_timeline(Path(figures) / f"{Path(path).stem}_timeline.png", segs, events,
+                                trace, rec.gesture_thresholds, title=Path(path).name)
+            per_stream[str(path)]["figure"] = str(fig)
+    total = combine(results).summary()
+    total["gestures"] = per_gesture(results)
+    _print_gestures(total["gestures"], err)
+    click.echo(
+        f"all: TP {total['tp']} FP {total['fp']} FN {total['fn']}  precision {total['precision']:.3f} "
+        f"recall {total['recall']:.3f} F1 {total['f1']:.3f}  FP/min {total['fp_per_minute']:.3f}  "
+        f"latency after end: median {_seconds(total['latency_median_s'])}", err=err
+    )
+    return total, per_stream
+
+
+def _print_gestures(table: dict[str, dict], err: bool = False) -> None:
+    """One line per gesture: its counts and latency after its end (on stderr when ``err``)."""
+    for g, row in table.items():
+        click.echo(f"  {g:>16}: TP {row['tp']:3d} FP {row['fp']:3d} FN {row['fn']:3d}  "
+                   f"F1 {row['f1']:.3f}  latency median {_seconds(row['latency_median_s'])}", err=err)
