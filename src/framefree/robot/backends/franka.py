@@ -24,6 +24,7 @@ one line; so does any error franky reports (a refused motion, a reflex, a networ
 
 from __future__ import annotations
 
+import threading
 import time
 from dataclasses import dataclass, replace
 from typing import Any
@@ -362,10 +363,27 @@ class FrankaBackend:
         if self._closed:
             return
         self._closed = True
+        _bounded(self.robot.stop, STOP_TIMEOUT)
+
+
+#: Longest wait [s] for franky's stop: on a connection that is gone, libfranka's stop can block
+#: for ever (seen in the lost-connection test under load), and nothing more can be stopped then.
+STOP_TIMEOUT = 2.0
+
+
+def _bounded(fn: Any, timeout: float) -> None:
+    """Call ``fn`` on a daemon thread and wait at most ``timeout`` seconds for it; its exceptions
+    (a connection already gone) are ignored."""
+
+    def run() -> None:
         try:
-            self.robot.stop()
+            fn()
         except Exception:  # the connection may be gone: then nothing more can be stopped
             pass
+
+    worker = threading.Thread(target=run, name="franka-stop", daemon=True)
+    worker.start()
+    worker.join(timeout)
 
 
 def _one_line(exc: BaseException) -> str:
