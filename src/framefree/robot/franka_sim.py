@@ -88,6 +88,13 @@ class ProtocolSimulator:
         self._server = self._sim = None
         if server is not None:
             server.cleanup()
+            # close the client connections too: a client left on an open connection that nobody
+            # answers blocks for ever in libfranka's stop (franky calls it when its Robot is
+            # destroyed), instead of seeing the connection lost
+            for robot_server in server.robot_servers:
+                robot_server.reset_state()
+                if robot_server.gripper_server is not None:
+                    robot_server.gripper_server.reset_state()
         if sim is not None and sim.is_initialized and not sim.is_cleaned_up:
             sim.cleanup()
 
