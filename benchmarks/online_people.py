@@ -31,8 +31,9 @@ from pathlib import Path
 from joblib import Parallel, delayed
 
 from framefree.datasets.layout import load_model_recordings
+from framefree.online import Recognizer
 from framefree.online.evaluation import combine, match_events, run_stream
-from framefree.online.methods import recognizer_class
+from framefree.online.paper import PaperRecognizer
 from framefree.replica import replica_path
 from framefree.replica.people import (
     DEV_PEOPLE,
@@ -51,7 +52,7 @@ def _recognizer(method: str, overrides: dict):
     key = (method, json.dumps(overrides, sort_keys=True))
     if key not in _RECOGNIZERS:
         trajs, labels = load_model_recordings(replica_path(0), "original_1")
-        cls = recognizer_class(method)
+        cls = Recognizer if method == "segments" else PaperRecognizer
         rec = cls.from_trajectories(trajs, labels, **overrides)
         rec.warmup()
         _RECOGNIZERS[key] = rec
@@ -150,7 +151,7 @@ def main() -> None:
            "settings": overrides}
     for method in methods:
         rows = Parallel(n_jobs=args.jobs)(
-            delayed(_evaluate)(method, overrides if method != "paper" else {}, it) for it in items)
+            delayed(_evaluate)(method, overrides if method == "segments" else {}, it) for it in items)
         out[method] = _report(method, rows)
     print(f"\nwall {time.perf_counter() - t0:.0f} s")
     if args.json:

@@ -23,7 +23,7 @@ COMMANDS = {
     "describe": "core", "classify": "core",
     "dataset": "dataset", "plot": "dataset",
     "benchmark": "benchmark",
-    "stream": "online", "live": "online", "evaluate-stream": "online",
+    "stream": "online", "live": "online", "evaluate-stream": "evaluate_stream",
     "robot": "robot",
     "demo": "demo",
     "record": "library", "enroll": "library", "check": "library",

@@ -17,7 +17,6 @@ from framefree.online.segmentation import (
     SpeedLevels,
     UniformResampler,
     motion_speed,
-    speed_levels,
 )
 from framefree.online.span_shape import closure
 from framefree.replica.motion import (
@@ -168,53 +167,6 @@ def test_closure_is_zero_back_at_start_and_one_for_a_straight_move():
     assert closure(P, 0.1) < 0.01
     half = P[: P.shape[0] // 2]
     assert closure(half, 0.1) > 0.95
-
-
-def _noisy_take(t: np.ndarray, P: np.ndarray, sigma: float, seed: int) -> Trajectory:
-    rng = np.random.default_rng(seed)
-    P = P.copy()
-    P[:, :3, 3] += rng.normal(0.0, sigma, (P.shape[0], 3))
-    return Trajectory.from_poses(t, P)
-
-
-def test_one_take_cut_without_a_rest_does_not_raise_the_rest_level_above_the_strokes():
-    """Five takes between rests and one cut from continuous motion (as real dictionaries have):
-    the rest level stays the typical take's, far below every stroke's peak. The largest floor
-    (before v17) put it above the peaks, and no unit could ever start."""
-    t, P = _out_and_back()
-    takes = [_noisy_take(t, P, 3e-4, seed) for seed in range(5)]
-    # a take cut from continuous motion: a circle at 0.3 m/s, never slower
-    tc = np.arange(0.0, 2.0, 0.02)
-    C = np.repeat(np.eye(4)[None], tc.size, axis=0)
-    C[:, 0, 3], C[:, 1, 3] = 0.1 * np.cos(3.0 * tc), 0.1 * np.sin(3.0 * tc)
-    takes.append(_noisy_take(tc, C, 3e-4, 9))
-    floors, peaks = [], []
-    for tr in takes:
-        _, poses = tr.uniform_poses(0.02)
-        v = motion_speed(poses, 0.02, 0.1, 5)[5:]
-        floors.append(np.percentile(v, 10))
-        peaks.append(v.max())
-    assert 3.0 * max(floors) > 0.5 * min(peaks)  # the old rule: above half of every peak
-    levels = speed_levels(takes, L=0.1)
-    assert levels.rest == pytest.approx(max(3.0 * np.median(floors), 0.05 * min(peaks)))
-    assert levels.move < 0.5 * min(peaks)
-    units = _units(*_out_and_back(), levels=levels)
-    assert len(units) == 2  # the out and back strokes of a new performance are found
-
-
-def test_takes_all_cut_from_continuous_motion_still_give_units():
-    """Every take a circle at 0.3 m/s, none with a rest: the move level falls to half the slowest
-    peak, and a performance between rests gives its strokes."""
-    tc = np.arange(0.0, 2.0, 0.02)
-    takes = []
-    for k, radius in enumerate((0.10, 0.12, 0.09)):
-        C = np.repeat(np.eye(4)[None], tc.size, axis=0)
-        C[:, 0, 3], C[:, 1, 3] = radius * np.cos(3.0 * tc), radius * np.sin(3.0 * tc)
-        takes.append(_noisy_take(tc, C, 3e-4, k))
-    levels = speed_levels(takes, L=0.1)
-    peaks = [motion_speed(tr.uniform_poses(0.02)[1], 0.02, 0.1, 5)[5:].max() for tr in takes]
-    assert levels.move == pytest.approx(0.5 * min(peaks))
-    assert len(_units(*_out_and_back(), levels=levels)) == 2
 
 
 def test_closure_of_fewer_than_two_poses_is_that_of_a_motion_that_does_not_return():

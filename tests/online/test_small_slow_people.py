@@ -52,7 +52,7 @@ def _stroke(peak: float, dt: float = 0.02, duration: float = 1.0) -> np.ndarray:
 
 @pytest.mark.parametrize("factor, units", [(2.0, 0), (1.5, 1)])
 def test_a_slow_stroke_between_the_two_levels_is_a_unit_only_with_the_narrower_hysteresis(factor, units):
-    rest = 0.076  # a rest level (the replica models' before v17; 0.061 since)
+    rest = 0.076  # the replica models' rest level
     seg = MotionSegmenter(SpeedLevels(rest, factor * rest), L=0.1)
     found = [u for k, T in enumerate(_stroke(1.7 * rest)) if (u := seg.push(0.02 * k, T)) is not None]
     assert len(found) == units

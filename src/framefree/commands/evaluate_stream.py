@@ -24,7 +24,7 @@ from .online import (
     _seconds,
 )
 
-__all__ = ["evaluate_stream_cmd"]
+__all__ = ["evaluate_stream_cmd", "register"]
 
 
 @click.command("evaluate-stream")
@@ -145,3 +145,8 @@ def _print_gestures(table: dict[str, dict], err: bool = False) -> None:
     for g, row in table.items():
         click.echo(f"  {g:>16}: TP {row['tp']:3d} FP {row['fp']:3d} FN {row['fn']:3d}  "
                    f"F1 {row['f1']:.3f}  latency median {_seconds(row['latency_median_s'])}", err=err)
+
+
+def register(group: click.Group) -> None:
+    """Add ``evaluate-stream`` to the ``framefree`` command."""
+    group.add_command(evaluate_stream_cmd)

@@ -76,7 +76,8 @@ def _stop_and_resolution(rec: Any) -> str:
 
 def _recognizer(models: str, model_context: str, model_quat_order: str, units: str,
                 method: str = "segments", gestures: list[str] | None = None, **kw: Any):
-    from ..online.methods import recognizer_class
+    from ..online import Recognizer
+    from ..online.paper import PaperRecognizer
 
     overrides = {k: v for k, v in kw.items() if v is not None}
     if method == "segments":
@@ -96,7 +97,7 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
         found = _only(found, gestures, models)
     click.echo(f"building the gesture models ({method} method) and calibrating ...", err=True)
     t0 = time.perf_counter()
-    cls = recognizer_class(method)
+    cls = Recognizer if method == "segments" else PaperRecognizer
     rec = cls.from_trajectories(found.trajectories, found.labels, **overrides)
     rec.warmup()
     click.echo(
@@ -401,6 +402,4 @@ def register(group: click.Group) -> None:
     """Add the online subcommands to the ``framefree`` command."""
     group.add_command(stream_cmd)
     group.add_command(live_cmd)
-    from .evaluate_stream import evaluate_stream_cmd
 
-    group.add_command(evaluate_stream_cmd)

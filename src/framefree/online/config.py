@@ -54,7 +54,7 @@ class RecognizerConfig:
     speed_lag : int
         Grid samples over which the motion speed is measured (5: 0.1 s).
     noise_factor, peak_fraction : float
-        Rest level = max(noise_factor × the models' median noise floor, peak_fraction × their smallest
+        Rest level = max(noise_factor × the models' noise floor, peak_fraction × their smallest
         stroke peak) (:func:`~framefree.online.segmentation.speed_levels`).
     move_factor : float
         Move level = move_factor × rest level (1.5; 2 before v8). The rest level already lies

@@ -270,20 +270,13 @@ def speed_levels(
     peak_fraction: float = 0.05,
     move_factor: float = 1.5,
 ) -> SpeedLevels:
-    """Rest and move levels from model recordings (each a gesture, usually between rests).
+    """Rest and move levels from model recordings (each a gesture between rests).
 
     The noise floor of a recording is the 10th percentile of its motion speed (its rests make up
-    well over a tenth of it); the rest level is ``noise_factor`` × the median floor of the
-    recordings, but at least ``peak_fraction`` × the smallest stroke peak of any recording so that
-    a noiseless recording still separates strokes; the move level is ``move_factor`` × the rest
-    level (the hysteresis that keeps noise around the rest level from starting units).
-
-    The median, not the largest floor (before v17): a recording cut without a rest has no noise
-    floor, only its slowest motion, and on real data one such take put the rest level above
-    every take's peak speed (SFINGE3D's swipes: 0.58 m/s from the largest floor, 0.10 m/s from
-    the median; docs/online.md, *v17*). Where most takes are cut without a rest, even the median
-    lies above the slowest take's peak; the move level is then half that peak, so every take's
-    stroke starts a unit.
+    well over a tenth of it); the rest level is ``noise_factor`` × the largest floor, but at least
+    ``peak_fraction`` × the smallest stroke peak of any recording so that a noiseless recording still
+    separates strokes; the move level is ``move_factor`` × the rest level (the hysteresis that
+    keeps noise around the rest level from starting units).
 
     Parameters
     ----------
@@ -302,9 +295,7 @@ def speed_levels(
         peaks.append(float(v.max()))
     if not peaks:
         raise ValueError("no model recording is long enough to measure its motion speed")
-    rest = max(noise_factor * float(np.median(floors)), peak_fraction * min(peaks))
-    if move_factor * rest >= min(peaks):  # most takes cut without a rest: the slowest could not
-        rest = 0.5 * min(peaks) / move_factor  # start a unit; it must rise to twice the move level
+    rest = max(noise_factor * max(floors), peak_fraction * min(peaks))
     return SpeedLevels(rest=rest, move=move_factor * rest)
 
 

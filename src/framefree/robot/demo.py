@@ -186,12 +186,13 @@ def build_recognizer(method: str = "segments", replica_seed: int = 0) -> Any:
     -------
     Recognizer or PaperRecognizer
     """
-    from ..online.methods import recognizer_class
+    from ..online import Recognizer
+    from ..online.paper import PaperRecognizer
     from ..replica import replica_path
 
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    cls = recognizer_class(method)
+    cls = Recognizer if method == "segments" else PaperRecognizer
     recognizer = cls.from_dataset(replica_path(replica_seed), model_context="original_1")
     recognizer.warmup()
     return recognizer
