@@ -248,7 +248,7 @@ class Planner:
         Sum of the ``dt`` of all steps [s].
     last_stop : float
         Time stamp of the latest stop signal handled [s] (-inf before the first): a gesture
-        stamped at or before it is ignored (``"before a stop"``), whenever it arrives.
+        stamped before it is ignored (``"before a stop"``), whenever it arrives.
     """
 
     def __init__(self, params: PlannerParams | None = None, gripper_width: float | None = None):
