@@ -29,7 +29,7 @@ from framefree.benchmark.take_geometry import (
 )
 from framefree.online.vertical import VERTICAL_MARGIN
 
-MARGINS = (0.1, 0.2, VERTICAL_MARGIN, 0.4)
+MARGINS = (0.1, 0.2, 0.3, 0.4, VERTICAL_MARGIN, 0.5)
 
 
 def outside(vertical: dict) -> dict[str, list[float]]:

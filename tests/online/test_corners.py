@@ -33,7 +33,7 @@ from framefree.online.span_shape import corner_count, is_corner, turn_angle
 from framefree.replica import replica_path
 from framefree.replica.people import person
 from framefree.replica.people_streams import take_session
-from real_data import MACHETE
+from real_data import MACHETE, SHIPPED_MACHETE
 
 
 def _corners(positions: np.ndarray, X: np.ndarray | None = None, angle: float = 60.0) -> int:
@@ -156,15 +156,15 @@ def models():
 def test_corner_limits_come_from_the_demonstrations(models):
     rec = Recognizer.from_trajectories(*models)
     limits = rec.config.corner_limits
-    assert limits["go_right"] == 1  # one turn of a circle, and a corner's slack
-    assert all(limits[g] == 2 for g in limits if g != "go_right")  # out, reverse, back
+    assert limits["go_right"] == 2  # one turn of a circle, and two corners' slack
+    assert all(limits[g] == 3 for g in limits if g != "go_right")  # out, reverse, back
     sp = rec.spotter
     j = rec.labels.index("go_right")
     lo, hi = sp.size_limits[j]
     size = 0.5 * (lo + hi)
     closes = np.full(4, 0.5 * (sp.opening_limits[j] + sp.closure_limits[j]))
     ok = sp.admissible(j, closes, np.full(4, size), np.arange(4))
-    assert list(ok) == [True, True, False, False]  # a square (3) is no circle
+    assert list(ok) == [True, True, True, False]  # a square (3) is no circle
     off = Recognizer.from_trajectories(*models, corners=False).spotter
     assert off.admissible(j, closes, np.full(4, size), np.arange(4)).all()
 
@@ -199,7 +199,8 @@ def test_a_triangle_admits_no_square_and_a_zigzag_no_letter_m():
     rng = np.random.default_rng(3)
     takes = drawn_takes(ZIGZAG, 5, rng) + drawn_takes(TRIANGLE, 5, rng)
     labels = ["zigzag"] * 5 + ["triangle"] * 5
-    strict, loose = (Recognizer.from_trajectories(takes, labels, slack_corners=k) for k in (1, None))
+    strict, loose = (Recognizer.from_trajectories(takes, labels, corner_slack=1, slack_corners=k)
+                     for k in (1, None))
     assert strict.config.corner_limits == {"zigzag": 2, "triangle": 2}
     assert loose.config.corner_limits == {"zigzag": 3, "triangle": 3}
     for rec, admitted in ((strict, [True, False]), (loose, [True, True])):
@@ -232,19 +233,24 @@ def _exceeding(counts: dict, slack: int, smooth: int | None = None) -> float:
 
 def test_real_people_stay_within_a_corner_limit_from_another_persons_takes():
     """Real Vive recordings: one person's agreeing takes set a limit; the other people's
-    performances of the gesture must stay within it with the default slack. Without slack they do
-    not (real people break strokes where others did not)."""
+    performances of the gesture must stay within it with the default slack (all six people,
+    v17: 0.15 % exceed it). Without slack they do not (22.8 %: real people break strokes where
+    others did not)."""
     config = RecognizerConfig()
     counts = _real_corner_counts(config.corner_angle)
     assert _exceeding(counts, config.corner_slack, config.slack_corners) <= 0.02
     assert _exceeding(counts, 0) > 0.05
 
 
-def test_real_people_never_add_a_corner_to_a_gesture_of_several():
-    """Real Vive recordings: where one person's takes agree on two corners or more, no other
-    person's performance has more (why v15 gives such a gesture no slack). On the shipped
-    two-person subset there may be no such gesture; then there is nothing to check."""
+def test_real_people_add_corners_to_gestures_of_several_too():
+    """Why every gesture gets the slack (v17, ``slack_corners=None``): on the real Vive
+    recordings, with takes cut at v17's rest level, where one person's takes agree on two corners
+    or more, other people's performances have more (v16's level had shown none, which is why v15
+    gave such gestures no slack). The shipped two-takes subset has no such case."""
+    assert RecognizerConfig().slack_corners is None
+    if MACHETE == SHIPPED_MACHETE:
+        pytest.skip("the shipped subset has no gesture of several agreed corners; needs the six people")
     counts = _real_corner_counts(RecognizerConfig().corner_angle)
     several = {k: v for k, v in counts.items() if corner_limit(v, 0) is not None and v[0] >= 2}
     others = [c for key, own in several.items() for c in other_peoples(counts, key) if c > own[0]]
-    assert others == []
+    assert others

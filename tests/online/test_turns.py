@@ -18,12 +18,12 @@ from hypothesis import strategies as st
 from framefree.benchmark.take_geometry import other_peoples, take_geometry
 from framefree.core import se3
 from framefree.core.trajectory import Trajectory
-from framefree.online import Recognizer
+from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.evaluation import run_stream
 from framefree.online.limits import forbidden_turns
 from framefree.online.segmentation import MotionSegmenter
 from framefree.online.span_shape import ALTERNATING, SAME_SENSE, plane_cosine, turn_kinds
-from real_data import MACHETE
+from real_data import MACHETE, SHIPPED_MACHETE
 
 ZIGZAG = np.array([[0, 0, 0], [0.24, 0, 0], [0, -0.18, 0], [0.24, -0.18, 0]], float)
 LETTER_U = np.array([[0, 0, 0], [0, -0.2, 0], [0.2, -0.2, 0], [0.2, 0, 0]], float)
@@ -88,7 +88,7 @@ def drawn_recognizer():
     rng = np.random.default_rng(3)
     takes = drawn_takes(ZIGZAG, 5, rng) + drawn_takes(TRIANGLE, 5, rng)
     labels = ["zigzag"] * 5 + ["triangle"] * 5
-    return Recognizer.from_trajectories(takes, labels), (takes, labels)
+    return Recognizer.from_trajectories(takes, labels, turns=True), (takes, labels)
 
 
 def test_the_recognizer_forbids_what_the_demonstrations_never_do(drawn_recognizer):
@@ -133,12 +133,14 @@ def _real_turns() -> dict:
     return {key: [kinds for *_, kinds in takes] for key, takes in take_geometry(MACHETE).items()}
 
 
-def test_real_people_never_turn_the_way_another_persons_takes_forbid():
-    """Real Vive recordings: where one person's takes all turn one way, no other person's
-    performance of the gesture turns the other way (reversals of flapping arms say nothing).
-    The *golf swing* is where people's takes agree (the same way); the shipped subset keeps
-    two takes of it per person for this test (4 limits, 8 performances checked; all six
-    people: 4 and 100)."""
+def test_real_people_turn_the_way_another_persons_takes_forbid():
+    """Why ``turns`` is off by default (v17): on the real Vive recordings, where one person's
+    takes all turn one way (the *golf swing*), other people's performances turn the other way
+    (all six people, takes cut at v17's rest level: 20 of 100; the shipped subset keeps two takes
+    of it per person, 0 of 8, too few to show it). The rule holds for drawn polygons, not for
+    real people's gestures."""
+    if MACHETE == SHIPPED_MACHETE:
+        pytest.skip("the shipped subset's 8 golf swings are too few; needs the six people's data")
     turns = _real_turns()
     limits = checked = refused = 0
     for key, own in turns.items():
@@ -149,5 +151,6 @@ def test_real_people_never_turn_the_way_another_persons_takes_forbid():
         others = other_peoples(turns, key)
         checked += len(others)
         refused += sum(bool(k & never) for k in others)
-    assert limits >= 3 and checked >= 8
-    assert refused == 0
+    assert limits >= 1 and checked >= 4
+    assert refused > 0
+    assert not RecognizerConfig().turns

@@ -102,7 +102,8 @@ def zigzag_alone():
 def test_the_recognizer_derives_the_limits(zigzag_alone):
     upright, blind = zigzag_alone
     lo, hi = upright.config.vertical_limits["zigzag"]
-    assert 0.0 <= lo and hi == pytest.approx(lo + 2 * VERTICAL_MARGIN, abs=0.1)
+    assert lo == 0.0 or hi == pytest.approx(lo + 2 * VERTICAL_MARGIN, abs=0.1)  # clipped at 0
+    assert hi - VERTICAL_MARGIN == pytest.approx(0.3, abs=0.1)  # a Z drawn on a wall: about 0.3
     assert hi < verticality(drawn_positions(LETTER_N), UP)
     assert blind.config.vertical_limits is None
 
@@ -125,7 +126,7 @@ def test_a_letter_n_is_not_taken_for_a_zigzag_when_up_is_known(zigzag_alone, ang
 def test_real_people_stay_within_another_persons_range_and_the_margin():
     """Real Vive recordings (y-up Unity frames read into framefree's z-up frame): another
     person's verticality lies within one person's range widened by the margin for at least
-    98 % of the comparisons (all six people: 99.1 %; the shipped subset: all 40)."""
+    98 % of the comparisons (all six people, v17 level: 98.3 %; the shipped subset: all 40)."""
     vertical = take_verticality(MACHETE, "+z")
     checked = refused = 0
     for key, own in vertical.items():

@@ -63,6 +63,11 @@ class RecognizerConfig:
         peaks at 0.31) still becomes a unit.
     valley_ratio : float
         A speed minimum below this fraction of the stroke's peak splits two strokes (0.5).
+    follow_rest : float or None
+        Let the rest level follow the stream: at least this quantile of the hand's speed over the
+        last 10 s (:class:`~framefree.online.segmentation.MotionSegmenter`'s ``follow``), so that a
+        person whose hand keeps moving between gestures has rests all the same. ``None``: the
+        level from the takes only.
     max_units, max_duration, max_pause, pause_ratio : int, float, float, float or None
         Candidate limits: units per candidate, duration [s], longest rest inside [s], longest rest
         inside relative to the mean duration of the candidate's units. ``None``: from the
@@ -154,22 +159,24 @@ class RecognizerConfig:
         20 × 3 styles: 60 counted a corner in 1 of 99 figure eights, none of 96 circles, and
         missed every corner of 1 of 99 squares; 45 counted one in 7 eights).
     corner_slack : int
-        Corners a candidate may have beyond the number its gesture's demonstrations agree on (1:
-        on six real people, ``machete_vive``, one person's agreeing takes were exceeded by 11.0 %
-        of the other people's performances with 0 and by 1.6 % with 1; a circle still admits no
-        square, diamond or pentagon).
+        Corners a candidate may have beyond the number its gesture's demonstrations agree on (2,
+        v17: on six real people, ``machete_vive``, with takes cut at v17's rest level, one
+        person's agreeing takes were exceeded by 22.8 % of the other people's performances with
+        0, 4.1 % with 1 and 0.15 % with 2; v16's level, at which the slowest takes started no
+        unit, had suggested 1). A circle still admits no square, diamond or pentagon.
     slack_corners : int or None
         Only a gesture whose demonstrations agree on at most this many corners gets
-        ``corner_slack`` (1, v15: on the six real people the other people's extra corners were
-        all in gestures of no corner or one; where one person's takes agreed on two or more, no
-        other person had more, 0 of 475). ``None``: every gesture gets it (v9–v14). A triangle
-        then admits no square or diamond and a Z no whole letter M.
+        ``corner_slack`` (``None``, v17: every gesture gets it; with takes cut at v17's rest
+        level other people add corners to gestures of several too, and the v15 rule, 1, let
+        10.7 % of the real people's performances exceed a limit).
     turns : bool
         Accept a candidate only if no two of its corners turn in a way its gesture's
-        demonstrations never do (True; only where they agree,
-        :func:`~framefree.online.limits.forbidden_turns`): a triangle or a square turns the
-        same way at every corner, a Z turns back at its second; a change of world frame changes
-        neither.
+        demonstrations never do (:func:`~framefree.online.limits.forbidden_turns`): a triangle
+        or a square turns the same way at every corner, a Z turns back at its second. False
+        (v17): on six real people, where one person's takes all turned one way (the golf swing,
+        4 limits), 20 of the other people's 100 performances turned the other way; on the
+        replica's development people it kept 3 unenrolled squares in 8 streams from firing a
+        taught zigzag, a gain that does not hold for real people.
     up : str or None
         The axis of the tracking system's world that points up (``"+z"`` for framefree's own
         frame, ROS and files read with a named convention; ``"+y"`` for the OpenVR source, which
@@ -179,8 +186,8 @@ class RecognizerConfig:
         (:mod:`~framefree.online.vertical`): a Z is no longer an N. A world tilted against
         this axis breaks the rule, so set it only where the vertical is known.
     vertical_margin : float
-        How far another person's verticality may lie outside the demonstrations' range (0.3:
-        99 % of the real Vive comparisons, :data:`~framefree.online.vertical.VERTICAL_MARGIN`).
+        How far another person's verticality may lie outside the demonstrations' range (0.45:
+        98.3 % of the real Vive comparisons, :data:`~framefree.online.vertical.VERTICAL_MARGIN`).
     size : bool
         Accept a candidate only within its gesture's size limits (True).
     size_factor : float
@@ -267,6 +274,7 @@ class RecognizerConfig:
     noise_factor: float = 3.0
     peak_fraction: float = 0.05
     valley_ratio: float = 0.5
+    follow_rest: float | None = None
     max_units: int | None = None
     max_duration: float | None = None
     max_pause: float | None = None
@@ -292,9 +300,9 @@ class RecognizerConfig:
     return_error: float = 0.05
     corners: bool = True
     corner_angle: float = 60.0
-    corner_slack: int = 1
-    slack_corners: int | None = 1
-    turns: bool = True
+    corner_slack: int = 2
+    slack_corners: int | None = None
+    turns: bool = False
     up: str | None = None
     vertical_margin: float = VERTICAL_MARGIN
     size: bool = True

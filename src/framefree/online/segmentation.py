@@ -270,13 +270,22 @@ def speed_levels(
     peak_fraction: float = 0.05,
     move_factor: float = 1.5,
 ) -> SpeedLevels:
-    """Rest and move levels from model recordings (each a gesture between rests).
+    """Rest and move levels from model recordings (each a gesture, usually between rests).
 
     The noise floor of a recording is the 10th percentile of its motion speed (its rests make up
-    well over a tenth of it); the rest level is ``noise_factor`` × the largest floor, but at least
-    ``peak_fraction`` × the smallest stroke peak of any recording so that a noiseless recording still
-    separates strokes; the move level is ``move_factor`` × the rest level (the hysteresis that
-    keeps noise around the rest level from starting units).
+    well over a tenth of it); the rest level is ``noise_factor`` × the median floor of the
+    recordings, but at least ``peak_fraction`` × the smallest stroke peak of any recording so that
+    a noiseless recording still separates strokes; the move level is ``move_factor`` × the rest
+    level (the hysteresis that keeps noise around the rest level from starting units).
+
+    The median, not the largest floor (before v17): a recording cut without a rest has no noise
+    floor, only its slowest motion, and on real data one such take put the rest level above
+    every take's peak speed (SFINGE3D's swipes: 0.58 m/s from the largest floor, 0.10 m/s from
+    the median; docs/online.md, *v17*). Where most takes are cut without a rest, even the median
+    may lie above the slow takes' peaks; the move level is then half the 10th percentile of the
+    takes' peaks, so that at least nine takes in ten start a unit. Not the slowest take's peak: in
+    a recording of two trackers one may hardly move (real Vive takes: 0.11 m/s, against 3.3 at
+    the median), and that take would set the level for all.
 
     Parameters
     ----------
@@ -295,7 +304,10 @@ def speed_levels(
         peaks.append(float(v.max()))
     if not peaks:
         raise ValueError("no model recording is long enough to measure its motion speed")
-    rest = max(noise_factor * max(floors), peak_fraction * min(peaks))
+    rest = max(noise_factor * float(np.median(floors)), peak_fraction * min(peaks))
+    slow_peak = float(np.percentile(peaks, 10))  # robust to a take in which the tracker hardly moves
+    if move_factor * rest >= slow_peak:  # most takes cut without a rest: slow ones could not
+        rest = 0.5 * slow_peak / move_factor  # start a unit; their peak must reach twice the move level
     return SpeedLevels(rest=rest, move=move_factor * rest)
 
 
@@ -317,6 +329,12 @@ class MotionSegmenter:
         preceding peak and the speed then rises to ``1/valley_ratio`` × the minimum.
     capacity : int
         Poses kept in the buffer.
+    follow : float or None
+        Follow the stream: the rest level is at least this quantile of the speeds of the last
+        ``follow_window`` seconds (the move level rises with it), so that a person whose hand never
+        quite rests between gestures has rests all the same; ``None``: the levels as given.
+    follow_window : float
+        Seconds of speeds the quantile is taken over.
     """
 
     def __init__(
@@ -327,6 +345,8 @@ class MotionSegmenter:
         lag: int = 5,
         valley_ratio: float = 0.5,
         capacity: int = 1500,
+        follow: float | None = None,
+        follow_window: float = 10.0,
     ) -> None:
         if not 0 < valley_ratio < 1:
             raise ValueError(f"valley_ratio must be in (0, 1), got {valley_ratio}")
@@ -336,6 +356,10 @@ class MotionSegmenter:
         self.lag = int(lag)
         self.valley_ratio = float(valley_ratio)
         self.buffer = PoseBuffer(capacity)
+        if follow is not None and not 0 < follow < 1:
+            raise ValueError(f"follow must be a quantile in (0, 1) or None, got {follow}")
+        self.follow = follow
+        self._recent = np.full(max(2, round(follow_window / dt)), np.nan)
         # the speed of every buffered pose that is the middle of a lag (NaN where none was measured)
         self._speeds = np.full(capacity, np.nan)
         self.speed = math.nan
@@ -354,6 +378,9 @@ class MotionSegmenter:
         self._last_rest = self.buffer.count
         self._speeds[:] = np.nan
         self.speed = math.nan
+        self._recent[:] = np.nan
+        self._n_recent = 0
+        self.rest, self.move = self.levels.rest, self.levels.move
 
     @property
     def resting(self) -> bool:
@@ -372,16 +399,17 @@ class MotionSegmenter:
         self.speed = v
         c = k - self.lag // 2  # the speed describes the middle of the lag
         self._speeds[c % self.buffer.capacity] = v
-        lv = self.levels
+        if self.follow is not None:
+            self._follow(v)
         if not self.moving:
-            if v > lv.move:
+            if v > self.move:
                 self.moving = True
                 self._start = self._last_rest
                 self._peak, self._vmin = v, math.inf
-            elif v < lv.rest:
+            elif v < self.rest:
                 self._last_rest = c
             return None
-        if v < lv.rest:
+        if v < self.rest:
             self.moving = False
             self._last_rest = c
             return self._close(c, rest_after=True)
@@ -391,11 +419,22 @@ class MotionSegmenter:
         if v < self.valley_ratio * self._peak and v < self._vmin:
             self._vmin, self._imin = v, c
             return None
-        if self._vmin < math.inf and v > self._vmin / self.valley_ratio and v > lv.move:
+        if self._vmin < math.inf and v > self._vmin / self.valley_ratio and v > self.move:
             unit = self._close(self._imin, rest_after=False)
             self._start, self._peak, self._vmin = self._imin, v, math.inf
             return unit
         return None
+
+    def _follow(self, v: float) -> None:
+        """Record the speed ``v`` and, every tenth of the window, raise the levels to the stream's
+        quantile (never below the models' levels)."""
+        n = self._recent.size
+        self._recent[self._n_recent % n] = v
+        self._n_recent += 1
+        if self._n_recent % max(1, n // 10) == 0:
+            q = float(np.nanquantile(self._recent, self.follow))
+            self.rest = max(self.levels.rest, q)
+            self.move = self.rest * self.levels.move / self.levels.rest
 
     def _close(self, end: int, rest_after: bool) -> Unit:
         heading_in, heading_out = self._headings(self._start, end)
