@@ -63,11 +63,6 @@ class RecognizerConfig:
         peaks at 0.31) still becomes a unit.
     valley_ratio : float
         A speed minimum below this fraction of the stroke's peak splits two strokes (0.5).
-    follow_rest : float or None
-        Let the rest level follow the stream: at least this quantile of the hand's speed over the
-        last 10 s (:class:`~framefree.online.segmentation.MotionSegmenter`'s ``follow``), so that a
-        person whose hand keeps moving between gestures has rests all the same. ``None``: the
-        level from the takes only.
     max_units, max_duration, max_pause, pause_ratio : int, float, float, float or None
         Candidate limits: units per candidate, duration [s], longest rest inside [s], longest rest
         inside relative to the mean duration of the candidate's units. ``None``: from the
@@ -274,7 +269,6 @@ class RecognizerConfig:
     noise_factor: float = 3.0
     peak_fraction: float = 0.05
     valley_ratio: float = 0.5
-    follow_rest: float | None = None
     max_units: int | None = None
     max_duration: float | None = None
     max_pause: float | None = None

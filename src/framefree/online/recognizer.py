@@ -127,7 +127,7 @@ class Recognizer(StreamingRecognizer):
         self.resampler = UniformResampler(c.dt)
         capacity = math.ceil((c.max_duration + c.max_wait + 2.0) / c.dt) + 2 * c.margin
         self.segmenter = MotionSegmenter(SpeedLevels(c.rest_speed, c.move_speed), c.L, c.dt,
-                                         c.speed_lag, c.valley_ratio, capacity, c.follow_rest)
+                                         c.speed_lag, c.valley_ratio, capacity)
         self.spotter = make_spotter(classifier, self.model_thresholds, c, self.labels)
         self._counts = dict.fromkeys(STAT_KEYS, 0)
         self.observations: list[tuple[float, np.ndarray]] = []

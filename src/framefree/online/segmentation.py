@@ -281,7 +281,7 @@ def speed_levels(
     The median, not the largest floor (before v17): a recording cut without a rest has no noise
     floor, only its slowest motion, and on real data one such take put the rest level above
     every take's peak speed (SFINGE3D's swipes: 0.58 m/s from the largest floor, 0.10 m/s from
-    the median; docs/online.md, *v17*). Where most takes are cut without a rest, even the median
+    the median; docs/online-history.md, *v17*). Where most takes are cut without a rest, even the median
     may lie above the slow takes' peaks; the move level is then half the 10th percentile of the
     takes' peaks, so that at least nine takes in ten start a unit. Not the slowest take's peak: in
     a recording of two trackers one may hardly move (real Vive takes: 0.11 m/s, against 3.3 at
@@ -329,12 +329,6 @@ class MotionSegmenter:
         preceding peak and the speed then rises to ``1/valley_ratio`` × the minimum.
     capacity : int
         Poses kept in the buffer.
-    follow : float or None
-        Follow the stream: the rest level is at least this quantile of the speeds of the last
-        ``follow_window`` seconds (the move level rises with it), so that a person whose hand never
-        quite rests between gestures has rests all the same; ``None``: the levels as given.
-    follow_window : float
-        Seconds of speeds the quantile is taken over.
     """
 
     def __init__(
@@ -345,8 +339,6 @@ class MotionSegmenter:
         lag: int = 5,
         valley_ratio: float = 0.5,
         capacity: int = 1500,
-        follow: float | None = None,
-        follow_window: float = 10.0,
     ) -> None:
         if not 0 < valley_ratio < 1:
             raise ValueError(f"valley_ratio must be in (0, 1), got {valley_ratio}")
@@ -356,10 +348,6 @@ class MotionSegmenter:
         self.lag = int(lag)
         self.valley_ratio = float(valley_ratio)
         self.buffer = PoseBuffer(capacity)
-        if follow is not None and not 0 < follow < 1:
-            raise ValueError(f"follow must be a quantile in (0, 1) or None, got {follow}")
-        self.follow = follow
-        self._recent = np.full(max(2, round(follow_window / dt)), np.nan)
         # the speed of every buffered pose that is the middle of a lag (NaN where none was measured)
         self._speeds = np.full(capacity, np.nan)
         self.speed = math.nan
@@ -378,9 +366,6 @@ class MotionSegmenter:
         self._last_rest = self.buffer.count
         self._speeds[:] = np.nan
         self.speed = math.nan
-        self._recent[:] = np.nan
-        self._n_recent = 0
-        self.rest, self.move = self.levels.rest, self.levels.move
 
     @property
     def resting(self) -> bool:
@@ -399,17 +384,16 @@ class MotionSegmenter:
         self.speed = v
         c = k - self.lag // 2  # the speed describes the middle of the lag
         self._speeds[c % self.buffer.capacity] = v
-        if self.follow is not None:
-            self._follow(v)
+        lv = self.levels
         if not self.moving:
-            if v > self.move:
+            if v > lv.move:
                 self.moving = True
                 self._start = self._last_rest
                 self._peak, self._vmin = v, math.inf
-            elif v < self.rest:
+            elif v < lv.rest:
                 self._last_rest = c
             return None
-        if v < self.rest:
+        if v < lv.rest:
             self.moving = False
             self._last_rest = c
             return self._close(c, rest_after=True)
@@ -419,22 +403,11 @@ class MotionSegmenter:
         if v < self.valley_ratio * self._peak and v < self._vmin:
             self._vmin, self._imin = v, c
             return None
-        if self._vmin < math.inf and v > self._vmin / self.valley_ratio and v > self.move:
+        if self._vmin < math.inf and v > self._vmin / self.valley_ratio and v > lv.move:
             unit = self._close(self._imin, rest_after=False)
             self._start, self._peak, self._vmin = self._imin, v, math.inf
             return unit
         return None
-
-    def _follow(self, v: float) -> None:
-        """Record the speed ``v`` and, every tenth of the window, raise the levels to the stream's
-        quantile (never below the models' levels)."""
-        n = self._recent.size
-        self._recent[self._n_recent % n] = v
-        self._n_recent += 1
-        if self._n_recent % max(1, n // 10) == 0:
-            q = float(np.nanquantile(self._recent, self.follow))
-            self.rest = max(self.levels.rest, q)
-            self.move = self.rest * self.levels.move / self.levels.rest
 
     def _close(self, end: int, rest_after: bool) -> Unit:
         heading_in, heading_out = self._headings(self._start, end)
