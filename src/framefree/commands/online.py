@@ -27,7 +27,9 @@ def _model_options(f):
         click.option("--models", "models", required=True, type=click.Path(exists=True),
                      help="A dataset root <gesture>/<context>/*.csv (see --model-context), a "
                      "folder of <label>/*.csv recordings, or a gesture library file from "
-                     "`framefree enroll` (nothing recalibrated)."),
+                     "`framefree enroll` (nothing recalibrated); for several trackers, a folder "
+                     "of people <person>/<gesture>/<recording> or of <label>/<recording> "
+                     "(Machete files or multi-tracker CSV)."),
         click.option("--model-context", default="original_1", show_default=True,
                      help="Context folder of the models when --models is a dataset root."),
         click.option("--model-quat-order", default="wxyz", show_default=True,
@@ -92,6 +94,13 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
             raise FramefreeError("--gestures does not apply to a gesture library file; enroll a "
                                  "library of those gestures instead")
         return _library_recognizer(models, method, overrides)
+    from ..datasets.multi_models import find_multi_models
+
+    multi = find_multi_models(models)
+    if multi is not None:  # several trackers: framefree.commands.multi_cli
+        from .multi_cli import multi_recognizer
+
+        return multi_recognizer(multi, method, gestures, overrides, models)
     found = read_models(models, model_context, model_quat_order, units)
     if gestures:
         found = _only(found, gestures, models)
