@@ -224,7 +224,8 @@ _emit_option = click.option(
 @_model_options
 @click.option("--source", required=True,
               help="zmq://127.0.0.1:PORT, lsl://NAME[#TRACKER], a ROS 2 bag BAG[#TOPIC], a CSV "
-              "file (replayed in real time), or 'openvr'.")
+              "file (replayed in real time), or 'openvr'. With models of several trackers: a "
+              "multi-tracker CSV file, or lsl://NAME (all its trackers).")
 @click.option("--quat-order", default="wxyz", show_default=True, type=click.Choice(QUAT_ORDERS),
               help="Quaternion order of the source (a CSV file's columns or the messages).")
 @click.option("--speed", type=float, default=1.0, show_default=True,
@@ -266,6 +267,7 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     With ``--robot sim`` the events drive the simulated robot: the simulation clock follows the
     stream's time stamps (time 0 = first pose) and every event acts at its time.
     """
+    from ..datasets.multi_models import holds_several_trackers
     from ..io.sources import open_source
 
     if robot_plot:
@@ -278,9 +280,15 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     sim = robot_factory(robot, robot_host)
     # the source and the viewer are checked (a ZeroMQ subscriber connected, a rerun viewer on
     # 127.0.0.1 started) before the slow model building
-    src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units)
+    several = holds_several_trackers(models)
+    if several and (view_kind == "rerun" or save_rrd):
+        raise FramefreeError("--view rerun and --save show one tracker; they are not available "
+                             "for models of several trackers")
+    src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units,
+                      several=several)
     viewer = _start_viewer() if view_kind == "rerun" and not save_rrd else None
     rec = _recognizer(models, model_context, model_quat_order, units, **kw)
+    _match_source(rec, src, source)
     if classify == "background" and not hasattr(rec, "background"):
         raise FramefreeError("--classify background needs --method segments")
     if hasattr(rec, "background"):
@@ -305,6 +313,18 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     click.echo(f"{n} poses; {json.dumps(skipped)}", err=True)
     if sim is not None and t0 is not None:
         finish_robot(sim, robot_settle, robot_plot)
+
+
+def _match_source(rec: Any, src: Any, spec: str) -> None:
+    """One clear error when the source brings other trackers than the models have; a replayed
+    multi-tracker file gets its trackers in the models' order."""
+    from .multi_cli import match_trackers, n_trackers
+
+    have = getattr(src, "n_trackers", 1)
+    if hasattr(src, "traj"):
+        src.traj = match_trackers(rec, src.traj, spec)
+    elif have != n_trackers(rec):
+        raise FramefreeError(f"{spec}: {have} tracker(s), but the models have {n_trackers(rec)}")
 
 
 def _check_emit(specs: tuple[str, ...]) -> None:

@@ -22,7 +22,7 @@ from ..core.multitrajectory import MultiTrajectory
 from ..errors import DatasetError
 from .people_layout import _files, is_multi_tracker_file, load_labelled, load_people
 
-__all__ = ["MultiModelSet", "find_multi_models"]
+__all__ = ["MultiModelSet", "find_multi_models", "holds_several_trackers"]
 
 
 @dataclass(frozen=True)
@@ -57,6 +57,16 @@ def _first_recording(root: Path) -> tuple[Path, int] | None:
     return None
 
 
+def holds_several_trackers(root: str | Path) -> bool:
+    """Whether ``root`` is a folder of multi-tracker recordings (read from its first recording
+    alone: cheap, for checking a source before the models are loaded)."""
+    root = Path(root).expanduser()
+    if not root.is_dir():
+        return False
+    found = _first_recording(root)
+    return found is not None and is_multi_tracker_file(found[0])
+
+
 def find_multi_models(root: str | Path) -> MultiModelSet | None:
     """The multi-tracker model recordings below ``root``, or None when it holds single-tracker
     recordings (or is a file).
@@ -69,12 +79,10 @@ def find_multi_models(root: str | Path) -> MultiModelSet | None:
         When a recording does not read (naming the file).
     """
     root = Path(root).expanduser()
-    if not root.is_dir():
+    if not holds_several_trackers(root):
         return None
     found = _first_recording(root)
-    if found is None or not is_multi_tracker_file(found[0]):
-        return None
-    if found[1] == 3:
+    if found is not None and found[1] == 3:
         people = load_people(root)
         samples = [r.sample for r in people]
         labels = [r.gesture for r in people]
