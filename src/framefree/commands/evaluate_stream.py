@@ -13,7 +13,7 @@ from ..core.posecsv import QUAT_ORDERS
 from ..errors import FramefreeError
 from ..labels import METHODS
 from .inputs import writable_file, writable_folder
-from .multi_cli import match_trackers, n_trackers
+from .multi_cli import check_trackers, match_trackers, n_trackers
 from .online import (
     _check_emit,
     _emit_option,
@@ -61,6 +61,7 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
                         gesture_list: str | None = None, **kw: Any):
     """Event-level precision, recall, F1, false positives per minute and latency on labelled streams
     (--stream FILE, repeatable, and/or STREAM arguments)."""
+    from ..datasets.multi_models import holds_several_trackers
     from ..datasets.stream_files import load_stream
 
     streams = (*streams, *more_streams)
@@ -78,6 +79,9 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
         writable_folder(figures, "--figures")
     gestures = [g.strip() for g in gesture_list.split(",") if g.strip()] if gesture_list else None
     loaded = [(path, *load_stream(path, quat_order=quat_order)) for path in streams]
+    several = holds_several_trackers(models)
+    for path, traj, _ in loaded:
+        check_trackers(several, getattr(traj, "n_trackers", 1), path)
     if gestures:
         loaded = [(path, traj, [s for s in segs if s.label in gestures]) for path, traj, segs in loaded]
     rec = _recognizer(models, model_context, model_quat_order, units, method, gestures, **kw)

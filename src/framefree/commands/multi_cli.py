@@ -19,7 +19,7 @@ import numpy as np
 from ..core.multitrajectory import MultiTrajectory
 from ..errors import FramefreeError
 
-__all__ = ["match_trackers", "multi_recognizer", "n_trackers"]
+__all__ = ["check_trackers", "match_trackers", "multi_recognizer", "n_trackers"]
 
 #: Settings of the command line that a recognizer of several trackers does not use.
 _UNUSED = ("resolution", "latency_min", "ds_scale")
@@ -31,7 +31,7 @@ def n_trackers(rec: Any) -> int:
 
 
 def multi_recognizer(found: Any, method: str, gestures: list[str] | None,
-                     overrides: dict[str, Any], models: str) -> Any:
+                     overrides: dict[str, Any], models: str, invariance: str = "full") -> Any:
     """A :class:`~framefree.online.multi.MultiRecognizer` over the multi-tracker model recordings
     ``found`` (a :class:`~framefree.datasets.multi_models.MultiModelSet`), warmed up."""
     from ..online.multi import MultiRecognizer
@@ -54,13 +54,24 @@ def multi_recognizer(found: Any, method: str, gestures: list[str] | None,
     click.echo(found.description, err=True)
     click.echo("building the gesture models (several trackers) and calibrating ...", err=True)
     t0 = time.perf_counter()
-    rec = MultiRecognizer.from_samples(samples, labels, **overrides)
+    rec = MultiRecognizer.from_samples(samples, labels, invariance=invariance, **overrides)
     rec.warmup()
     taus = ", ".join(f"{g} {rec.gesture_thresholds[g]:.4g}" for g in rec.gestures)
     click.echo(f"{len(rec.labels)} models, {len(rec.gestures)} gestures, {rec.n_trackers} trackers "
-               f"({', '.join(rec.tracker_names)}), thresholds {taus}, stop above "
+               f"({', '.join(rec.tracker_names)}), invariance {invariance}, thresholds {taus}, stop above "
                f"{rec.stop_threshold:.3g} rad/s ({time.perf_counter() - t0:.1f} s)", err=True)
     return rec
+
+
+def check_trackers(several: bool, have: int, where: str) -> None:
+    """Before the models are built: one clear error when a stream or source of ``have`` trackers
+    cannot go with the models (``several``: they hold several trackers)."""
+    if have > 1 and not several:
+        raise FramefreeError(f"{where}: {have} trackers, but the models have one; give models "
+                             "of the same trackers (a folder of multi-tracker recordings)")
+    if have == 1 and several:
+        raise FramefreeError(f"{where}: 1 tracker, but the models have several; give a stream "
+                             "of the same trackers (framefree's multi-tracker CSV, docs/io.md)")
 
 
 def match_trackers(rec: Any, sample: Any, where: str) -> Any:

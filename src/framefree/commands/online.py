@@ -14,6 +14,7 @@ from typing import Any
 import click
 
 from ..core.posecsv import QUAT_ORDERS, UNITS
+from ..descriptors.canonical import INVARIANCES
 from ..errors import FramefreeError
 from ..labels import METHODS
 from .inputs import pose_file_options, read_models, writable_file
@@ -50,6 +51,9 @@ def _model_options(f):
                      help="paper: screw-path resolution [m] (default: automatic)."),
         click.option("--latency-min", type=click.Choice(["0", "1"]), default=None,
                      help="paper: smallest latency searched (default: 0)."),
+        click.option("--invariance", type=click.Choice(INVARIANCES), default=None,
+                     help="Models of several trackers only: what the offline classifier's "
+                     "comparison ignores, as in evaluate-people (default: full)."),
     ]
     for o in reversed(opts):
         f = o(f)
@@ -82,6 +86,7 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
     from ..online.paper import PaperRecognizer
 
     overrides = {k: v for k, v in kw.items() if v is not None}
+    invariance = overrides.pop("invariance", None)
     if method == "segments":
         given = [k for k in _PAPER_ONLY if k in overrides]
         if given:
@@ -93,6 +98,8 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
         if gestures:
             raise FramefreeError("--gestures does not apply to a gesture library file; enroll a "
                                  "library of those gestures instead")
+        if invariance is not None:
+            overrides["invariance"] = invariance  # refused below, as every other setting
         return _library_recognizer(models, method, overrides)
     from ..datasets.multi_models import find_multi_models
 
@@ -100,7 +107,10 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
     if multi is not None:  # several trackers: framefree.commands.multi_cli
         from .multi_cli import multi_recognizer
 
-        return multi_recognizer(multi, method, gestures, overrides, models)
+        return multi_recognizer(multi, method, gestures, overrides, models, invariance or "full")
+    if invariance is not None:
+        raise FramefreeError("--invariance applies to models of several trackers; one tracker is "
+                             "compared by BILTS+, invariant to every change of frame")
     found = read_models(models, model_context, model_quat_order, units)
     if gestures:
         found = _only(found, gestures, models)
@@ -269,6 +279,7 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     """
     from ..datasets.multi_models import holds_several_trackers
     from ..io.sources import open_source
+    from .multi_cli import check_trackers
 
     if robot_plot:
         writable_file(robot_plot, "--robot-plot")
@@ -286,6 +297,8 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
                              "for models of several trackers")
     src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units,
                       several=several)
+    if not several:
+        check_trackers(several, getattr(src, "n_trackers", 1), source)
     viewer = _start_viewer() if view_kind == "rerun" and not save_rrd else None
     rec = _recognizer(models, model_context, model_quat_order, units, **kw)
     _match_source(rec, src, source)

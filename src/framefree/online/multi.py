@@ -269,7 +269,7 @@ class MultiRecognizer(Recognizer):
                 T[:3, :3] = se3.matrix_from_quaternion(qs)
                 T[:3, 3] = ps
                 self.joiner.add(j, *self.resamplers[j].push(ts, T))
-        for ts in stops:
+        for _ in stops:
             self._counts["stops"] += 1
             self._decide_later(self.spotter.discard_before, self.segmenter.buffer.count)
         events: list[Event] = []

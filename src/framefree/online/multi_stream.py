@@ -169,7 +169,7 @@ def recording_units(sample: MultiTrajectory, levels: SpeedLevels, L: float, dt: 
     and last pose held for 0.5 s around it, so that a recording that starts or ends in motion
     still has its strokes closed)."""
     times, poses = grid_poses(sample, dt)
-    pad = int(round(0.5 / dt))
+    pad = round(0.5 / dt)
     poses = np.concatenate([np.repeat(poses[:1], pad, 0), poses, np.repeat(poses[-1:], pad, 0)])
     seg = MultiMotionSegmenter(levels, L, dt, lag, valley_ratio, poses.shape[0] + 1,
                                poses.shape[1])
@@ -236,7 +236,7 @@ class GridJoiner:
         for t, T in zip(times, poses, strict=True):
             if self.origin is None:
                 self.origin = float(t)
-            k = int(round((float(t) - self.origin) / self.dt))
+            k = round((float(t) - self.origin) / self.dt)
             if k > self._last:
                 self._queues[tracker].append((k, float(t), T))
 
