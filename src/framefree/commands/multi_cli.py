@@ -31,7 +31,7 @@ def n_trackers(rec: Any) -> int:
 
 
 def multi_recognizer(found: Any, method: str, gestures: list[str] | None,
-                     overrides: dict[str, Any], models: str, invariance: str = "full") -> Any:
+                     overrides: dict[str, Any], models: str, invariance: str = "gravity") -> Any:
     """A :class:`~framefree.online.multi.MultiRecognizer` over the multi-tracker model recordings
     ``found`` (a :class:`~framefree.datasets.multi_models.MultiModelSet`), warmed up."""
     from ..online.multi import MultiRecognizer

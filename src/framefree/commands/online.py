@@ -53,7 +53,9 @@ def _model_options(f):
                      help="paper: smallest latency searched (default: 0)."),
         click.option("--invariance", type=click.Choice(INVARIANCES), default=None,
                      help="Models of several trackers only: what the offline classifier's "
-                     "comparison ignores, as in evaluate-people (default: full)."),
+                     "comparison ignores, as in evaluate-people (default: gravity, which needs "
+                     "z up in the poses: multi-tracker CSV and Machete files are; full for a "
+                     "world of unknown vertical)."),
     ]
     for o in reversed(opts):
         f = o(f)
@@ -107,7 +109,8 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
     if multi is not None:  # several trackers: framefree.commands.multi_cli
         from .multi_cli import multi_recognizer
 
-        return multi_recognizer(multi, method, gestures, overrides, models, invariance or "full")
+        return multi_recognizer(multi, method, gestures, overrides, models,
+                                invariance or "gravity")
     if invariance is not None:
         raise FramefreeError("--invariance applies to models of several trackers; one tracker is "
                              "compared by BILTS+, invariant to every change of frame")
