@@ -12,8 +12,10 @@ classification and the statistics are the single-tracker recognizer's.
 
 What comes from the models (:func:`resolve_multi_config`): the rest and move levels of the
 combined speed, the candidate limits (units, duration, pauses), each gesture's size range, the
-thresholds τ_g (the offline rule :func:`~framefree.rejection.thresholds_from_models`, P + N, on
-the models' distances) and the stop threshold (the fastest rotation of any tracker of any model).
+thresholds τ_g (the offline rule :func:`~framefree.rejection.thresholds_from_models`, P + N, with
+P also measured on the models as the live spotter cuts them, :func:`multi_thresholds`), the
+acceptance gates' speed limits (:func:`~framefree.online.multi_stream.gate_limits`) and the stop
+threshold (the fastest rotation of any tracker of any model).
 See ``docs/online.md`` (Several trackers).
 """
 
@@ -38,6 +40,7 @@ from .multi_stream import (
     MultiMotionSegmenter,
     StopGroup,
     gate_limits,
+    live_cut,
     multi_candidate_limits,
     multi_speed_levels,
 )
@@ -45,7 +48,7 @@ from .recognizer import STAT_KEYS, Recognizer
 from .segmentation import SpeedLevels, UniformResampler, Unit
 from .stop import StopDetector, sustained_peak_speed
 
-__all__ = ["MultiRecognizer", "resolve_multi_config"]
+__all__ = ["MultiRecognizer", "multi_thresholds", "resolve_multi_config"]
 
 
 def _classifier(invariance: str) -> Any:
@@ -90,13 +93,41 @@ def resolve_multi_config(samples: Sequence[MultiTrajectory], labels: Sequence[st
         if c.threshold is not None:
             c = c.replace(gesture_thresholds=dict.fromkeys(gestures, c.threshold))
         else:
-            D = classifier.distance_matrix(list(samples))
-            c = c.replace(gesture_thresholds=thresholds_from_models(D, list(labels)))
+            levels = SpeedLevels(c.rest_speed, c.move_speed)
+            c = c.replace(gesture_thresholds=multi_thresholds(samples, labels, classifier, levels, c))
     if c.stop_threshold is None:
         peak = max(sustained_peak_speed(tr.t, tr.q, c.stop_window, c.stop_min_duration)
                    for s in samples for tr in s.trackers)
         c = c.replace(stop_threshold=max(c.stop_floor, c.stop_margin * peak))
     return c
+
+
+def multi_thresholds(samples: Sequence[MultiTrajectory], labels: Sequence[str], classifier: Any,
+                     levels: SpeedLevels, c: RecognizerConfig) -> dict[str, float]:
+    """τ_g = P_g + N_g per gesture: the offline rule (:func:`~framefree.rejection.
+    thresholds_from_models`) with ``P_g`` the larger of the models' own leave-one-out distance
+    and that of the models as the live spotter cuts them (:func:`~framefree.online.multi_stream.
+    live_cut`: without what the recordings hold before the first and after the last stroke),
+    each to its nearest other model of the gesture."""
+    labels_ = np.asarray(labels)
+    D = classifier.distance_matrix(list(samples))
+    tau = thresholds_from_models(D, list(labels))
+    cuts = [live_cut(s, levels, c.L, c.dt, c.speed_lag, c.valley_ratio, c.margin) for s in samples]
+    keep = [k for k, s in enumerate(cuts) if s is not None]
+    Dc = np.full((len(samples), len(samples)), np.inf)
+    Dc[keep] = classifier.distance_matrix([cuts[k] for k in keep])
+    np.fill_diagonal(Dc, np.inf)
+    np.fill_diagonal(D, np.inf)
+    for g in tau:
+        own = labels_ == g
+        if own.sum() < 2:
+            continue
+        p_off = float(D[np.ix_(own, own)].min(axis=1).max())
+        live = Dc[np.ix_(own, own)].min(axis=1)
+        live = live[np.isfinite(live)]
+        if live.size:
+            tau[g] += max(0.0, float(live.max()) - p_off)
+    return tau
 
 
 class MultiRecognizer(Recognizer):

@@ -27,6 +27,7 @@ import numpy as np
 
 from ..core.multitrajectory import MultiTrajectory
 from ..core.progress import screw_path_increment
+from ..core.trajectory import Trajectory
 from .segmentation import MotionSegmenter, PoseBuffer, SpeedLevels, Unit, motion_speed
 from .stop import StopDetector
 
@@ -38,6 +39,7 @@ __all__ = [
     "combined_speed",
     "gate_limits",
     "grid_poses",
+    "live_cut",
     "multi_candidate_limits",
     "multi_speed_levels",
     "recording_units",
@@ -163,22 +165,48 @@ def gate_limits(samples: Sequence[MultiTrajectory], factor: float = GATE_FACTOR,
     return max(floor[0], factor * v_max), max(floor[1], factor * w_max)
 
 
+def _padded(sample: MultiTrajectory, dt: float, pad: float = 0.5
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """Grid times (n,) [s] and poses (n, n_trackers, 4, 4) of a recording with its first and
+    last pose held ``pad`` seconds before and after it."""
+    times, poses = grid_poses(sample, dt)
+    k = round(pad / dt)
+    poses = np.concatenate([np.repeat(poses[:1], k, 0), poses, np.repeat(poses[-1:], k, 0)])
+    return times[0] + (np.arange(poses.shape[0]) - k) * dt, poses
+
+
 def recording_units(sample: MultiTrajectory, levels: SpeedLevels, L: float, dt: float = 0.02,
                     lag: int = 5, valley_ratio: float = 0.5) -> list[Unit]:
     """The movement units the live segmenter cuts a recording into (with the recording's first
     and last pose held for 0.5 s around it, so that a recording that starts or ends in motion
-    still has its strokes closed)."""
-    times, poses = grid_poses(sample, dt)
-    pad = round(0.5 / dt)
-    poses = np.concatenate([np.repeat(poses[:1], pad, 0), poses, np.repeat(poses[-1:], pad, 0)])
+    still has its strokes closed); running indices into :func:`_padded`'s poses."""
+    times, poses = _padded(sample, dt)
     seg = MultiMotionSegmenter(levels, L, dt, lag, valley_ratio, poses.shape[0] + 1,
                                poses.shape[1])
     units = []
     for k in range(poses.shape[0]):
-        unit = seg.push(float(times[0] + (k - pad) * dt), poses[k])
+        unit = seg.push(float(times[k]), poses[k])
         if unit is not None:
             units.append(unit)
     return units
+
+
+def live_cut(sample: MultiTrajectory, levels: SpeedLevels, L: float, dt: float = 0.02,
+             lag: int = 5, valley_ratio: float = 0.5, margin: int = 5) -> MultiTrajectory | None:
+    """A recording as the live spotter cuts the whole gesture out of a stream: from its first
+    movement unit's start to its last one's end, with ``margin`` grid samples on each side, on the
+    50 Hz grid (None without a unit)."""
+    units = recording_units(sample, levels, L, dt, lag, valley_ratio)
+    if not units:
+        return None
+    times, poses = _padded(sample, dt)
+    a, b = max(units[0].start - margin, 0), min(units[-1].end + margin, times.size - 1)
+    if b - a < 5:
+        return None
+    trackers = tuple(Trajectory.from_poses(times[a:b + 1], poses[a:b + 1, j],
+                                           source=f"{sample.source} (cut)")
+                     for j in range(poses.shape[1]))
+    return MultiTrajectory(trackers, sample.names, sample.up, f"{sample.source} (cut)")
 
 
 def multi_candidate_limits(samples: Sequence[MultiTrajectory], levels: SpeedLevels, L: float,
