@@ -91,3 +91,25 @@ def test_invariance_is_for_several_trackers(files):
 def test_the_rerun_view_is_refused_for_two_trackers(files):
     res = run("live", "--models", PEOPLE, "--source", files["session"], "--view", "rerun")
     one_line_error(res, "not available for models of several trackers")
+
+
+def test_record_cuts_a_two_tracker_recording_into_takes_for_live(tmp_path):
+    """`framefree record` on a multi-tracker CSV of four real hooks writes four multi-tracker
+    takes to LIBRARY/GESTURE/, a --models folder; enroll and check refuse it in one line."""
+    takes = [r for r in load_people(SHIPPED_MACHETE) if r.gesture == "hook_left"]
+    sample, segments = continuous_session([r.sample for r in takes], [r.gesture for r in takes],
+                                          rate=90.0, seed=5)
+    recording = write_multi_csv(tmp_path / "hooks.csv", sample)
+    library = tmp_path / "lib"
+    res = run("record", "--source", recording, "--gesture", "hook_left", "--library", library)
+    assert res.exit_code == 0, res.output
+    written = sorted((library / "hook_left").glob("trial_*.csv"))
+    assert len(written) == len(segments) == 4
+    from framefree.io.multicsv import read_multi_csv
+
+    for path, seg in zip(written, segments, strict=True):
+        take = read_multi_csv(path)
+        assert take.n_trackers == 2
+        assert 0.8 * (seg.end_t - seg.start_t) < take.t[-1] - take.t[0] < seg.end_t - seg.start_t + 3.0
+    for command in (["enroll", library, "-o", tmp_path / "lib.npz"], ["check", library]):
+        one_line_error(run(*command), "takes of several trackers")
