@@ -194,3 +194,20 @@ def test_a_lost_tracker_bridges_and_nothing_breaks(recognizer, session):
     for k in range(600):
         recognizer.push(sample.t[k], P[k], Q[k])
     assert recognizer.stats["nan"] == 12 and recognizer.stats["restarts"] == 0
+
+
+def test_thresholds_allow_for_the_live_cut(recognizer, people, offline):
+    """τ_g is the offline P + N rule or more: P_g also comes from the takes as the live spotter
+    cuts them (from the first stroke to the last), which lie a little farther from the others."""
+    from framefree.online.multi_stream import live_cut
+    from framefree.online.segmentation import SpeedLevels
+    from framefree.rejection import thresholds_from_models
+
+    models, _ = people
+    samples, labels = [r.sample for r in models], [r.gesture for r in models]
+    base = thresholds_from_models(offline.distance_matrix(samples), labels)
+    assert all(recognizer.gesture_thresholds[g] >= base[g] for g in base)
+    assert any(recognizer.gesture_thresholds[g] > base[g] for g in base)
+    c = recognizer.config
+    cut = live_cut(samples[0], SpeedLevels(c.rest_speed, c.move_speed), c.L)
+    assert cut is not None and cut.t[-1] - cut.t[0] < samples[0].t[-1] - samples[0].t[0] + 1.0
