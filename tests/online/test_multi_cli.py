@@ -113,3 +113,9 @@ def test_record_cuts_a_two_tracker_recording_into_takes_for_live(tmp_path):
         assert 0.8 * (seg.end_t - seg.start_t) < take.t[-1] - take.t[0] < seg.end_t - seg.start_t + 3.0
     for command in (["enroll", library, "-o", tmp_path / "lib.npz"], ["check", library]):
         one_line_error(run(*command), "takes of several trackers")
+
+
+def test_compare_is_refused_for_two_trackers_before_building(files):
+    res = run("evaluate-stream", "--models", PEOPLE, files["session"], "--compare")
+    one_line_error(res, "the paper's recognizer takes one tracker")
+    assert "building" not in res.output

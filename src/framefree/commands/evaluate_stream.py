@@ -80,6 +80,9 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
     gestures = [g.strip() for g in gesture_list.split(",") if g.strip()] if gesture_list else None
     loaded = [(path, *load_stream(path, quat_order=quat_order)) for path in streams]
     several = holds_several_trackers(models)
+    if several and (compare or method != "segments"):
+        raise FramefreeError("--compare and --method paper: the paper's recognizer takes one "
+                             "tracker, and these models have several")
     for path, traj, _ in loaded:
         check_trackers(several, getattr(traj, "n_trackers", 1), path)
     if gestures:
