@@ -121,10 +121,9 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
 
 def _multi_file(spec: str) -> bool:
     """Whether ``spec`` is a multi-tracker CSV file (``t,NAME.x,...`` header)."""
-    from ..datasets.people_layout import _has_multi_header
+    from ..io.multicsv import has_tracker_header
 
-    path = Path(spec)
-    return path.is_file() and path.suffix.lower() == ".csv" and _has_multi_header(path)
+    return has_tracker_header(spec)
 
 
 def _record_multi(source: str, gesture: str, library: str, settings: Any,

@@ -66,11 +66,10 @@ def load_stream(path: str | Path, quat_order: str = "wxyz"
     DatasetError
         If the labels file is missing or malformed (naming the file and row).
     """
-    from ..io.multicsv import read_multi_csv
-    from .people_layout import _has_multi_header
+    from ..io.multicsv import has_tracker_header, read_multi_csv
 
     path = Path(path)
-    if path.is_file() and _has_multi_header(path):
+    if has_tracker_header(path):
         traj: Trajectory | MultiTrajectory = read_multi_csv(path)
     else:
         traj = Trajectory.from_csv(path, quat_order=quat_order)

@@ -454,10 +454,9 @@ def open_source(
     if not path.is_file():
         raise FramefreeError(f"{spec}: not a file, and not zmq://127.0.0.1:PORT, lsl://NAME, "
                              "a ROS 2 bag or 'openvr'")
-    from ..datasets.people_layout import _has_multi_header
-    from .multicsv import read_multi_csv
+    from .multicsv import has_tracker_header, read_multi_csv
 
-    if _has_multi_header(path):
+    if has_tracker_header(path):
         if units != "m":
             raise FramefreeError(f"{spec}: a multi-tracker CSV file is in metres; --units "
                                  f"{units} does not apply")
