@@ -208,8 +208,8 @@ class MultiRecognizer(Recognizer):
             Of the offline classifier (:class:`~framefree.classifier.NearestNeighborClassifier`).
             ``"gravity"`` (the default here, unlike offline): keeps the world's vertical (+z in
             framefree's frame, which multi-tracker CSV and Machete files are read into). On the
-            six Machete Vive people, each left out of the models in turn, live F1 0.980 against
-            0.960 with ``"full"`` (docs/online.md, Several trackers); offline, the four people
+            six Machete Vive people, each left out of the models in turn, live F1 0.985 against
+            0.957 with ``"full"`` (docs/online.md, Several trackers); offline, the four people
             kept apart lost less with it (issue 39). ``"full"`` for a world whose vertical is
             unknown.
         """
