@@ -119,3 +119,10 @@ def test_compare_is_refused_for_two_trackers_before_building(files):
     res = run("evaluate-stream", "--models", PEOPLE, files["session"], "--compare")
     one_line_error(res, "the paper's recognizer takes one tracker")
     assert "building" not in res.output
+
+
+def test_the_command_line_offers_every_invariance():
+    from framefree.commands.online import INVARIANCES as OFFERED
+    from framefree.descriptors.canonical import INVARIANCES
+
+    assert OFFERED == INVARIANCES

@@ -14,7 +14,6 @@ from typing import Any
 import click
 
 from ..core.posecsv import QUAT_ORDERS, UNITS
-from ..descriptors.canonical import INVARIANCES
 from ..errors import FramefreeError
 from ..labels import METHODS
 from .inputs import pose_file_options, read_models, writable_file
@@ -61,6 +60,10 @@ def _model_options(f):
         f = o(f)
     return f
 
+
+#: ``framefree.descriptors.canonical.INVARIANCES``, written out: importing it loads numba, which
+#: ``framefree live --help`` must not (tests/online/test_multi_cli.py checks they agree)
+INVARIANCES = ("full", "gravity")
 
 #: Options that only the paper's recognizer has.
 _PAPER_ONLY = ("resolution", "latency_min")
