@@ -22,6 +22,7 @@ import argparse
 import json
 import os
 import platform
+import sys
 import time
 from pathlib import Path
 
@@ -77,6 +78,10 @@ def main() -> None:
     ap.add_argument("--rate", type=float, default=120.0, help="poses per second [Hz]")
     ap.add_argument("--out", type=Path, default=None)
     args = ap.parse_args()
+    if not args.data.is_dir():
+        print(f"--data {args.data}: not a folder of people <person>/<gesture>/<recording>",
+              file=sys.stderr)
+        raise SystemExit(2)
     people = load_people(args.data)
     samples = [r.sample for r in people]
     labels = [r.gesture for r in people]

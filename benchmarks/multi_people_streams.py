@@ -77,6 +77,10 @@ def main() -> None:
     ap.add_argument("--out", type=Path, default=None, help="JSON file of every result")
     ap.add_argument("extra", nargs="*", help="further evaluate-stream options (after --)")
     args = ap.parse_args()
+    if not args.data.is_dir():
+        print(f"--data {args.data}: not a folder of people <person>/<gesture>/<recording>",
+              file=sys.stderr)
+        raise SystemExit(2)
     everyone = sorted(p.name for p in args.data.iterdir() if p.is_dir())
     people = args.people.split(",") if args.people else everyone
     folds, totals = {}, []
