@@ -151,7 +151,7 @@ def gate_limits(samples: Sequence[MultiTrajectory], factor: float = GATE_FACTOR,
     A hand-held tracker drawing a gesture stays below 5 m/s and 30 rad/s, the gate's defaults; a
     controller in a golf swing or a hook does not (the six Machete Vive people: 99th percentiles
     of 6.3-12.2 m/s and 17-50 rad/s), and the default gate cut one person's sessions into pieces at
-    every fast stroke (19 restarts in 2.5 minutes).
+    every fast stroke (18 restarts in 2.5 minutes).
     """
     v_max, w_max = 0.0, 0.0
     for s in samples:
