@@ -143,8 +143,8 @@ def _still(n: int, rate: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return t, P, Q
 
 
-@pytest.mark.parametrize("hand", [0, 1])
-def test_a_stop_signal_of_either_hand_is_one_stop(recognizer, hand):
+@pytest.mark.parametrize("hands", [{0}, {1}, {0, 1}])
+def test_a_stop_signal_of_either_hand_is_one_stop(recognizer, hands):
     """A quick back-and-forth turn of one controller (far faster than any model's rotation)
     is the stop signal; both hands making it at once still give one stop."""
     rate = 90.0
@@ -154,7 +154,7 @@ def test_a_stop_signal_of_either_hand_is_one_stop(recognizer, hand):
     for k in range(k0, k0 + int(0.24 * rate)):
         tau = (k - k0) / rate
         angle = w * (tau if tau < 0.12 else 0.24 - tau)
-        for j in ({hand} if hand == 0 else {0, 1}):
+        for j in hands:
             Q[k, j] = [math.cos(angle / 2), 0.0, 0.0, math.sin(angle / 2)]
     recognizer.reset()
     events = []
@@ -211,3 +211,16 @@ def test_thresholds_allow_for_the_live_cut(recognizer, people, offline):
     c = recognizer.config
     cut = live_cut(samples[0], SpeedLevels(c.rest_speed, c.move_speed), c.L)
     assert cut is not None and cut.t[-1] - cut.t[0] < samples[0].t[-1] - samples[0].t[0] + 1.0
+
+
+def test_a_session_on_another_clock_after_a_reset_is_joined():
+    """After a reset the grid starts again where the new stream starts, even before the old one."""
+    joiner = GridJoiner(2, 0.02)
+    T = np.eye(4)
+    joiner.add(0, np.array([10.0]), T[None])
+    joiner.add(1, np.array([10.0]), T[None])
+    assert len(joiner.ready()) == 1
+    joiner.reset()
+    for j in (0, 1):
+        joiner.add(j, np.array([-5.0, -4.98]), np.stack([T, T]))
+    assert [t for t, _ in joiner.ready()] == [-5.0, -4.98]

@@ -237,8 +237,8 @@ class GridJoiner:
 
     Each tracker has its own grid (its resampler starts at its first accepted sample, and again
     after a restart); a grid pose is filed under the index ``round((t - origin) / dt)`` of the
-    first time ever seen, so grids that start a fraction of a step apart still meet. An index that
-    some tracker skipped is dropped.
+    first time seen since the last :meth:`reset`, so grids that start a fraction of a step apart
+    still meet. An index that some tracker skipped is dropped.
 
     Parameters
     ----------
@@ -250,11 +250,11 @@ class GridJoiner:
     def __init__(self, n_trackers: int, dt: float) -> None:
         self.n_trackers = int(n_trackers)
         self.dt = float(dt)
-        self.origin: float | None = None
         self.reset()
 
     def reset(self) -> None:
-        """Forget the poses waiting for the other trackers."""
+        """Forget the poses waiting for the other trackers and the grid's origin (a restart)."""
+        self.origin: float | None = None
         self._queues: list[deque[tuple[int, float, np.ndarray]]] = [
             deque() for _ in range(self.n_trackers)]
         self._last = -1
