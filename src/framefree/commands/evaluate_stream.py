@@ -10,8 +10,10 @@ from typing import Any
 import click
 
 from ..core.posecsv import QUAT_ORDERS
+from ..errors import FramefreeError
 from ..labels import METHODS
 from .inputs import writable_file, writable_folder
+from .multi_cli import check_trackers, match_trackers, n_trackers
 from .online import (
     _check_emit,
     _emit_option,
@@ -33,8 +35,8 @@ __all__ = ["evaluate_stream_cmd", "register"]
 @_model_options
 @click.option("--stream", "streams", multiple=True,
               type=click.Path(exists=True, dir_okay=False),
-              help="Stream CSV (with <name>_labels.csv beside it); repeatable, or give the "
-              "streams as arguments.")
+              help="Stream CSV (with <name>_labels.csv beside it), one tracker or several "
+              "(framefree's multi-tracker CSV); repeatable, or give the streams as arguments.")
 @click.option("--quat-order", default="wxyz", show_default=True, type=click.Choice(QUAT_ORDERS),
               help="Quaternion column order of the stream files.")
 @click.option("--tolerance", type=float, default=0.5, show_default=True,
@@ -59,6 +61,7 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
                         gesture_list: str | None = None, **kw: Any):
     """Event-level precision, recall, F1, false positives per minute and latency on labelled streams
     (--stream FILE, repeatable, and/or STREAM arguments)."""
+    from ..datasets.multi_models import holds_several_trackers
     from ..datasets.stream_files import load_stream
 
     streams = (*streams, *more_streams)
@@ -76,9 +79,19 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
         writable_folder(figures, "--figures")
     gestures = [g.strip() for g in gesture_list.split(",") if g.strip()] if gesture_list else None
     loaded = [(path, *load_stream(path, quat_order=quat_order)) for path in streams]
+    several = holds_several_trackers(models)
+    if several and (compare or method != "segments"):
+        raise FramefreeError("--compare and --method paper: the paper's recognizer takes one "
+                             "tracker, and these models have several")
+    for path, traj, _ in loaded:
+        check_trackers(several, getattr(traj, "n_trackers", 1), path)
     if gestures:
         loaded = [(path, traj, [s for s in segs if s.label in gestures]) for path, traj, segs in loaded]
     rec = _recognizer(models, model_context, model_quat_order, units, method, gestures, **kw)
+    loaded = [(path, match_trackers(rec, traj, path), segs) for path, traj, segs in loaded]
+    if save_rrd and n_trackers(rec) > 1:
+        raise FramefreeError("--save: the rerun view shows one tracker; it is not available "
+                             "for models of several trackers")
     out = _emitters(emit, rec)
     rview = _rerun_view(rec, False, save_rrd)
     try:

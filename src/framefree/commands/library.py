@@ -51,6 +51,10 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
     """Record takes of a gesture: perform it, rest a second, perform it again, ...
 
     \b
+    A multi-tracker CSV file (t,NAME.x,...) is cut at the rests of all its trackers together;
+    its takes go to LIBRARY/GESTURE/trial_<k>.csv, a --models folder for live and evaluate-stream.
+
+    \b
     One long recording is cut into takes at the rests (frame-free motion speed), each trimmed to
     its motion with a short rest before and after, and written in the dataset layout.
     For a gesture that ends away from its start (a swipe, a Z), the move back to the start between
@@ -62,6 +66,9 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
     from ..library.takes import TakeSettings, write_take
 
     changes = {k: v for k, v in (("min_rest", min_rest), ("margin", margin)) if v is not None}
+    if _multi_file(source):
+        _record_multi(source, gesture, library, TakeSettings(**changes), max_takes)
+        return
     recorder = TakeRecorder(TakeSettings(**changes), keep_all=keep_all)
     src = _pose_source(source, timeout)
     click.echo(f"recording {gesture!r} from {source}: perform it, rest a second or two, perform it again "
@@ -110,6 +117,46 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
                f"Next: framefree check {library}", err=True)
     if not written:
         raise click.ClickException("no take found: perform the gesture between rests of about a second")
+
+
+def _multi_file(spec: str) -> bool:
+    """Whether ``spec`` is a multi-tracker CSV file (``t,NAME.x,...`` header)."""
+    from ..io.multicsv import has_tracker_header
+
+    return has_tracker_header(spec)
+
+
+def _record_multi(source: str, gesture: str, library: str, settings: Any,
+                  max_takes: int | None) -> None:
+    """``framefree record`` from a multi-tracker CSV: the takes, cut at the rests of the trackers'
+    combined speed, written as ``LIBRARY/GESTURE/trial_<k>.csv`` (multi-tracker CSV)."""
+    from ..io.multicsv import read_multi_csv
+    from ..library.multi_takes import split_multi_takes, write_multi_take
+
+    found = split_multi_takes(read_multi_csv(source), settings)[:max_takes]
+    click.echo(f"recording {gesture!r} from {source} ({len(found[0][1].names) if found else 0} "
+               "trackers, cut at the rests of their combined motion)", err=True)
+    for k, (span, take) in enumerate(found, start=1):
+        path = write_multi_take(take, library, gesture)
+        click.secho(f"take {k} recorded ({span.duration:.1f} s)   [{path}]", fg="green", err=True)
+    folder = Path(library) / gesture
+    click.echo(f"{len(found)} takes of {gesture} written to {folder} "
+               f"({len(list(folder.glob('*.csv'))) if folder.is_dir() else 0} there now). Next: "
+               f"framefree live --models {library} --source ...", err=True)
+    if not found:
+        raise click.ClickException("no take found: perform the gesture between rests of about a second")
+
+
+def _no_multi(sources: tuple[str, ...], command: str) -> None:
+    """One line for a folder of multi-tracker takes: libraries hold one tracker."""
+    from ..datasets.multi_models import holds_several_trackers
+    from ..errors import FramefreeError
+
+    for src in sources:
+        if holds_several_trackers(src):
+            raise FramefreeError(f"{src}: takes of several trackers; `framefree {command}` "
+                                 "builds libraries of one tracker. Give the folder itself as "
+                                 "--models to framefree live or evaluate-stream")
 
 
 def _parse_sets(sets: tuple[str, ...]) -> dict[str, Any]:
@@ -190,6 +237,7 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
             raise click.UsageError("give the library file to write with -o/--out")
         folder = Path(sources[0]).resolve()
         out = str(folder.with_name(folder.name + ".npz"))
+    _no_multi(sources, "enroll")
     takes, settings = _gather(sources, context, merges)
     if removals:
         takes = takes.without(removals)
@@ -233,6 +281,7 @@ def check_cmd(library: str, context: str | None, out: str, seed: int):
     from ..library.store import load_library, read_takes
     from ..online.config import RecognizerConfig
 
+    _no_multi((library,), "check")
     lib_path = Path(library).resolve()
     out_dir = Path(out).resolve()
     if lib_path.is_dir() and (out_dir == lib_path or lib_path in out_dir.parents):

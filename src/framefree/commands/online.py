@@ -27,7 +27,9 @@ def _model_options(f):
         click.option("--models", "models", required=True, type=click.Path(exists=True),
                      help="A dataset root <gesture>/<context>/*.csv (see --model-context), a "
                      "folder of <label>/*.csv recordings, or a gesture library file from "
-                     "`framefree enroll` (nothing recalibrated)."),
+                     "`framefree enroll` (nothing recalibrated); for several trackers, a folder "
+                     "of people <person>/<gesture>/<recording> or of <label>/<recording> "
+                     "(Machete files or multi-tracker CSV)."),
         click.option("--model-context", default="original_1", show_default=True,
                      help="Context folder of the models when --models is a dataset root."),
         click.option("--model-quat-order", default="wxyz", show_default=True,
@@ -48,11 +50,20 @@ def _model_options(f):
                      help="paper: screw-path resolution [m] (default: automatic)."),
         click.option("--latency-min", type=click.Choice(["0", "1"]), default=None,
                      help="paper: smallest latency searched (default: 0)."),
+        click.option("--invariance", type=click.Choice(INVARIANCES), default=None,
+                     help="Models of several trackers only: what the offline classifier's "
+                     "comparison ignores, as in evaluate-people (default: gravity, which needs "
+                     "z up in the poses: multi-tracker CSV and Machete files are; full for a "
+                     "world of unknown vertical)."),
     ]
     for o in reversed(opts):
         f = o(f)
     return f
 
+
+#: ``framefree.descriptors.canonical.INVARIANCES``, written out: importing it loads numba, which
+#: ``framefree live --help`` must not (tests/online/test_multi_cli.py checks they agree)
+INVARIANCES = ("full", "gravity")
 
 #: Options that only the paper's recognizer has.
 _PAPER_ONLY = ("resolution", "latency_min")
@@ -80,6 +91,7 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
     from ..online.paper import PaperRecognizer
 
     overrides = {k: v for k, v in kw.items() if v is not None}
+    invariance = overrides.pop("invariance", None)
     if method == "segments":
         given = [k for k in _PAPER_ONLY if k in overrides]
         if given:
@@ -91,7 +103,20 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
         if gestures:
             raise FramefreeError("--gestures does not apply to a gesture library file; enroll a "
                                  "library of those gestures instead")
+        if invariance is not None:
+            overrides["invariance"] = invariance  # refused below, as every other setting
         return _library_recognizer(models, method, overrides)
+    from ..datasets.multi_models import find_multi_models
+
+    multi = find_multi_models(models)
+    if multi is not None:  # several trackers: framefree.commands.multi_cli
+        from .multi_cli import multi_recognizer
+
+        return multi_recognizer(multi, method, gestures, overrides, models,
+                                invariance or "gravity")
+    if invariance is not None:
+        raise FramefreeError("--invariance applies to models of several trackers; one tracker is "
+                             "compared by BILTS+, invariant to every change of frame")
     found = read_models(models, model_context, model_quat_order, units)
     if gestures:
         found = _only(found, gestures, models)
@@ -215,7 +240,8 @@ _emit_option = click.option(
 @_model_options
 @click.option("--source", required=True,
               help="zmq://127.0.0.1:PORT, lsl://NAME[#TRACKER], a ROS 2 bag BAG[#TOPIC], a CSV "
-              "file (replayed in real time), or 'openvr'.")
+              "file (replayed in real time), or 'openvr'. With models of several trackers: a "
+              "multi-tracker CSV file, or lsl://NAME (all its trackers).")
 @click.option("--quat-order", default="wxyz", show_default=True, type=click.Choice(QUAT_ORDERS),
               help="Quaternion order of the source (a CSV file's columns or the messages).")
 @click.option("--speed", type=float, default=1.0, show_default=True,
@@ -257,7 +283,9 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     With ``--robot sim`` the events drive the simulated robot: the simulation clock follows the
     stream's time stamps (time 0 = first pose) and every event acts at its time.
     """
+    from ..datasets.multi_models import holds_several_trackers
     from ..io.sources import open_source
+    from .multi_cli import check_trackers
 
     if robot_plot:
         writable_file(robot_plot, "--robot-plot")
@@ -269,9 +297,17 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     sim = robot_factory(robot, robot_host)
     # the source and the viewer are checked (a ZeroMQ subscriber connected, a rerun viewer on
     # 127.0.0.1 started) before the slow model building
-    src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units)
+    several = holds_several_trackers(models)
+    if several and (view_kind == "rerun" or save_rrd):
+        raise FramefreeError("--view rerun and --save show one tracker; they are not available "
+                             "for models of several trackers")
+    src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units,
+                      several=several)
+    if not several:
+        check_trackers(several, getattr(src, "n_trackers", 1), source)
     viewer = _start_viewer() if view_kind == "rerun" and not save_rrd else None
     rec = _recognizer(models, model_context, model_quat_order, units, **kw)
+    _match_source(rec, src, source)
     if classify == "background" and not hasattr(rec, "background"):
         raise FramefreeError("--classify background needs --method segments")
     if hasattr(rec, "background"):
@@ -296,6 +332,18 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     click.echo(f"{n} poses; {json.dumps(skipped)}", err=True)
     if sim is not None and t0 is not None:
         finish_robot(sim, robot_settle, robot_plot)
+
+
+def _match_source(rec: Any, src: Any, spec: str) -> None:
+    """One clear error when the source brings other trackers than the models have; a replayed
+    multi-tracker file gets its trackers in the models' order."""
+    from .multi_cli import match_trackers, n_trackers
+
+    have = getattr(src, "n_trackers", 1)
+    if hasattr(src, "traj"):
+        src.traj = match_trackers(rec, src.traj, spec)
+    elif have != n_trackers(rec):
+        raise FramefreeError(f"{spec}: {have} tracker(s), but the models have {n_trackers(rec)}")
 
 
 def _check_emit(specs: tuple[str, ...]) -> None:

@@ -11,6 +11,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..core.multitrajectory import MultiTrajectory
 from ..core.trajectory import Trajectory
 from ..errors import DatasetError
 
@@ -51,16 +52,27 @@ def write_labels(path: str | Path, segments: Sequence[Segment]) -> Path:
     return path
 
 
-def load_stream(path: str | Path, quat_order: str = "wxyz") -> tuple[Trajectory, list[Segment]]:
+def load_stream(path: str | Path, quat_order: str = "wxyz"
+                ) -> tuple[Trajectory | MultiTrajectory, list[Segment]]:
     """Read a stream CSV and its ``<name>_labels.csv``.
+
+    A file whose header row names trackers (``t,right.x,...``, framefree's multi-tracker CSV,
+    :mod:`framefree.io.multicsv`) is read as several trackers, a
+    :class:`~framefree.core.multitrajectory.MultiTrajectory` (its header gives the quaternion
+    order); any other as one tracker.
 
     Raises
     ------
     DatasetError
         If the labels file is missing or malformed (naming the file and row).
     """
+    from ..io.multicsv import has_tracker_header, read_multi_csv
+
     path = Path(path)
-    traj = Trajectory.from_csv(path, quat_order=quat_order)
+    if has_tracker_header(path):
+        traj: Trajectory | MultiTrajectory = read_multi_csv(path)
+    else:
+        traj = Trajectory.from_csv(path, quat_order=quat_order)
     lp = labels_path(path)
     if not lp.is_file():
         raise DatasetError(f"{lp}: labels file missing for stream {path}")

@@ -13,7 +13,8 @@ A stream of ``float32``/``double64`` channels, **7 or 8 per tracker**, trackers 
 
 The channel count decides: a multiple of 7 is read as 7 per tracker, else a multiple of 8 as 8
 (give ``per_tracker`` when a count is a multiple of both, e.g. 56). A source yields one tracker's
-poses (``lsl://NAME#INDEX``, default 0); :attr:`LslSource.trackers` says how many the stream carries.
+poses (``lsl://NAME#INDEX``, default 0), or, for models of several trackers, every tracker at once;
+:attr:`LslSource.trackers` says how many the stream carries.
 
 Clock
 -----
@@ -138,8 +139,10 @@ class LslSource:
     ----------
     name : str
         The stream's name (``lsl://NAME``).
-    tracker : int
-        Which tracker of the stream (0-based).
+    tracker : int or None
+        Which tracker of the stream (0-based); None: every tracker at once, each pose then
+        positions (n, 3) and quaternions (n, 4) in the stream's order (a tracker whose valid
+        flag is 0 gets NaN positions: the recognizer's gate skips and bridges it).
     quat_order : {"wxyz", "xyzw"}
         Quaternion order of the channels; poses come out scalar first.
     per_tracker : {7, 8}, optional
@@ -150,13 +153,14 @@ class LslSource:
         Seconds to find the stream; seconds without a sample before the source ends.
     """
 
-    def __init__(self, name: str, tracker: int = 0, quat_order: str = "wxyz",
+    def __init__(self, name: str, tracker: int | None = 0, quat_order: str = "wxyz",
                  per_tracker: int | None = None, clock: str = "source",
                  resolve_timeout: float = 5.0, timeout: float | None = 5.0) -> None:
         if clock not in ("source", "local"):
             raise ValueError(f"clock must be 'source' or 'local', got {clock!r}")
         pylsl = import_pylsl()
-        self.name, self.tracker, self.clock, self.timeout = name, int(tracker), clock, timeout
+        self.name, self.clock, self.timeout = name, clock, timeout
+        self.tracker = None if tracker is None else int(tracker)
         found = pylsl.resolve_byprop("name", name, 1, resolve_timeout)
         if not found:
             raise FramefreeError(f"lsl://{name}: no LSL stream of that name on this machine within "
@@ -164,7 +168,8 @@ class LslSource:
         info = found[0]
         self.per_tracker = _layout(info.channel_count(), per_tracker)
         self.trackers = info.channel_count() // self.per_tracker
-        if not 0 <= self.tracker < self.trackers:
+        self.n_trackers = self.trackers if self.tracker is None else 1
+        if self.tracker is not None and not 0 <= self.tracker < self.trackers:
             raise FramefreeError(f"lsl://{name}#{tracker}: the stream carries {self.trackers} "
                                  "tracker(s), numbered from 0")
         self._order = [3, 0, 1, 2] if quat_order == "xyzw" else [0, 1, 2, 3]
@@ -177,6 +182,9 @@ class LslSource:
         self.timed_out = False
 
     def __iter__(self) -> Iterator[tuple[float, np.ndarray, np.ndarray]]:
+        if self.tracker is None:
+            yield from self._all()
+            return
         k0 = self.tracker * self.per_tracker
         try:
             while True:
@@ -195,6 +203,29 @@ class LslSource:
                     ts += self._inlet.time_correction()
                 self.received += 1
                 yield float(ts), v[:3].copy(), v[3:7][self._order]
+        finally:
+            self.close()
+
+    def _all(self) -> Iterator[tuple[float, np.ndarray, np.ndarray]]:
+        """Every tracker of each sample: positions (n, 3), quaternions (n, 4) scalar first."""
+        try:
+            while True:
+                try:
+                    sample, ts = self._inlet.pull_sample(
+                        timeout=32000000.0 if self.timeout is None else self.timeout)
+                except self._lost:
+                    return
+                if ts is None:
+                    self.timed_out = True
+                    return
+                v = np.asarray(sample, dtype=float).reshape(self.trackers, self.per_tracker)
+                p = v[:, :3].copy()
+                if self.per_tracker == 8:
+                    p[v[:, 7] == 0] = np.nan
+                if self.clock == "local":
+                    ts += self._inlet.time_correction()
+                self.received += 1
+                yield float(ts), p, v[:, 3:7][:, self._order]
         finally:
             self.close()
 

@@ -19,14 +19,30 @@ from pathlib import Path
 import numpy as np
 
 from ..core.multitrajectory import MultiTrajectory
+from ..core.posecsv import header_kind
 from ..core.trajectory import MIN_SAMPLES, Trajectory
 from ..errors import TrajectoryError
 from .conventions import UP, Convention, get_convention, poses_to_framefree
 
-__all__ = ["read_multi_csv", "write_multi_csv"]
+__all__ = ["has_tracker_header", "read_multi_csv", "write_multi_csv"]
 
 _POS = ("x", "y", "z")
 _QUAT = {"wxyz": ("qw", "qx", "qy", "qz"), "xyzw": ("qx", "qy", "qz", "qw")}
+
+
+def has_tracker_header(path: str | Path) -> bool:
+    """Whether ``path`` is a file whose first row names trackers (``t,NAME.x,...``): this format,
+    not a single-tracker CSV (whose header, if any, is ``t,x,y,z,qw,qx,qy,qz``). A malformed
+    tracker header still counts, so that its reader names the faulty columns."""
+    path = Path(path)
+    if not path.is_file():
+        return False
+    with path.open("rb") as fh:
+        head = fh.read(4096)
+    if not head.startswith((b"t,", b"t\r", b"t\n")):
+        return False
+    first = head.decode("utf-8", errors="replace").splitlines()[0]
+    return header_kind(first) == "multi" or "." in first
 
 
 def _parse_header(path: Path, header: list[str]) -> tuple[list[str], str]:

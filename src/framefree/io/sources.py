@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core.multitrajectory import MultiTrajectory
 from ..core.posecsv import UNITS, warn_if_implausible
 from ..core.trajectory import Trajectory
 from ..errors import FramefreeError
@@ -135,13 +136,22 @@ class CsvReplay:
         If given, pace the samples at this many per second instead of following the time stamps.
     """
 
-    def __init__(self, source: str | Path | Trajectory, speed: float = 1.0, rate: float | None = None):
-        self.traj = source if isinstance(source, Trajectory) else Trajectory.from_csv(source)
+    def __init__(self, source: str | Path | Trajectory | MultiTrajectory, speed: float = 1.0,
+                 rate: float | None = None):
+        self.traj = (source if isinstance(source, Trajectory | MultiTrajectory)
+                     else Trajectory.from_csv(source))
         self.speed = float(speed)
         self.rate = rate
 
+    @property
+    def n_trackers(self) -> int:
+        """Trackers per pose: 1, or a MultiTrajectory's (then p is (n, 3) and q (n, 4))."""
+        return getattr(self.traj, "n_trackers", 1)
+
     def __iter__(self) -> Iterator[Pose]:
         tr = self.traj
+        if isinstance(tr, MultiTrajectory):
+            tr = _Stacked(tr)
         start = time.perf_counter()
         for k in range(len(tr)):
             if self.rate:
@@ -154,6 +164,18 @@ class CsvReplay:
             if wait > 0:
                 time.sleep(wait)
             yield float(tr.t[k]), tr.p[k].copy(), tr.q[k].copy()
+
+
+class _Stacked:
+    """A MultiTrajectory's poses as arrays (N, n_trackers, 3) and (N, n_trackers, 4)."""
+
+    def __init__(self, sample: MultiTrajectory) -> None:
+        self.t = sample.t
+        self.p = np.stack([tr.p for tr in sample.trackers], axis=1)
+        self.q = np.stack([tr.q for tr in sample.trackers], axis=1)
+
+    def __len__(self) -> int:
+        return int(self.t.shape[0])
 
 
 class ZmqSource:
@@ -361,13 +383,18 @@ class UnitsAndOrder:
         """Whether the wrapped source ended for lack of data (see :attr:`ZmqSource.timed_out`)."""
         return bool(getattr(self.source, "timed_out", False))
 
+    @property
+    def n_trackers(self) -> int:
+        """Trackers per pose of the wrapped source (1 unless it carries several)."""
+        return int(getattr(self.source, "n_trackers", 1))
+
     def __iter__(self) -> Iterator[Pose]:
         first: list[np.ndarray] = []
         for t, p, q in self.source:
             p = p * self.scale
-            q = q[self.order]
-            if len(first) < self.check_after:
-                first.append(np.concatenate([[t], p, q]))
+            q = q[..., self.order]  # (4,), or (n_trackers, 4)
+            if len(first) < self.check_after:  # several trackers: the first one is looked at
+                first.append(np.concatenate([[t], p.reshape(-1, 3)[0], q.reshape(-1, 4)[0]]))
                 if len(first) == self.check_after:
                     warn_if_implausible(np.asarray(first), self.name, self.quat_order)
             yield t, p, q
@@ -375,7 +402,7 @@ class UnitsAndOrder:
 
 def open_source(
     spec: str, speed: float = 1.0, timeout: float | None = 5.0, quat_order: str = "wxyz",
-    units: str = "m",
+    units: str = "m", several: bool = False,
 ):
     """Source from a command-line spec: ``zmq://127.0.0.1:PORT``, ``tcp://...``, ``openvr``,
     ``lsl://NAME[#TRACKER]`` (:mod:`framefree.io.lsl`), a live ROS 2 topic ``ros2:///TOPIC``
@@ -385,7 +412,17 @@ def open_source(
     The spec is checked here, before anything slow: a non-loopback endpoint, a missing file or a
     missing OpenVR raise :class:`FramefreeError`. ``quat_order`` and ``units`` describe the source's
     numbers (a CSV file's columns, or the pose messages).
+
+    With ``several`` (models of several trackers), ``lsl://NAME`` yields every tracker of the
+    stream at once (positions (n, 3), quaternions (n, 4)); a multi-tracker CSV file
+    (:mod:`framefree.io.multicsv`) always does. The other sources carry one tracker, and say so.
     """
+    if several and not spec.startswith("lsl://") and (
+            spec.startswith(("zmq://", "tcp://", "ipc://", "ros2://")) or spec == "openvr"
+            or not Path(spec).is_file()):
+        raise FramefreeError(f"{spec}: this source carries one tracker, and the models have "
+                             "several; use a multi-tracker CSV file or an LSL stream of all the "
+                             "trackers (docs/io.md)")
     if spec.startswith(("zmq://", "tcp://", "ipc://")):
         return UnitsAndOrder(ZmqSource(spec, timeout=timeout), spec, quat_order, units)
     if spec == "openvr":
@@ -396,7 +433,11 @@ def open_source(
         name, _, tracker = spec[len("lsl://"):].partition("#")
         if tracker and not tracker.isdigit():
             raise FramefreeError(f"{spec}: expected lsl://NAME or lsl://NAME#TRACKER_INDEX")
-        lsl = LslSource(name, tracker=int(tracker or 0), quat_order=quat_order, timeout=timeout)
+        if several and tracker:
+            raise FramefreeError(f"{spec}: the models have several trackers; give lsl://{name} "
+                                 "(every tracker of the stream, in its channel order)")
+        which = None if several else int(tracker or 0)
+        lsl = LslSource(name, tracker=which, quat_order=quat_order, timeout=timeout)
         return UnitsAndOrder(lsl, spec, "wxyz", units)
     if spec.startswith("ros2://"):
         from .ros2 import Ros2PoseSource
@@ -405,9 +446,19 @@ def open_source(
     from .rosbag import RosbagSource, is_bag
 
     if is_bag(spec.partition("#")[0]):
+        if several:
+            raise FramefreeError(f"{spec}: a bag source carries one pose topic, and the models "
+                                 "have several trackers; export a multi-tracker CSV")
         return UnitsAndOrder(RosbagSource.from_spec(spec, speed=speed), spec, "wxyz", units)
     path = Path(spec)
     if not path.is_file():
         raise FramefreeError(f"{spec}: not a file, and not zmq://127.0.0.1:PORT, lsl://NAME, "
                              "a ROS 2 bag or 'openvr'")
+    from .multicsv import has_tracker_header, read_multi_csv
+
+    if has_tracker_header(path):
+        if units != "m":
+            raise FramefreeError(f"{spec}: a multi-tracker CSV file is in metres; --units "
+                                 f"{units} does not apply")
+        return CsvReplay(read_multi_csv(path), speed=speed)
     return CsvReplay(Trajectory.from_csv(path, quat_order=quat_order, units=units), speed=speed)

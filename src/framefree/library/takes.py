@@ -39,6 +39,7 @@ __all__ = [
     "motion_speed",
     "rest_level",
     "split_takes",
+    "takes_from_speed",
     "write_take",
 ]
 
@@ -192,7 +193,14 @@ def find_takes(traj: Trajectory, settings: TakeSettings | None = None) -> list[T
         In time order; empty when the recording holds no motion that qualifies.
     """
     s = settings or TakeSettings()
-    t, v = motion_speed(traj, s.L, s.smoothing)
+    return takes_from_speed(*motion_speed(traj, s.L, s.smoothing), s)
+
+
+def takes_from_speed(t: np.ndarray, v: np.ndarray, settings: TakeSettings | None = None
+                     ) -> list[TakeSpan]:
+    """The takes of a motion speed signal: times (K,) [s] every :data:`SPEED_PERIOD`, speeds (K,)
+    [m/s] (:func:`motion_speed`, or the sum of several trackers' speeds); see :func:`find_takes`."""
+    s = settings or TakeSettings()
     noise, peak, level = rest_level(v, s)
     if not peak > 0:
         return []

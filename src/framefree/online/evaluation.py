@@ -19,6 +19,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from ..core.multitrajectory import MultiTrajectory
 from ..core.trajectory import Trajectory
 from .events import Event
 
@@ -266,15 +267,19 @@ class TracingRecognizer:
         return StreamTrace(np.array(self._times), diss, self.gestures, thresholds)
 
 
-def run_stream(recognizer: Any, traj: Trajectory, view: Any = None
+def run_stream(recognizer: Any, traj: Trajectory | MultiTrajectory, view: Any = None
                ) -> tuple[list[Event], StreamTrace]:
-    """Reset the recognizer, push a whole stream, return its events and a dissimilarity trace
-    (``view``: anything with ``update(t, p, q, events)``, e.g. the rerun view, fed every pose)."""
+    """Reset the recognizer, push a whole stream (a MultiTrajectory for a recognizer of several
+    trackers), return its events and a dissimilarity trace (``view``: anything with
+    ``update(t, p, q, events)``, e.g. the rerun view, fed every pose)."""
     tracer = TracingRecognizer(recognizer)
+    trackers = getattr(traj, "trackers", None)  # several trackers: (N, n, 3) and (N, n, 4)
+    P = traj.p if trackers is None else np.stack([tr.p for tr in trackers], axis=1)
+    Q = traj.q if trackers is None else np.stack([tr.q for tr in trackers], axis=1)
     for k in range(len(traj)):
-        events = tracer.push(traj.t[k], traj.p[k], traj.q[k])
+        events = tracer.push(traj.t[k], P[k], Q[k])
         if view is not None:
-            view.update(traj.t[k], traj.p[k], traj.q[k], events)
+            view.update(traj.t[k], P[k], Q[k], events)
     return tracer.events, tracer.trace()
 
 

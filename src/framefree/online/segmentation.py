@@ -379,8 +379,7 @@ class MotionSegmenter:
         if self._since_restart <= self.lag:
             self._last_rest = k
             return None
-        v = screw_path_increment(self.buffer.pose(k - self.lag), self.buffer.pose(k), self.L)
-        v /= self.lag * self.dt
+        v = self._speed(k)
         self.speed = v
         c = k - self.lag // 2  # the speed describes the middle of the lag
         self._speeds[c % self.buffer.capacity] = v
@@ -408,6 +407,12 @@ class MotionSegmenter:
             self._start, self._peak, self._vmin = self._imin, v, math.inf
             return unit
         return None
+
+    def _speed(self, k: int) -> float:
+        """Motion speed [m/s] at the buffered pose ``k``: the screw path from the pose ``lag``
+        samples earlier, per second (a segmenter of several trackers adds theirs)."""
+        v = screw_path_increment(self.buffer.pose(k - self.lag), self.buffer.pose(k), self.L)
+        return v / (self.lag * self.dt)
 
     def _close(self, end: int, rest_after: bool) -> Unit:
         heading_in, heading_out = self._headings(self._start, end)
