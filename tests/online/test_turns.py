@@ -136,7 +136,7 @@ def _real_turns() -> dict:
 def test_real_people_turn_the_way_another_persons_takes_forbid():
     """Why ``turns`` is off by default (v17): on the real Vive recordings, where one person's
     takes all turn one way (the *golf swing*), other people's performances turn the other way
-    (all six people, takes cut at v17's rest level: 20 of 100; the shipped subset keeps two takes
+    (all six people, takes cut at v17's rest level: 20 of 50; the shipped subset keeps two takes
     of it per person, 0 of 8, too few to show it). The rule holds for drawn polygons, not for
     real people's gestures."""
     if MACHETE == SHIPPED_MACHETE:

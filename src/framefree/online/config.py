@@ -156,20 +156,20 @@ class RecognizerConfig:
     corner_slack : int
         Corners a candidate may have beyond the number its gesture's demonstrations agree on (2,
         v17: on six real people, ``machete_vive``, with takes cut at v17's rest level, one
-        person's agreeing takes were exceeded by 22.8 % of the other people's performances with
-        0, 4.1 % with 1 and 0.15 % with 2; v16's level, at which the slowest takes started no
+        person's agreeing takes were exceeded by 25.8 % of the other people's performances with
+        0, 5.2 % with 1 and 0.17 % with 2; v16's level, at which the slowest takes started no
         unit, had suggested 1). A circle still admits no square, diamond or pentagon.
     slack_corners : int or None
         Only a gesture whose demonstrations agree on at most this many corners gets
         ``corner_slack`` (``None``, v17: every gesture gets it; with takes cut at v17's rest
         level other people add corners to gestures of several too, and the v15 rule, 1, let
-        10.7 % of the real people's performances exceed a limit).
+        12.3 % of the real people's performances exceed a limit).
     turns : bool
         Accept a candidate only if no two of its corners turn in a way its gesture's
         demonstrations never do (:func:`~framefree.online.limits.forbidden_turns`): a triangle
         or a square turns the same way at every corner, a Z turns back at its second. False
         (v17): on six real people, where one person's takes all turned one way (the golf swing,
-        4 limits), 20 of the other people's 100 performances turned the other way; on the
+        2 limits), 20 of the other people's 50 performances turned the other way; on the
         replica's development people it kept 3 unenrolled squares in 8 streams from firing a
         taught zigzag, a gain that does not hold for real people.
     up : str or None

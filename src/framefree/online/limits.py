@@ -50,10 +50,14 @@ __all__ = [
 def recording_units(traj: Trajectory, levels: SpeedLevels, L: float, dt: float
                     ) -> tuple[MotionSegmenter, list[Unit]]:
     """A recording cut into movement units on the uniform grid, as the live segmenter cuts a
-    stream: ``(segmenter, units)``; the segmenter's buffer holds the poses."""
+    stream: ``(segmenter, units)``; the segmenter's buffer holds the poses. A recording is one
+    gesture, so a unit still in progress at its end (a take cut without a rest after it) ends
+    there."""
     seg = MotionSegmenter(levels, L, dt, capacity=max(16, int(traj.duration / dt) + 8))
     times, poses = traj.uniform_poses(dt)
     units = [u for k in range(times.size) if (u := seg.push(float(times[k]), poses[k])) is not None]
+    if (last := seg.finish()) is not None:
+        units.append(last)
     return seg, units
 
 

@@ -281,11 +281,13 @@ def speed_levels(
     The median, not the largest floor (before v17): a recording cut without a rest has no noise
     floor, only its slowest motion, and on real data one such take put the rest level above
     every take's peak speed (SFINGE3D's swipes: 0.58 m/s from the largest floor, 0.10 m/s from
-    the median; docs/online-history.md, *v17*). Where most takes are cut without a rest, even the median
-    may lie above the slow takes' peaks; the move level is then half the 10th percentile of the
-    takes' peaks, so that at least nine takes in ten start a unit. Not the slowest take's peak: in
-    a recording of two trackers one may hardly move (real Vive takes: 0.11 m/s, against 3.3 at
-    the median), and that take would set the level for all.
+    the median; docs/online-history.md, *v17*). Where most takes are cut without a rest, even the
+    median floor may put the move level near the takes' peaks; the move level is then at most half
+    the median take's peak, so the typical take starts a unit. Not the slowest take's peak, nor
+    a low percentile: in a recording of two trackers one may hardly move (real Vive takes: 0.11
+    m/s, against 3.3 at the median), and leaving one person out of the Vive models put the 10th
+    percentile low enough to pull the rest level from 0.2 to 0.09 m/s, which cut real gestures
+    into pieces.
 
     Parameters
     ----------
@@ -305,9 +307,9 @@ def speed_levels(
     if not peaks:
         raise ValueError("no model recording is long enough to measure its motion speed")
     rest = max(noise_factor * float(np.median(floors)), peak_fraction * min(peaks))
-    slow_peak = float(np.percentile(peaks, 10))  # robust to a take in which the tracker hardly moves
-    if move_factor * rest >= slow_peak:  # most takes cut without a rest: slow ones could not
-        rest = 0.5 * slow_peak / move_factor  # start a unit; their peak must reach twice the move level
+    typical_peak = float(np.median(peaks))
+    if move_factor * rest > 0.5 * typical_peak:  # most takes cut without a rest: the typical take
+        rest = 0.5 * typical_peak / move_factor  # must reach twice the move level to start a unit
     return SpeedLevels(rest=rest, move=move_factor * rest)
 
 
@@ -413,6 +415,15 @@ class MotionSegmenter:
         samples earlier, per second (a segmenter of several trackers adds theirs)."""
         v = screw_path_increment(self.buffer.pose(k - self.lag), self.buffer.pose(k), self.L)
         return v / (self.lag * self.dt)
+
+    def finish(self) -> Unit | None:
+        """End the unit in progress at the latest pose (the end of a recording), if any."""
+        if not self.moving or self.buffer.count == 0:
+            return None
+        self.moving = False
+        end = self.buffer.count - 1 - self.lag // 2
+        self._last_rest = end
+        return self._close(end, rest_after=True) if end > self._start else None
 
     def _close(self, end: int, rest_after: bool) -> Unit:
         heading_in, heading_out = self._headings(self._start, end)

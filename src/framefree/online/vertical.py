@@ -33,7 +33,7 @@ __all__ = ["AXES", "VERTICAL_MARGIN", "up_vector", "vertical_limits", "verticali
 AXES = ("+x", "-x", "+y", "-y", "+z", "-z")
 
 #: How far [fraction of path] another person's verticality may lie outside one person's range of
-#: takes. On the real Vive recordings' 2 964 such comparisons, with takes cut at v17's rest level,
+#: takes. On the real Vive recordings' 2 974 such comparisons, with takes cut at v17's rest level,
 #: 0.45 lets 98.3 % through (the 99th percentile is 0.52, the largest 0.79); a wider margin would
 #: let an N through as a Z (about 0.8 against 0.3). v16's level, at which the slowest takes
 #: started no unit, gave a 99th percentile of 0.30 over 2 552. ``benchmarks/real_vertical.py``.
