@@ -11,6 +11,9 @@ recognizer and the paper's (docs/online.md, *Three live recognizers side by side
   are not compensated: that is the practitioner's bet this baseline stands for;
 * **windows**: ending at the newest pose, every ``stride`` seconds, of the shortest, median and
   longest duration of the model takes (the takes as recorded, rests included);
+* **motion gate**: a window whose path (of its resampled points) is shorter than ``min_path``
+  × the shortest take's is not compared: a window of rest with the first tenths of a second of a
+  gesture is otherwise near every take of a small gesture;
 * **distance**: DTW with the Euclidean distance between points [m], summed along the path and
   divided by the path's length, to every take: the nearest take (1-NN) names the gesture;
 * **threshold** per gesture, from the takes alone: the ``threshold_quantile`` of the
@@ -45,11 +48,11 @@ from .events import STOP, Event
 from .stop import StopDetector, sustained_peak_speed
 from .streaming import StreamingRecognizer
 
-__all__ = ["WindowConfig", "WindowSpotter", "dtw_distances", "window_points"]
+__all__ = ["WindowConfig", "WindowSpotter", "dtw_distances", "path_length", "window_points"]
 
 #: Counters of :attr:`WindowSpotter.stats`.
 STAT_KEYS = ("samples", "accepted", "nan", "bad_quaternion", "not_later", "gaps", "windows",
-             "events", "stops")
+             "still", "events", "stops")
 
 
 @dataclass(frozen=True)
@@ -70,6 +73,8 @@ class WindowConfig:
         τ_g = factor × this quantile of gesture g's leave-one-out distances (0.75 and 1: chosen
         on SFINGE3D sequences 1-18 among the quantiles 0.25, 0.5, 0.75, 0.9 and 1 and the
         strides 0.05, 0.1 and 0.2 s; docs/online.md).
+    min_path : float
+        The motion gate: fraction of the shortest take's path [m] a window must travel.
     patience : int
         Evaluations without a lower ratio after which the kept candidate fires.
     refractory : float or None
@@ -88,6 +93,7 @@ class WindowConfig:
     threshold: float | None = None
     threshold_quantile: float = 0.75
     threshold_factor: float = 1.0
+    min_path: float = 0.5
     patience: int = 3
     refractory: float | None = None
     max_gap: float = 0.5
@@ -100,6 +106,8 @@ class WindowConfig:
         for name in ("stride", "threshold_factor", "max_gap"):
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
+        if not 0.0 <= self.min_path < 1.0:
+            raise ValueError(f"min_path must be in [0, 1), got {self.min_path}")
         if not 0.0 <= self.threshold_quantile <= 1.0:
             raise ValueError(f"threshold_quantile must be in [0, 1], got {self.threshold_quantile}")
         if self.threshold is not None and not self.threshold > 0:
@@ -162,6 +170,11 @@ def dtw_distances(x, models):
                 cost[a, b], steps[a, b] = best + d, k + 1.0
         out[j] = cost[n - 1, n - 1] / steps[n - 1, n - 1]
     return out
+
+
+def path_length(x: np.ndarray) -> float:
+    """Length [m] of the polyline through the points ``x`` (n, 3)."""
+    return float(np.linalg.norm(np.diff(x, axis=0), axis=1).sum())
 
 
 def _leave_one_out(models: np.ndarray, labels: np.ndarray) -> np.ndarray:
@@ -229,6 +242,7 @@ class WindowSpotter(StreamingRecognizer):
         self.stop = stop
         self.stop_threshold = stop.threshold if stop is not None else math.inf
         self._span = max(config.durations) + 2 * config.stride
+        self.min_path = config.min_path * min(path_length(x) for x in self.models)
         self.reset()
 
     @classmethod
@@ -341,6 +355,9 @@ class WindowSpotter(StreamingRecognizer):
             if sel.sum() < 3:
                 continue
             x = window_points(times[sel], pos[sel], self.config.n_points)
+            if path_length(x) < self.min_path:
+                self.stats["still"] += 1
+                continue
             best = np.minimum(best, dtw_distances(x, self.models))
             self.stats["windows"] += 1
         if not np.isfinite(best).any():
