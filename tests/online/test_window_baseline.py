@@ -30,7 +30,7 @@ def synthesize_gesture(shape: str, rng: np.random.Generator) -> Trajectory:
     xy = np.concatenate([np.repeat(xy[:1], 25, axis=0), xy, np.repeat(xy[-1:], 25, axis=0)])
     p = np.column_stack([xy, np.zeros(len(xy))]) + 5e-4 * rng.standard_normal((len(xy), 3))
     q = np.repeat([[1.0, 0.0, 0.0, 0.0]], len(xy), axis=0)
-    return Trajectory(np.arange(len(xy)) * 0.02, p + [0.3, 1.2, 0.1], q)
+    return Trajectory(np.arange(len(xy)) * 0.02, p + np.array([0.3, 1.2, 0.1]), q)
 
 
 @pytest.fixture(scope="module")
@@ -79,7 +79,7 @@ def test_an_enrolled_gesture_in_a_resting_stream_is_found_once_and_named(spotter
     k = labels.index(gesture) + 2
     T = trajs[k]
     rng = np.random.default_rng(100 + k)
-    take = Trajectory(T.t, T.p + [0.5, -0.3, 0.2] + 3e-4 * rng.standard_normal(T.p.shape), T.q)
+    take = Trajectory(T.t, T.p + np.array([0.5, -0.3, 0.2]) + 3e-4 * rng.standard_normal(T.p.shape), T.q)
     stream, start, end = _in_rest(take)
     spotter.reset()
     events = spotter.run(stream)

@@ -59,24 +59,27 @@ STAT_KEYS = ("samples", "accepted", "nan", "bad_quaternion", "not_later", "gaps"
 class WindowConfig:
     """Settings of :class:`WindowSpotter` (``None``: derived from the model takes).
 
+    ``stride``, ``threshold_quantile``, ``patience`` and ``min_path`` were chosen together by F1 on
+    SFINGE3D sequences 1-18 (quantile 0.5 / 0.75 / 0.9 / 1, stride 0.1 / 0.2 s, patience 3 / 10,
+    gate 0 / 0.5; docs/online.md, *Three live recognizers side by side*), never on the sequences
+    or people reported.
+
     Attributes
     ----------
     n_points : int
         Samples every window and every take is resampled to (in time).
     stride : float
-        Seconds between two evaluations of the windows (0.1, chosen with the quantile).
+        Seconds between two evaluations of the windows (0.2).
     durations : tuple of float or None
         Window durations [s]; ``None``: the shortest, median and longest take.
     threshold : float or None
         One threshold for every gesture [m]; ``None``: per gesture from the takes.
     threshold_quantile, threshold_factor : float
-        τ_g = factor × this quantile of gesture g's leave-one-out distances (0.75 and 1: chosen
-        on SFINGE3D sequences 1-18 among the quantiles 0.25, 0.5, 0.75, 0.9 and 1 and the
-        strides 0.05, 0.1 and 0.2 s; docs/online.md).
+        τ_g = factor × this quantile of gesture g's leave-one-out distances (0.9 and 1).
     min_path : float
         The motion gate: fraction of the shortest take's path [m] a window must travel.
     patience : int
-        Evaluations without a lower ratio after which the kept candidate fires.
+        Evaluations without a lower ratio after which the kept candidate fires (10).
     refractory : float or None
         Seconds after an event during which nothing fires; ``None``: the shortest take.
     max_gap : float
@@ -88,13 +91,13 @@ class WindowConfig:
     """
 
     n_points: int = 32
-    stride: float = 0.1
+    stride: float = 0.2
     durations: tuple[float, ...] | None = None
     threshold: float | None = None
-    threshold_quantile: float = 0.75
+    threshold_quantile: float = 0.9
     threshold_factor: float = 1.0
     min_path: float = 0.5
-    patience: int = 3
+    patience: int = 10
     refractory: float | None = None
     max_gap: float = 0.5
     stop: bool = True
