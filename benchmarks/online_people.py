@@ -4,8 +4,9 @@ Models: the replica's ``original_1`` recordings (one person, the replica's). Str
 people drawn from the population of :mod:`framefree.replica.people` — ``--people dev`` (seeds
 0-19, the only ones used to choose parameters), ``--people heldout`` (seeds 1000-1019) or
 ``--people fresh`` (seeds 2000-2019, a second held-out group; both only for reporting once the
-parameters are frozen). Both methods can run side by side on the same streams:
-``segments`` (framefree's recognizer) and ``paper`` (the paper's).
+parameters are frozen). The methods can run side by side on the same streams:
+``segments`` (framefree's recognizer), ``paper`` (the paper's) and ``window`` (a practitioner's
+sliding-window 1-NN baseline); ``both`` runs the first two, ``all`` the three.
 
 Prints per-person and pooled precision / recall / F1, false positives per minute of non-gesture
 motion, the detection latency after the gesture's end, misses per gesture, and which activity each
@@ -13,6 +14,7 @@ false positive came from; ``--json`` writes it all.
 
     .venv/bin/python benchmarks/online_people.py --people dev --per-person 1 --method both
     .venv/bin/python benchmarks/online_people.py --people heldout --per-person 2 --json out.json
+    .venv/bin/python benchmarks/online_people.py --people heldout --per-person 1 --method all
     .venv/bin/python benchmarks/online_people.py --people dev --set confirm=0.3
     .venv/bin/python benchmarks/online_people.py --people dev --style hesitant
     .venv/bin/python benchmarks/online_people.py --people dev --style hesitant --hesitation 1 \
@@ -34,6 +36,7 @@ from framefree.datasets.layout import load_model_recordings
 from framefree.online import Recognizer
 from framefree.online.evaluation import combine, match_events, run_stream
 from framefree.online.paper import PaperRecognizer
+from framefree.online.window_baseline import WindowSpotter
 from framefree.replica import replica_path
 from framefree.replica.people import (
     DEV_PEOPLE,
@@ -52,7 +55,7 @@ def _recognizer(method: str, overrides: dict):
     key = (method, json.dumps(overrides, sort_keys=True))
     if key not in _RECOGNIZERS:
         trajs, labels = load_model_recordings(replica_path(0), "original_1")
-        cls = Recognizer if method == "segments" else PaperRecognizer
+        cls = {"segments": Recognizer, "paper": PaperRecognizer, "window": WindowSpotter}[method]
         rec = cls.from_trajectories(trajs, labels, **overrides)
         rec.warmup()
         _RECOGNIZERS[key] = rec
@@ -116,7 +119,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--people", default="dev", help="dev, heldout, fresh, or comma-separated seeds")
     ap.add_argument("--per-person", type=int, default=1, help="streams per person")
-    ap.add_argument("--method", default="segments", choices=["segments", "paper", "both"])
+    ap.add_argument("--method", default="segments",
+                    choices=["segments", "paper", "window", "both", "all"])
     ap.add_argument("--set", action="append", default=[], help="recognizer setting KEY=VALUE")
     ap.add_argument("--style", choices=list(STYLES), help="every person performs in this style "
                     "(framefree.replica.people.STYLES): hesitant (small, slow, trembling, near-stops) "
@@ -145,7 +149,8 @@ def main() -> None:
                  for p in seeds for k in range(args.per_person)]
     print(f"{len(items)} streams, {sum(len(i.segments) for i in items)} labelled items, "
           f"{sum(i.traj.duration for i in items) / 60:.1f} min ({time.perf_counter() - t0:.0f} s)")
-    methods = ["segments", "paper"] if args.method == "both" else [args.method]
+    methods = {"both": ["segments", "paper"], "all": ["segments", "paper", "window"]}.get(
+        args.method, [args.method])
     out = {"people": args.people, "per_person": args.per_person, "style": args.style,
            "hesitation": args.hesitation, "hesitation_pause": args.hesitation_pause,
            "settings": overrides}

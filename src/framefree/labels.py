@@ -8,7 +8,8 @@ __all__ = ["METHODS", "STOP"]
 #: event and a robot command all use it.
 STOP = "stop"
 
-#: Names of the live recognizers: framefree's segment spotting (the default) and the paper's
-#: fixed-window recognizer (:class:`framefree.online.Recognizer`,
-#: :class:`~framefree.online.paper.PaperRecognizer`).
-METHODS = ("segments", "paper")
+#: Names of the live recognizers: framefree's segment spotting (the default), the paper's
+#: fixed-window recognizer and a practitioner's sliding-window 1-NN baseline
+#: (:class:`framefree.online.Recognizer`, :class:`~framefree.online.paper.PaperRecognizer`,
+#: :class:`~framefree.online.window_baseline.WindowSpotter`).
+METHODS = ("segments", "paper", "window")

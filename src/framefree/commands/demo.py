@@ -31,7 +31,8 @@ from ..robot.demo import DEMO_PEOPLE, METHODS, PAPER_RESULT
     default=METHODS[0],
     show_default=True,
     help="segments: framefree's recognizer (whole gestures spotted and classified as offline); "
-    "paper: the paper's recognizer (fixed windows).",
+    "paper: the paper's recognizer (fixed windows); window: a practitioner's baseline "
+    "(sliding windows of palm positions, 1-NN, a threshold).",
 )
 @click.option("--no-render", is_flag=True, help="Skip the MuJoCo images even if OpenGL works.")
 @click.option("--models", type=click.Path(exists=True, dir_okay=False), default=None,

@@ -38,7 +38,9 @@ def _model_options(f):
                      help="Unit of the positions of the models and of the pose source."),
         click.option("--method", type=click.Choice(METHODS), default="segments", show_default=True,
                      help="segments: framefree's recognizer (whole gestures spotted and classified "
-                     "as offline); paper: the paper's recognizer (fixed windows)."),
+                     "as offline); paper: the paper's recognizer (fixed windows); window: a "
+                     "practitioner's baseline (sliding windows of palm positions, 1-NN by DTW, "
+                     "a threshold)."),
         click.option("--threshold", type=float, default=None,
                      help="One decision threshold for every gesture (default: calibrated per gesture)."),
         click.option("--stop-threshold", type=float, default=None,
@@ -81,6 +83,10 @@ def _thresholds(rec: Any) -> str:
 def _stop_and_resolution(rec: Any) -> str:
     if getattr(rec, "method", "paper") == "segments":
         return f"stop above {rec.stop_threshold:.3g} rad/s"
+    if getattr(rec, "method", "paper") == "window":
+        durations = ", ".join(f"{d:.2f}" for d in rec.config.durations)
+        return (f"stop above {rec.stop_threshold:.3g} rad/s, windows of {durations} s every "
+                f"{rec.config.stride:g} s")
     return (f"stop |dq/dt| > {rec.stop_threshold:.3g}/s, resolution "
             f"{rec.models.resolution:.4g} m")
 
@@ -89,9 +95,15 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
                 method: str = "segments", gestures: list[str] | None = None, **kw: Any):
     from ..online import Recognizer
     from ..online.paper import PaperRecognizer
+    from ..online.window_baseline import WindowSpotter
 
     overrides = {k: v for k, v in kw.items() if v is not None}
     invariance = overrides.pop("invariance", None)
+    if method == "window":
+        given = [k for k in overrides if k not in ("threshold", "stop_threshold")]
+        if given:
+            names = ", ".join("--" + k.replace("_", "-") for k in given)
+            raise FramefreeError(f"{names} do not apply to --method window")
     if method == "segments":
         given = [k for k in _PAPER_ONLY if k in overrides]
         if given:
@@ -122,7 +134,7 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
         found = _only(found, gestures, models)
     click.echo(f"building the gesture models ({method} method) and calibrating ...", err=True)
     t0 = time.perf_counter()
-    cls = Recognizer if method == "segments" else PaperRecognizer
+    cls = {"segments": Recognizer, "paper": PaperRecognizer, "window": WindowSpotter}[method]
     rec = cls.from_trajectories(found.trajectories, found.labels, **overrides)
     rec.warmup()
     click.echo(
@@ -149,7 +161,8 @@ def _library_recognizer(path: str, method: str, overrides: dict[str, Any]):
     from ..online import Recognizer
 
     if method != "segments" or overrides:
-        given = "--method paper" if method != "segments" else "--" + next(iter(overrides)).replace("_", "-")
+        given = (f"--method {method}" if method != "segments"
+                 else "--" + next(iter(overrides)).replace("_", "-"))
         raise FramefreeError(f"{given} does not apply to a gesture library file; its settings are fixed "
                              "when enrolling (framefree enroll ... --set KEY=VALUE)")
     click.echo(f"loading gesture library {path} ...", err=True)

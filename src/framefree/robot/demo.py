@@ -177,8 +177,9 @@ def build_recognizer(method: str = "segments", replica_seed: int = 0) -> Any:
 
     Parameters
     ----------
-    method : {"segments", "paper"}
-        :class:`~framefree.online.Recognizer` or :class:`~framefree.online.paper.PaperRecognizer`.
+    method : {"segments", "paper", "window"}
+        :class:`~framefree.online.Recognizer`, :class:`~framefree.online.paper.PaperRecognizer` or
+        :class:`~framefree.online.window_baseline.WindowSpotter`.
     replica_seed : int
         Seed of the HPM replica (generated on first use, then cached).
 
@@ -188,11 +189,12 @@ def build_recognizer(method: str = "segments", replica_seed: int = 0) -> Any:
     """
     from ..online import Recognizer
     from ..online.paper import PaperRecognizer
+    from ..online.window_baseline import WindowSpotter
     from ..replica import replica_path
 
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    cls = Recognizer if method == "segments" else PaperRecognizer
+    cls = {"segments": Recognizer, "paper": PaperRecognizer, "window": WindowSpotter}[method]
     recognizer = cls.from_dataset(replica_path(replica_seed), model_context="original_1")
     recognizer.warmup()
     return recognizer

@@ -186,7 +186,7 @@ def calibrate_threshold(
     for kind, tr in non_gesture_motions(trajectories, list(models.labels), config.L,
                                         config.calibration_negatives):
         d, _ = replay(tr, models.resolution, config.L, config.ds_scale, config.window,
-                      config.twist_noise, config.presmooth)
+                      config.twist_noise, config.presmooth, models.interpolate)
         sc = sequence_scores(bank, d) if d.shape[0] else np.full(M, np.inf)
         if np.isfinite(sc).any():
             kinds.append(kind)

@@ -38,6 +38,12 @@ class PaperConfig:
         finite differences (the nominal step, not the accumulated one; the paper gives neither).
         ``None``: found by bisection so that Algorithm 1 keeps a median of ``resolution_samples``
         geometric samples per model recording (docs/online-paper.md, *Gesture models*).
+    interpolate : int or None
+        Poses offered to Algorithm 1 per raw pose step: ``interpolate - 1`` put by ScLERP between
+        every two consecutive poses, models and live stream alike. ``None``: the fewest (1 to 8)
+        with which every model recording gives two descriptor samples
+        (:func:`~framefree.online.paper.models.auto_interpolation`): 1 for the paper's 50 Hz
+        recordings, more for short recordings at a low frame rate (20 fps SFINGE3D examples: 4).
     resolution_samples : int
         Target number of geometric samples per model gesture for the automatic resolution (80;
         dev streams: 50 gave F1 0.857, 80 gave 0.875 with the other defaults — translations get
@@ -144,6 +150,7 @@ class PaperConfig:
     L: float = 0.2
     ds_scale: float = 0.09
     resolution: float | None = None
+    interpolate: int | None = None
     resolution_samples: int = 80
     window: int = 10
     latency_fraction: float = 0.2
@@ -182,6 +189,8 @@ class PaperConfig:
             raise ValueError(f"ds_scale must be positive, got {self.ds_scale}")
         if self.resolution is not None and not self.resolution > 0:
             raise ValueError(f"resolution must be positive, got {self.resolution}")
+        if self.interpolate is not None and not 1 <= self.interpolate <= 64:
+            raise ValueError(f"interpolate must be 1 to 64, got {self.interpolate}")
         if self.window < 1:
             raise ValueError(f"window must be at least 1, got {self.window}")
         if not 0 <= self.latency_fraction < 1:

@@ -40,6 +40,7 @@ __all__ = [
     "N_DESCRIPTOR",
     "CausalPoseFilter",
     "StreamingBILTSPlus",
+    "densify_poses",
     "descriptor_from_samples",
     "geometric_samples",
     "replay",
@@ -141,6 +142,35 @@ class CausalPoseFilter:
         return m[:3], m[3:] / np.linalg.norm(m[3:])
 
 
+def densify_poses(poses: np.ndarray, interpolate: int) -> np.ndarray:
+    """``interpolate - 1`` poses put by ScLERP between every two consecutive poses.
+
+    Parameters
+    ----------
+    poses : ndarray, shape (N, 4, 4)
+        Poses [m] in time order.
+    interpolate : int
+        Poses per original step (1: the poses unchanged).
+
+    Returns
+    -------
+    ndarray, shape ((N - 1) * interpolate + 1, 4, 4)
+        The first pose, then for every step the poses at fractions ``1/k, 2/k, ..., 1`` of it
+        (the last one the original pose), as :meth:`StreamingBILTSPlus.push_all` offers them to
+        Algorithm 1.
+    """
+    k = int(interpolate)
+    if k <= 1 or len(poses) < 2:
+        return poses
+    out = np.empty(((len(poses) - 1) * k + 1, 4, 4))
+    out[0] = poses[0]
+    for i in range(1, len(poses)):
+        for j in range(1, k):
+            out[(i - 1) * k + j] = se3.sclerp_one(poses[i - 1], poses[i], j / k)
+        out[i * k] = poses[i]
+    return out
+
+
 def filtered_poses(traj: Trajectory, presmooth: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """Positions (N, 3) and quaternions (N, 4) of a recording after :class:`CausalPoseFilter`."""
     if presmooth <= 1:
@@ -218,6 +248,10 @@ class StreamingBILTSPlus:
         Standard deviation of the deterministic twist perturbation (1e-12).
     presmooth : int
         Causal moving average over this many raw poses before Algorithm 1 (1: off).
+    interpolate : int
+        Poses offered to Algorithm 1 per raw step: ``interpolate - 1`` poses put by ScLERP between
+        the previous (filtered) pose and the new one, then the new one (1: off; for recordings
+        too sparse for Algorithm 1, see :func:`~framefree.online.paper.models.auto_interpolation`).
 
     Attributes
     ----------
@@ -244,7 +278,11 @@ class StreamingBILTSPlus:
         window: int = 10,
         twist_noise: float = 1e-12,
         presmooth: int = 1,
+        interpolate: int = 1,
     ) -> None:
+        if int(interpolate) < 1:
+            raise ValueError(f"interpolate must be at least 1, got {interpolate}")
+        self.interpolate = int(interpolate)
         self.resolution = float(resolution)
         self._filter = CausalPoseFilter(presmooth)
         self.L = float(L)
@@ -266,6 +304,7 @@ class StreamingBILTSPlus:
         self._smoothed: deque[np.ndarray] = deque(maxlen=self.m + 2)
         self._twists: deque[np.ndarray] = deque(maxlen=2 * self.m + 1)
         self._q_last: np.ndarray | None = None
+        self._T_prev: np.ndarray | None = None
         self.n_geometric = 0
         self.n_smoothed = 0
         self.n_twists = 0
@@ -281,12 +320,46 @@ class StreamingBILTSPlus:
         q : ndarray, shape (4,)
             Unit quaternion ``(w, x, y, z)``.
         """
+        if self.interpolate > 1:
+            raise RuntimeError("push() offers one pose; with interpolate > 1 use push_all()")
         p = np.asarray(p, dtype=np.float64)
         q = np.asarray(q, dtype=np.float64)
         p, q = self._filter.push(p, q)
         if not self._rep.push(pose_from_pq(p, q)):
             return None
         return self._accept(p, q)
+
+    def push_all(self, p: np.ndarray, q: np.ndarray) -> list[np.ndarray]:
+        """Offer one pose sample with the poses interpolated before it; return every new
+        descriptor sample (18,) (none, one, or with ``interpolate > 1`` possibly several).
+
+        Parameters
+        ----------
+        p : ndarray, shape (3,)
+            Position [m].
+        q : ndarray, shape (4,)
+            Unit quaternion ``(w, x, y, z)``.
+        """
+        p = np.asarray(p, dtype=np.float64)
+        q = np.asarray(q, dtype=np.float64)
+        p, q = self._filter.push(p, q)
+        T = pose_from_pq(p, q)
+        out: list[np.ndarray] = []
+        k, prev = self.interpolate, self._T_prev
+        if k > 1 and prev is not None:
+            for j in range(1, k):
+                Tj = se3.sclerp_one(prev, T, j / k)
+                if self._rep.push(Tj):
+                    qj = se3.quaternion_from_matrix_one(np.ascontiguousarray(Tj[:3, :3]))
+                    d = self._accept(Tj[:3, 3].copy(), qj)
+                    if d is not None:
+                        out.append(d)
+        self._T_prev = T if k > 1 else None
+        if self._rep.push(T):
+            d = self._accept(p, q)
+            if d is not None:
+                out.append(d)
+        return out
 
     def _accept(self, p: np.ndarray, q: np.ndarray) -> np.ndarray | None:
         if self._q_last is not None:
@@ -326,8 +399,10 @@ def replay(
     window: int = 10,
     twist_noise: float = 1e-12,
     presmooth: int = 1,
+    interpolate: int = 1,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Push a recording through :class:`StreamingBILTSPlus` as if it were live.
+    """Push a recording through :class:`StreamingBILTSPlus` as if it were live (``interpolate``:
+    see there).
 
     Returns
     -------
@@ -335,12 +410,11 @@ def replay(
     times : ndarray, shape (K,)
         Time stamp [s] of the pose sample at which each descriptor sample was emitted.
     """
-    calc = StreamingBILTSPlus(resolution, L, ds_scale, window, twist_noise, presmooth)
+    calc = StreamingBILTSPlus(resolution, L, ds_scale, window, twist_noise, presmooth, interpolate)
     out: list[np.ndarray] = []
     times: list[float] = []
     for k in range(len(traj)):
-        d = calc.push(traj.p[k], traj.q[k])
-        if d is not None:
+        for d in calc.push_all(traj.p[k], traj.q[k]):
             out.append(d)
             times.append(float(traj.t[k]))
     desc = np.array(out).reshape(-1, N_DESCRIPTOR)

@@ -116,7 +116,7 @@ class PaperRecognizer(StreamingRecognizer):
         if config.threshold is None or config.stop_threshold is None:
             raise ValueError("config.threshold and config.stop_threshold must be set")
         self.models = models
-        self.config = config.replace(resolution=models.resolution)
+        self.config = config.replace(resolution=models.resolution, interpolate=models.interpolate)
         self.calibration = calibration
         self.threshold = float(config.threshold)
         self.stop_threshold = float(config.stop_threshold)
@@ -135,7 +135,7 @@ class PaperRecognizer(StreamingRecognizer):
         self._pending: tuple[int, float, float, float, int, float] | None = None  # j, ratio, d, t, stale, r2
         c = self.config
         self.preprocessor = StreamingBILTSPlus(models.resolution, c.L, c.ds_scale, c.window,
-                                               c.twist_noise, c.presmooth)
+                                               c.twist_noise, c.presmooth, models.interpolate)
         self.bank = MatcherBank(models.descriptors, c.latency_fraction, c.latency_min,
                                 c.parallel_models)
         if c.prune_factor is not None:
@@ -176,7 +176,7 @@ class PaperRecognizer(StreamingRecognizer):
         """
         config = (config or PaperConfig()).replace(**overrides)
         models = build_models(trajectories, labels, config)
-        config = config.replace(resolution=models.resolution)
+        config = config.replace(resolution=models.resolution, interpolate=models.interpolate)
         calibration = None
         gesture_thresholds = None
         if config.threshold is None:
@@ -254,25 +254,27 @@ class PaperRecognizer(StreamingRecognizer):
         st, c = self.stats, self.config
         stop = self.stop.update(t, q)
         n_geo = self.preprocessor.n_geometric
-        d = self.preprocessor.push(p, q)
-        if self.preprocessor.n_geometric != n_geo:
-            st["geometric"] += 1
+        descriptors = self.preprocessor.push_all(p, q)
+        st["geometric"] += self.preprocessor.n_geometric - n_geo
         if stop:
             st["stops"] += 1
             self._pending = None
             if c.refractory_reset:
                 self.bank.reset()
             return [Event(STOP, t, -1.0, -1)]
-        if d is None:
+        if not descriptors:
             pend = self._pending
             if pend is not None and t - pend[3] >= c.decision_wait and not self.stop.active:
                 return self._fire(t)
             return []
-        if not np.isfinite(d).all():
-            st["bad_descriptors"] += 1
-            self._restart()
-            return []
-        return self._on_descriptor(t, d)
+        events: list[Event] = []
+        for d in descriptors:
+            if not np.isfinite(d).all():
+                st["bad_descriptors"] += 1
+                self._restart()
+                return events
+            events += self._on_descriptor(t, d)
+        return events
 
     def _accept(self, t: float, p: Any, q: Any) -> tuple[float, np.ndarray, np.ndarray] | None:
         """Validate a sample (finite, non-zero quaternion, time moving on, no jump) and make its
