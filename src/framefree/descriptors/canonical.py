@@ -115,6 +115,28 @@ def canonical_frame(sample: MultiTrajectory, invariance: str) -> np.ndarray:
     raise ValueError(f"unknown invariance {invariance!r}; choose one of {', '.join(INVARIANCES)}")
 
 
+def _turns_since_start(tr: Trajectory, R: np.ndarray) -> np.ndarray:
+    """Rotation since the start in the canonical frame ``R``, ``Rᵀ R(t) R(0)ᵀ R`` flat, (N, 9)."""
+    rot = tr.rotations()
+    since = rot @ rot[0].T
+    return (R.T @ since @ R).reshape(len(rot), 9)
+
+
+def _relative_positions(sample: MultiTrajectory) -> list[np.ndarray]:
+    """Every other tracker in the first one's frame and the first in each other's, (N, 3) each [m]."""
+    if sample.n_trackers < 2:
+        where = f"{sample.source}: " if sample.source else ""
+        raise DegenerateMotionError(f"{where}relative motion needs two or more trackers")
+    first = sample.trackers[0]
+    r0 = first.rotations()
+    out = []
+    for tr in sample.trackers[1:]:
+        d = tr.p - first.p
+        out.append(np.einsum("nji,nj->ni", r0, d))
+        out.append(np.einsum("nji,nj->ni", tr.rotations(), -d))
+    return out
+
+
 class CanonicalPath:
     """Canonical paths of samples and the DTW distance between them.
 
@@ -124,34 +146,58 @@ class CanonicalPath:
         See the module docstring.
     n_samples : int
         Points per path (uniform in time).
+    orientation_scale : float, optional
+        With a length ``ℓ`` [m], every tracker's rotation since its start, expressed in the
+        canonical frame (``Cᵀ R_k(t) R_k(0)ᵀ C``, 9 entries), is added to the path times ``ℓ``; it
+        is unchanged by how the tracker is turned in the hand. None (default): positions only.
+    relative : bool
+        Add where the other trackers are as seen from the first one and the first one as seen
+        from each of them (``R_0(t)ᵀ (p_k(t) − p_0(t))`` and ``R_k(t)ᵀ (p_0(t) − p_k(t))`` [m]):
+        the motion of one hand relative to the other, the same in any world frame. Needs two or
+        more trackers.
 
     Notes
     -----
     Samples in one comparison must have the same number of trackers, in the same order.
+    Columns, per point: 3 positions per tracker, then 9 orientation entries per tracker (with
+    ``orientation_scale``), then 6 relative coordinates per tracker after the first (with
+    ``relative``).
     """
 
-    def __init__(self, invariance: str = "gravity", n_samples: int = 64) -> None:
+    def __init__(self, invariance: str = "gravity", n_samples: int = 64,
+                 orientation_scale: float | None = None, relative: bool = False) -> None:
         if invariance not in INVARIANCES:
             raise ValueError(f"unknown invariance {invariance!r}; choose one of {', '.join(INVARIANCES)}")
         if int(n_samples) < 2:
             raise ValueError(f"n_samples must be at least 2, got {n_samples}")
+        if orientation_scale is not None and not float(orientation_scale) > 0.0:
+            raise ValueError(f"orientation_scale must be a positive length [m], got {orientation_scale}")
         self.invariance = invariance
         self.n_samples = int(n_samples)
+        self.orientation_scale = None if orientation_scale is None else float(orientation_scale)
+        self.relative = bool(relative)
 
     def __repr__(self) -> str:
-        return f"CanonicalPath(invariance={self.invariance!r}, n_samples={self.n_samples})"
+        extra = ""
+        if self.orientation_scale is not None:
+            extra += f", orientation_scale={self.orientation_scale}"
+        if self.relative:
+            extra += ", relative=True"
+        return f"CanonicalPath(invariance={self.invariance!r}, n_samples={self.n_samples}{extra})"
 
     def compute(self, sample: Trajectory | MultiTrajectory) -> np.ndarray:
-        """The canonical path, shape (n_samples, 3 · n_trackers) [m]."""
+        """The canonical path, shape (n_samples, n_columns) [m] (columns: see Notes)."""
         sample = as_sample(sample)
         R = canonical_frame(sample, self.invariance)
         t = sample.t
         grid = np.linspace(t[0], t[-1], self.n_samples)
-        cols = []
-        for tr in sample.trackers:
-            local = (tr.p - tr.p[0]) @ R
-            cols += [np.interp(grid, t, local[:, k]) for k in range(3)]
-        return np.column_stack(cols)
+        parts = [(tr.p - tr.p[0]) @ R for tr in sample.trackers]
+        if self.orientation_scale is not None:
+            parts += [_turns_since_start(tr, R) * self.orientation_scale for tr in sample.trackers]
+        if self.relative:
+            parts += _relative_positions(sample)
+        cols = np.concatenate(parts, axis=1)
+        return np.column_stack([np.interp(grid, t, cols[:, k]) for k in range(cols.shape[1])])
 
     def distance_spec(self) -> DistanceSpec:
         """DTW with Euclidean local cost over all columns, closed end."""
