@@ -32,6 +32,7 @@ import argparse
 import itertools
 import json
 import platform
+import sys
 import time
 from pathlib import Path
 
@@ -163,7 +164,12 @@ def arguments() -> argparse.Namespace:
     ap.add_argument("--conditions", default=",".join(f"{i}:{f}" for i, f in CONDITIONS),
                     help="invariance:frames pairs (default: %(default)s)")
     ap.add_argument("--out", type=Path, default=DEFAULT_OUT, help="folder for real_people_protocol.json")
-    return ap.parse_args()
+    args = ap.parse_args()
+    if not args.data.is_dir():
+        print(f"error: {args.data}: no such folder; pass --data DIR, a people data set "
+              "(<person>/<gesture>/<recording>) of three or more people", file=sys.stderr)
+        sys.exit(2)
+    return args
 
 
 def report(key: str, res: dict) -> None:
@@ -181,6 +187,10 @@ def main() -> None:
     seeds = [int(s) for s in args.seeds.split(",")]
     data = load_people(args.data)
     print(data.summary())
+    if len(data.people) < 4:
+        print(f"error: {args.data}: {len(data.people)} people; leave-two-people-out with a choice "
+              "among the rest needs four or more", file=sys.stderr)
+        sys.exit(2)
     conditions = [tuple(c.split(":")) for c in args.conditions.split(",")]
     jobs = [(i, f, s) for i, f in conditions for s in (seeds if f != "recorded" else seeds[:1])]
     start = time.perf_counter()

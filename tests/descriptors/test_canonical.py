@@ -88,3 +88,53 @@ def test_classifier_takes_multi_tracker_samples(punch):
         assert clf.path_ is not None and clf.distance_matrix([query]).shape == (1, 2)
     with pytest.raises(ValueError, match="invariance"):
         NearestNeighborClassifier(invariance="tilt").fit([punch], ["uppercut"])
+
+
+def test_orientations_and_relative_motion_by_hand():
+    """Two trackers, the path at start and end. Tracker 0 rises 1 m, unturned; tracker 1 starts 1 m along x,
+    rises too and turns 90° about z. Canonical frame (full): e1 = x, e2 = z (the displacement),
+    e3 = e1 × e2 = −y. A turn about z is a turn about e2 that takes e1 to −e3 and e3 to e1. Tracker 1
+    as seen from tracker 0: (1, 0, 0) throughout; tracker 0 from tracker 1: (−1, 0, 0), then, turned
+    by −90° about z, (0, 1, 0)."""
+    t = np.linspace(0.0, 1.0, 5)
+    zero = np.zeros_like(t)
+    still = np.tile([1.0, 0.0, 0.0, 0.0], (5, 1))
+    turn = np.column_stack([np.cos(np.pi / 4 * t), zero, zero, np.sin(np.pi / 4 * t)])
+    a = Trajectory(t, np.column_stack([zero, zero, t]), still)
+    b = Trajectory(t, np.column_stack([zero + 1.0, zero, t]), turn)
+    path = CanonicalPath("full", n_samples=2, orientation_scale=0.5, relative=True)
+    out = path.compute(MultiTrajectory((a, b), ("a", "b")))
+    eye = 0.5 * np.eye(3).ravel()
+    turned = 0.5 * np.array([[0.0, 0, 1], [0, 1, 0], [-1, 0, 0]]).ravel()
+    expected = np.array([
+        [0, 0, 0, 0, 0, 0, *eye, *eye, 1, 0, 0, -1, 0, 0],
+        [0, 1, 0, 0, 1, 0, *eye, *turned, 1, 0, 0, 0, 1, 0],
+    ])
+    assert out.shape == (2, 30)
+    assert np.allclose(out, expected, atol=1e-12)
+
+
+@given(rotvec=rotvecs, shift=shifts)
+def test_orientations_and_relative_motion_ignore_the_world_frame(punch, rotvec, shift):
+    """Both trackers moved by one random rigid change of world frame: the path is unchanged."""
+    W = _world(se3.rotation_from_vector(np.asarray(rotvec)[None])[0], shift)
+    cp = CanonicalPath("full", orientation_scale=0.3, relative=True)
+    assert np.allclose(cp.compute(punch.transformed(W)), cp.compute(punch), atol=1e-9)
+
+
+@given(angle=angles, shift=shifts, grip=rotvecs)
+def test_gravity_orientations_ignore_turns_about_the_vertical_and_the_grip(punch, angle, shift, grip):
+    W = _world(se3.rotation_from_vector(np.array([[0.0, 0.0, angle]]))[0], shift)
+    B = _world(se3.rotation_from_vector(np.asarray(grip)[None])[0], [0, 0, 0])
+    regripped = MultiTrajectory(tuple(tr.transformed(body=B) for tr in punch.trackers), punch.names)
+    cp = CanonicalPath("gravity", orientation_scale=0.3)
+    assert np.allclose(cp.compute(regripped.transformed(W)), cp.compute(punch), atol=1e-9)
+    with_relative = CanonicalPath("gravity", orientation_scale=0.3, relative=True)
+    assert np.allclose(with_relative.compute(punch.transformed(W)), with_relative.compute(punch), atol=1e-9)
+
+
+def test_relative_motion_needs_two_trackers_and_a_positive_scale(punch):
+    with pytest.raises(DegenerateMotionError, match="two or more trackers"):
+        CanonicalPath("gravity", relative=True).compute(punch.trackers[0])
+    with pytest.raises(ValueError, match="orientation_scale"):
+        CanonicalPath("full", orientation_scale=0.0)
