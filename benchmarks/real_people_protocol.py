@@ -10,20 +10,25 @@ made for its fold.
 Conditions (as ``framefree evaluate-people`` builds them, :func:`framefree.benchmark.people.reframe`):
 ``full`` on tilted frames, ``gravity`` as recorded and turned; random frames over ``--seeds``.
 
-Candidates (all 1-NN by DTW; see docs/real-people.md): ``P`` canonical positions (the comparison of
-framefree <= 0.17), ``PO`` positions and each tracker's rotation since its start in the canonical
-frame (times 0.3 m, fixed beforehand: a hand turning one radian moves a point at forearm length by
-0.3 m), ``PH`` positions and the motion of each hand in the other's frame, ``POH`` all three, and
-``P+B`` the canonical positions' DTW plus the paper's BILTS+ per controller, each divided by its
-median over the model people's pairs (computed on the models of the fold).
+Candidates (all 1-NN by DTW; :class:`~framefree.descriptors.canonical.CanonicalPath`, see
+docs/real-people.md). ``P``: canonical positions (the comparison of framefree <= 0.17). ``O``
+added: each tracker's rotation since its start in the canonical frame, times 0.3 m (fixed
+beforehand: a hand turning one radian moves a point at forearm length by 0.3 m). ``H`` added:
+each hand's position in the other's frame. ``S`` added: the positions in the controllers' mean
+starting orientation. ``P+B``: the canonical positions' DTW plus the paper's BILTS+ per
+controller, each divided by its median over the model people's pairs (of the fold). ``--round 1``
+is the first set (P, PO, PH, POH, P+B); round 2 (the default: P, POH, PS, POHS, P+B) was set
+after round 1 had been seen on all six people.
 
 Every distance is computed once for all recordings of a condition (a distance never depends on
-the fold); the folds only pick rows and columns. Writes ``real_people_protocol.json`` to ``--out``
-(default ``benchmarks/results/local/``).
+the fold); the folds only pick rows and columns. Every candidate is exactly invariant in its
+condition, so one seed gives the same figures as three. Writes
+``real_people_protocol_round<N>.json`` to ``--out`` (default ``benchmarks/results/local/``).
 
 Usage::
 
-    NUMBA_NUM_THREADS=1 .venv/bin/python benchmarks/real_people_protocol.py [--data DIR] [--seeds 0,1,2]
+    NUMBA_NUM_THREADS=1 .venv/bin/python benchmarks/real_people_protocol.py \
+        [--data DIR] [--seeds 0] [--round 2] [--out DIR]
 """
 
 from __future__ import annotations
@@ -49,15 +54,20 @@ SHARED = ROOT.parent / "shared" / "data" / "machete_vive"
 DEFAULT_OUT = ROOT / "benchmarks" / "results" / "local"
 #: orientation weight [m], fixed before any run (not tuned)
 ORIENTATION_SCALE = 0.3
-#: candidate comparisons: name -> (components summed after median normalisation)
-CANDIDATES = {"P": ("P",), "PO": ("PO",), "PH": ("PH",), "POH": ("POH",), "P+B": ("P", "B")}
+#: candidate comparisons of each round: name -> components, summed after median normalisation.
+#: Round 2 was set after round 1's results on all six people had been seen (docs/real-people.md).
+ROUNDS = {
+    1: {"P": ("P",), "PO": ("PO",), "PH": ("PH",), "POH": ("POH",), "P+B": ("P", "B")},
+    2: {"P": ("P",), "POH": ("POH",), "PS": ("PS",), "POHS": ("POHS",), "P+B": ("P", "B")},
+}
+CANDIDATES = dict(ROUNDS[2])
 #: invariance, world frames
 CONDITIONS = (("full", "tilted"), ("gravity", "recorded"), ("gravity", "turned"))
 
 
 def _path(invariance: str, name: str) -> CanonicalPath:
     return CanonicalPath(invariance, orientation_scale=ORIENTATION_SCALE if "O" in name else None,
-                         relative="H" in name)
+                         relative="H" in name, start_frame="S" in name)
 
 
 def component_matrices(samples: list, labels: list[str], invariance: str) -> dict[str, np.ndarray]:
@@ -144,6 +154,10 @@ def nested(comps: dict[str, np.ndarray], gestures: np.ndarray, persons: np.ndarr
         "chosen_min": float(chosen.min()), "chosen_max": float(chosen.max()),
         "times_chosen": {n: sum(f["chosen"] == n for f in folds) for n in CANDIDATES},
         "fixed_mean": {n: float(np.mean([f["outer"][n] for f in folds])) for n in CANDIDATES},
+        "fixed_min": {n: float(np.min([f["outer"][n] for f in folds])) for n in CANDIDATES},
+        "folds_better_worse_than_P": {n: [sum(f["outer"][n] > f["outer"]["P"] for f in folds),
+                                          sum(f["outer"][n] < f["outer"]["P"] for f in folds)]
+                                      for n in CANDIDATES if n != "P"},
         "all_people_choice": six_best, "all_people_lopo": six_inner,
     }
 
@@ -163,6 +177,8 @@ def arguments() -> argparse.Namespace:
     ap.add_argument("--seeds", default="0,1,2", help="seeds of the random world frames")
     ap.add_argument("--conditions", default=",".join(f"{i}:{f}" for i, f in CONDITIONS),
                     help="invariance:frames pairs (default: %(default)s)")
+    ap.add_argument("--round", type=int, choices=sorted(ROUNDS), default=2,
+                    help="candidate set (default: %(default)s)")
     ap.add_argument("--out", type=Path, default=DEFAULT_OUT, help="folder for real_people_protocol.json")
     args = ap.parse_args()
     if not args.data.is_dir():
@@ -174,10 +190,12 @@ def arguments() -> argparse.Namespace:
 
 def report(key: str, res: dict) -> None:
     """One condition's summary lines."""
-    fixed = "  ".join(f"{n} {100 * a:.1f}" for n, a in res["fixed_mean"].items())
+    fixed = "  ".join(f"{n} {100 * a:.1f} (min {100 * res['fixed_min'][n]:.1f})"
+                      for n, a in res["fixed_mean"].items())
     print(f"{key}: chosen {100 * res['chosen_mean']:.1f} ± {100 * res['chosen_std']:.1f} "
           f"(min {100 * res['chosen_min']:.1f}, max {100 * res['chosen_max']:.1f}) | "
-          f"times chosen {res['times_chosen']} | fixed, mean over folds: {fixed} | "
+          f"times chosen {res['times_chosen']} | folds better/worse than P "
+          f"{res['folds_better_worse_than_P']} | fixed, mean over folds: {fixed} | "
           f"six people LOPO: {res['all_people_choice']} "
           + " ".join(f"{n} {100 * a:.1f}" for n, a in res["all_people_lopo"].items()), flush=True)
 
@@ -185,6 +203,8 @@ def report(key: str, res: dict) -> None:
 def main() -> None:
     args = arguments()
     seeds = [int(s) for s in args.seeds.split(",")]
+    CANDIDATES.clear()
+    CANDIDATES.update(ROUNDS[args.round])
     data = load_people(args.data)
     print(data.summary())
     if len(data.people) < 4:
@@ -199,13 +219,13 @@ def main() -> None:
         key = f"{invariance}/{frames}/seed{seed}"
         results[key] = run_condition(data, invariance, frames, seed)
         report(key, results[key])
-    out = {"data": str(args.data), "people": data.people, "candidates": CANDIDATES,
+    out = {"data": str(args.data), "people": data.people, "round": args.round, "candidates": CANDIDATES,
            "orientation_scale_m": ORIENTATION_SCALE, "seeds": seeds,
            "protocol": "outer leave-two-people-out; inner leave-one-person-out on the model people",
            "machine": f"{platform.machine()}, {platform.python_version()}",
            "seconds": round(time.perf_counter() - start, 1), "results": results}
     args.out.mkdir(parents=True, exist_ok=True)
-    path = args.out / "real_people_protocol.json"
+    path = args.out / f"real_people_protocol_round{args.round}.json"
     path.write_text(json.dumps(out, indent=1))
     print(f"wrote {path} ({out['seconds']} s)")
 

@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from framefree import NearestNeighborClassifier, Trajectory
 from framefree.core import se3
 from framefree.core.multitrajectory import MultiTrajectory
-from framefree.descriptors.canonical import CanonicalPath, canonical_frame
+from framefree.descriptors.canonical import CanonicalPath, canonical_frame, start_orientation
 from framefree.errors import DegenerateMotionError
 from framefree.io.machete import read_machete
 from real_data import SHIPPED_MACHETE
@@ -112,13 +112,28 @@ def test_orientations_and_relative_motion_by_hand():
     ])
     assert out.shape == (2, 30)
     assert np.allclose(out, expected, atol=1e-12)
+    # both start unturned: the start frame is the world's, and both rise along its z
+    started = CanonicalPath("full", n_samples=2, start_frame=True).compute(MultiTrajectory((a, b)))
+    assert np.allclose(started[:, 6:], [[0, 0, 0, 0, 0, 0], [0, 0, 1, 0, 0, 1]], atol=1e-12)
+
+
+def test_the_start_frame_is_the_mean_of_the_starting_orientations(punch):
+    """Two trackers turned ±0.4 rad about one axis from a common orientation average to it."""
+    t = np.linspace(0.0, 1.0, 5)
+    base = se3.rotation_from_vector(np.array([[0.3, -1.1, 0.5]]))[0]
+    axis = np.array([0.0, 0.6, 0.8])
+    quats = [se3.quaternion_from_matrix((base @ se3.rotation_from_vector(sign * 0.4 * axis[None])[0])[None])
+             for sign in (1.0, -1.0)]
+    trackers = tuple(Trajectory(t, np.column_stack([t, k + 0 * t, 0 * t]), np.repeat(q, 5, axis=0))
+                     for k, q in enumerate(quats))
+    assert np.allclose(start_orientation(MultiTrajectory(trackers)), base, atol=1e-12)
 
 
 @given(rotvec=rotvecs, shift=shifts)
 def test_orientations_and_relative_motion_ignore_the_world_frame(punch, rotvec, shift):
     """Both trackers moved by one random rigid change of world frame: the path is unchanged."""
     W = _world(se3.rotation_from_vector(np.asarray(rotvec)[None])[0], shift)
-    cp = CanonicalPath("full", orientation_scale=0.3, relative=True)
+    cp = CanonicalPath("full", orientation_scale=0.3, relative=True, start_frame=True)
     assert np.allclose(cp.compute(punch.transformed(W)), cp.compute(punch), atol=1e-9)
 
 

@@ -35,7 +35,7 @@ from ..core.pruning import DistanceSpec
 from ..core.trajectory import Trajectory
 from ..errors import DegenerateMotionError
 
-__all__ = ["INVARIANCES", "CanonicalPath", "as_sample", "canonical_frame"]
+__all__ = ["INVARIANCES", "CanonicalPath", "as_sample", "canonical_frame", "start_orientation"]
 
 #: invariance levels, from the most to the least invariant
 INVARIANCES = ("full", "gravity")
@@ -122,6 +122,13 @@ def _turns_since_start(tr: Trajectory, R: np.ndarray) -> np.ndarray:
     return (R.T @ since @ R).reshape(len(rot), 9)
 
 
+def start_orientation(sample: MultiTrajectory) -> np.ndarray:
+    """The rotation (3, 3) nearest to the sum of the trackers' starting rotations (chordal mean)."""
+    total = sum(tr.rotations()[0] for tr in sample.trackers)
+    u, _, vt = np.linalg.svd(total)
+    return u @ np.diag([1.0, 1.0, float(np.linalg.det(u @ vt))]) @ vt
+
+
 def _relative_positions(sample: MultiTrajectory) -> list[np.ndarray]:
     """Every other tracker in the first one's frame and the first in each other's, (N, 3) each [m]."""
     if sample.n_trackers < 2:
@@ -155,17 +162,23 @@ class CanonicalPath:
         from each of them (``R_0(t)ᵀ (p_k(t) − p_0(t))`` and ``R_k(t)ᵀ (p_0(t) − p_k(t))`` [m]):
         the motion of one hand relative to the other, the same in any world frame. Needs two or
         more trackers.
+    start_frame : bool
+        Add every tracker's positions relative to its start in the trackers' mean orientation at
+        the start (the rotation nearest to ``Σ_k R_k(0)``) [m]. Held controllers point roughly the
+        same way for every person, so this frame carries where up and forward were without the
+        world's vertical; it is the same in any world frame but turns with the grip.
 
     Notes
     -----
     Samples in one comparison must have the same number of trackers, in the same order.
     Columns, per point: 3 positions per tracker, then 9 orientation entries per tracker (with
     ``orientation_scale``), then 6 relative coordinates per tracker after the first (with
-    ``relative``).
+    ``relative``), then 3 per tracker in the start frame (with ``start_frame``).
     """
 
     def __init__(self, invariance: str = "gravity", n_samples: int = 64,
-                 orientation_scale: float | None = None, relative: bool = False) -> None:
+                 orientation_scale: float | None = None, relative: bool = False,
+                 start_frame: bool = False) -> None:
         if invariance not in INVARIANCES:
             raise ValueError(f"unknown invariance {invariance!r}; choose one of {', '.join(INVARIANCES)}")
         if int(n_samples) < 2:
@@ -176,6 +189,7 @@ class CanonicalPath:
         self.n_samples = int(n_samples)
         self.orientation_scale = None if orientation_scale is None else float(orientation_scale)
         self.relative = bool(relative)
+        self.start_frame = bool(start_frame)
 
     def __repr__(self) -> str:
         extra = ""
@@ -183,6 +197,8 @@ class CanonicalPath:
             extra += f", orientation_scale={self.orientation_scale}"
         if self.relative:
             extra += ", relative=True"
+        if self.start_frame:
+            extra += ", start_frame=True"
         return f"CanonicalPath(invariance={self.invariance!r}, n_samples={self.n_samples}{extra})"
 
     def compute(self, sample: Trajectory | MultiTrajectory) -> np.ndarray:
@@ -196,6 +212,9 @@ class CanonicalPath:
             parts += [_turns_since_start(tr, R) * self.orientation_scale for tr in sample.trackers]
         if self.relative:
             parts += _relative_positions(sample)
+        if self.start_frame:
+            S = start_orientation(sample)
+            parts += [(tr.p - tr.p[0]) @ S for tr in sample.trackers]
         cols = np.concatenate(parts, axis=1)
         return np.column_stack([np.interp(grid, t, cols[:, k]) for k in range(cols.shape[1])])
 
