@@ -32,18 +32,19 @@ def _perfect_on(people: list[str], persons: np.ndarray, gestures: np.ndarray) ->
 
 
 def test_each_fold_chooses_on_its_model_people_only():
-    """Candidate PH is right only for people a and b, P only for the others: every fold whose
-    queries are a and b must choose P (right on its four model people) and score 0 on them."""
+    """Candidate PS is right only for people a and b, the others only for c to f: the fold whose
+    queries are a and b must choose P (right on its four model people, and first) and score 0."""
     mod = _module()
     people = ["a", "b", "c", "d", "e", "f"]
     persons = np.repeat(people, 6)
     gestures = np.tile(np.repeat(["x", "y", "z"], 2), len(people))
-    comps = {name: _perfect_on(["c", "d", "e", "f"], persons, gestures) for name in ("P", "PO", "POH", "B")}
-    comps["PH"] = _perfect_on(["a", "b"], persons, gestures)
+    names = {c for parts in mod.CANDIDATES.values() for c in parts}
+    comps = {name: _perfect_on(["c", "d", "e", "f"], persons, gestures) for name in names}
+    comps["PS"] = _perfect_on(["a", "b"], persons, gestures)
     res = mod.nested(comps, gestures, persons, people)
     fold = next(f for f in res["folds"] if f["queries"] == ["a", "b"])
-    assert fold["chosen"] == "P" and fold["outer_chosen"] == 0.0 and fold["outer"]["PH"] == 1.0
-    assert res["times_chosen"]["P"] + res["times_chosen"]["PH"] == 15
+    assert fold["chosen"] == "P" and fold["outer_chosen"] == 0.0 and fold["outer"]["PS"] == 1.0
+    assert res["times_chosen"]["PS"] == 0 and res["all_people_choice"] == "P"
 
 
 def test_a_missing_data_folder_is_one_line(tmp_path):
