@@ -14,10 +14,15 @@ started, are expressed in a frame built from the sample itself, and compared wit
     hand is on average). Vertical and horizontal, up and down, stay apart.
 ``invariance="full"``
     invariant to any translation and rotation of the world frame, and to how a tracker is turned
-    in the hand (only tracker positions are used). Needs two or more trackers: the first axis
-    points from the first tracker to the second at the start, the second is the principal
+    in the hand (positions only, without the options below). Needs two or more trackers: the
+    first axis points from the first tracker to the second at the start, the second is the principal
     direction of the trackers' displacements orthogonal to it (its sign: towards their mean
     displacement). One tracker alone has no such frame; use a local descriptor (BILTS+) there.
+
+Options add columns from the trackers' orientations (``orientation_scale``, ``start_frame``) and
+one hand seen from the other (``relative``); the classifier's defaults for several trackers are
+``framefree.classifier.MULTI_TRACKER_PATHS``. ``start_frame`` and ``relative`` keep the world-frame
+invariance and give up the invariance to how a tracker is held.
 
 Paths are resampled to ``n_samples`` points uniformly in time, so a slower performance gives the
 same sequence; DTW absorbs the rest of the timing.
