@@ -157,14 +157,24 @@ def test_relative_motion_needs_two_trackers_and_a_positive_scale(punch):
 
 def test_several_trackers_get_the_chosen_paths_and_one_tracker_keeps_positions(punch):
     """Golden distances of the multi-tracker defaults (benchmarks/real_people_protocol.py) on two
-    shipped people; a single tracker under ``gravity`` is still compared by positions alone."""
+    shipped people: ``full`` adds the start frame, ``gravity`` keeps positions, and so does a
+    single tracker under ``gravity``."""
     hook = read_machete(SHIPPED_MACHETE / "Sub_U001" / "hook_right" / "ex_0_moderate")
     query = read_machete(SHIPPED_MACHETE / "Sub_U002" / "uppercut_right" / "ex_1_moderate")
-    golden = {"full": [0.148823302328, 0.292287401723], "gravity": [0.29721619391, 0.395198946788]}
+    golden = {"full": [0.148823302328, 0.292287401723], "gravity": [0.114671109737, 0.156083899489]}
     for invariance, expected in golden.items():
         clf = NearestNeighborClassifier(invariance=invariance).fit([punch, hook], ["uppercut", "hook"])
-        assert clf.path_.start_frame
+        assert clf.path_.start_frame == (invariance == "full")
         assert np.allclose(clf.distance_matrix([query])[0], expected, rtol=1e-9)
     single = NearestNeighborClassifier(invariance="gravity").fit([punch.trackers[0], hook.trackers[0]],
                                                                   ["uppercut", "hook"])
     assert repr(single.path_) == "CanonicalPath(invariance='gravity', n_samples=64)"
+
+
+def test_all_columns_golden(punch):
+    """Every option at once (round 2's P + O + H + S) on shipped recordings, pinned."""
+    hook = read_machete(SHIPPED_MACHETE / "Sub_U001" / "hook_right" / "ex_0_moderate")
+    query = read_machete(SHIPPED_MACHETE / "Sub_U002" / "uppercut_right" / "ex_1_moderate")
+    path = CanonicalPath("gravity", orientation_scale=0.3, relative=True, start_frame=True)
+    D = path.distance_matrix([path.compute(query)], [path.compute(punch), path.compute(hook)])
+    assert np.allclose(D[0], [0.29721619391, 0.395198946788], rtol=1e-9)
