@@ -59,16 +59,29 @@ def round_significant(x: np.ndarray, digits: int) -> np.ndarray:
 _DESCRIPTOR_PARAMS = ("progress", "L", "ds_scale", "lam", "presmooth", "open_end", "axis_prior")
 
 
+#: what several trackers are compared by at each invariance level (:class:`CanonicalPath`
+#: options), chosen with the nested leave-two-people-out protocol of
+#: ``benchmarks/real_people_protocol.py`` on the six Vive people: what the inner choice took in
+#: most of the 15 folds (docs/real-people.md). ``full`` adds the positions in the controllers'
+#: mean starting orientation; ``gravity`` keeps positions only.
+MULTI_TRACKER_PATHS: dict[str, dict[str, Any]] = {
+    "full": {"start_frame": True},
+    "gravity": {},
+}
+
+
 def canonical_comparison(
     invariance: str, samples: Sequence[Trajectory | MultiTrajectory]
 ) -> CanonicalPath | None:
     """The canonical-path comparison an invariance level needs for these samples, or None when
-    the descriptor itself serves (``"full"`` with single trajectories)."""
+    the descriptor itself serves (``"full"`` with single trajectories). Samples of two or more
+    trackers get :data:`MULTI_TRACKER_PATHS`; one tracker, positions only."""
     if invariance not in INVARIANCES:
         raise ValueError(f"unknown invariance {invariance!r}; choose one of {', '.join(INVARIANCES)}")
     if invariance == "full" and not any(isinstance(s, MultiTrajectory) for s in samples):
         return None
-    return CanonicalPath(invariance)
+    several = bool(samples) and all(isinstance(s, MultiTrajectory) and s.n_trackers > 1 for s in samples)
+    return CanonicalPath(invariance, **(MULTI_TRACKER_PATHS[invariance] if several else {}))
 
 
 class NearestNeighborClassifier:
@@ -126,6 +139,9 @@ class NearestNeighborClassifier:
         (:class:`~framefree.core.multitrajectory.MultiTrajectory`) by their canonical paths.
         ``"gravity"``: translations and turns about the vertical only, which keeps up and down
         apart (canonical paths, :mod:`framefree.descriptors.canonical`; docs/real-people.md).
+        With two or more trackers the paths carry more than positions
+        (:data:`MULTI_TRACKER_PATHS`): under ``"full"`` they then also depend on how a
+        controller is held, as the controllers' starting orientation is part of the frame.
 
     Attributes
     ----------

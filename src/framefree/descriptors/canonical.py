@@ -14,10 +14,15 @@ started, are expressed in a frame built from the sample itself, and compared wit
     hand is on average). Vertical and horizontal, up and down, stay apart.
 ``invariance="full"``
     invariant to any translation and rotation of the world frame, and to how a tracker is turned
-    in the hand (only tracker positions are used). Needs two or more trackers: the first axis
-    points from the first tracker to the second at the start, the second is the principal
+    in the hand (positions only, without the options below). Needs two or more trackers: the
+    first axis points from the first tracker to the second at the start, the second is the principal
     direction of the trackers' displacements orthogonal to it (its sign: towards their mean
     displacement). One tracker alone has no such frame; use a local descriptor (BILTS+) there.
+
+Options add columns from the trackers' orientations (``orientation_scale``, ``start_frame``) and
+one hand seen from the other (``relative``); the classifier's defaults for several trackers are
+``framefree.classifier.MULTI_TRACKER_PATHS``. ``start_frame`` and ``relative`` keep the world-frame
+invariance and give up the invariance to how a tracker is held.
 
 Paths are resampled to ``n_samples`` points uniformly in time, so a slower performance gives the
 same sequence; DTW absorbs the rest of the timing.
@@ -35,7 +40,7 @@ from ..core.pruning import DistanceSpec
 from ..core.trajectory import Trajectory
 from ..errors import DegenerateMotionError
 
-__all__ = ["INVARIANCES", "CanonicalPath", "as_sample", "canonical_frame"]
+__all__ = ["INVARIANCES", "CanonicalPath", "as_sample", "canonical_frame", "start_orientation"]
 
 #: invariance levels, from the most to the least invariant
 INVARIANCES = ("full", "gravity")
@@ -115,6 +120,35 @@ def canonical_frame(sample: MultiTrajectory, invariance: str) -> np.ndarray:
     raise ValueError(f"unknown invariance {invariance!r}; choose one of {', '.join(INVARIANCES)}")
 
 
+def _turns_since_start(tr: Trajectory, R: np.ndarray) -> np.ndarray:
+    """Rotation since the start in the canonical frame ``R``, ``Rᵀ R(t) R(0)ᵀ R`` flat, (N, 9)."""
+    rot = tr.rotations()
+    since = rot @ rot[0].T
+    return (R.T @ since @ R).reshape(len(rot), 9)
+
+
+def start_orientation(sample: MultiTrajectory) -> np.ndarray:
+    """The rotation (3, 3) nearest to the sum of the trackers' starting rotations (chordal mean)."""
+    total = sum(tr.rotations()[0] for tr in sample.trackers)
+    u, _, vt = np.linalg.svd(total)
+    return u @ np.diag([1.0, 1.0, float(np.linalg.det(u @ vt))]) @ vt
+
+
+def _relative_positions(sample: MultiTrajectory) -> list[np.ndarray]:
+    """Every other tracker in the first one's frame and the first in each other's, (N, 3) each [m]."""
+    if sample.n_trackers < 2:
+        where = f"{sample.source}: " if sample.source else ""
+        raise DegenerateMotionError(f"{where}relative motion needs two or more trackers")
+    first = sample.trackers[0]
+    r0 = first.rotations()
+    out = []
+    for tr in sample.trackers[1:]:
+        d = tr.p - first.p
+        out.append(np.einsum("nji,nj->ni", r0, d))
+        out.append(np.einsum("nji,nj->ni", tr.rotations(), -d))
+    return out
+
+
 class CanonicalPath:
     """Canonical paths of samples and the DTW distance between them.
 
@@ -124,34 +158,70 @@ class CanonicalPath:
         See the module docstring.
     n_samples : int
         Points per path (uniform in time).
+    orientation_scale : float, optional
+        With a length ``ℓ`` [m], every tracker's rotation since its start, expressed in the
+        canonical frame (``Cᵀ R_k(t) R_k(0)ᵀ C``, 9 entries), is added to the path times ``ℓ``; it
+        is unchanged by how the tracker is turned in the hand. None (default): positions only.
+    relative : bool
+        Add where the other trackers are as seen from the first one and the first one as seen
+        from each of them (``R_0(t)ᵀ (p_k(t) − p_0(t))`` and ``R_k(t)ᵀ (p_0(t) − p_k(t))`` [m]):
+        the motion of one hand relative to the other, the same in any world frame. Needs two or
+        more trackers.
+    start_frame : bool
+        Add every tracker's positions relative to its start in the trackers' mean orientation at
+        the start (the rotation nearest to ``Σ_k R_k(0)``) [m]. Held controllers point roughly the
+        same way for every person, so this frame carries where up and forward were without the
+        world's vertical; it is the same in any world frame but turns with the grip.
 
     Notes
     -----
     Samples in one comparison must have the same number of trackers, in the same order.
+    Columns, per point: 3 positions per tracker, then 9 orientation entries per tracker (with
+    ``orientation_scale``), then 6 relative coordinates per tracker after the first (with
+    ``relative``), then 3 per tracker in the start frame (with ``start_frame``).
     """
 
-    def __init__(self, invariance: str = "gravity", n_samples: int = 64) -> None:
+    def __init__(self, invariance: str = "gravity", n_samples: int = 64,
+                 orientation_scale: float | None = None, relative: bool = False,
+                 start_frame: bool = False) -> None:
         if invariance not in INVARIANCES:
             raise ValueError(f"unknown invariance {invariance!r}; choose one of {', '.join(INVARIANCES)}")
         if int(n_samples) < 2:
             raise ValueError(f"n_samples must be at least 2, got {n_samples}")
+        if orientation_scale is not None and not float(orientation_scale) > 0.0:
+            raise ValueError(f"orientation_scale must be a positive length [m], got {orientation_scale}")
         self.invariance = invariance
         self.n_samples = int(n_samples)
+        self.orientation_scale = None if orientation_scale is None else float(orientation_scale)
+        self.relative = bool(relative)
+        self.start_frame = bool(start_frame)
 
     def __repr__(self) -> str:
-        return f"CanonicalPath(invariance={self.invariance!r}, n_samples={self.n_samples})"
+        extra = ""
+        if self.orientation_scale is not None:
+            extra += f", orientation_scale={self.orientation_scale}"
+        if self.relative:
+            extra += ", relative=True"
+        if self.start_frame:
+            extra += ", start_frame=True"
+        return f"CanonicalPath(invariance={self.invariance!r}, n_samples={self.n_samples}{extra})"
 
     def compute(self, sample: Trajectory | MultiTrajectory) -> np.ndarray:
-        """The canonical path, shape (n_samples, 3 · n_trackers) [m]."""
+        """The canonical path, shape (n_samples, n_columns) [m] (columns: see Notes)."""
         sample = as_sample(sample)
         R = canonical_frame(sample, self.invariance)
         t = sample.t
         grid = np.linspace(t[0], t[-1], self.n_samples)
-        cols = []
-        for tr in sample.trackers:
-            local = (tr.p - tr.p[0]) @ R
-            cols += [np.interp(grid, t, local[:, k]) for k in range(3)]
-        return np.column_stack(cols)
+        parts = [(tr.p - tr.p[0]) @ R for tr in sample.trackers]
+        if self.orientation_scale is not None:
+            parts += [_turns_since_start(tr, R) * self.orientation_scale for tr in sample.trackers]
+        if self.relative:
+            parts += _relative_positions(sample)
+        if self.start_frame:
+            S = start_orientation(sample)
+            parts += [(tr.p - tr.p[0]) @ S for tr in sample.trackers]
+        cols = np.concatenate(parts, axis=1)
+        return np.column_stack([np.interp(grid, t, cols[:, k]) for k in range(cols.shape[1])])
 
     def distance_spec(self) -> DistanceSpec:
         """DTW with Euclidean local cost over all columns, closed end."""
