@@ -37,6 +37,7 @@ __all__ = [
     "forbidden_turns",
     "gesture_geometry",
     "gesture_verticality",
+    "limits_of_units",
     "longest_corner_rest",
     "one_go_gestures",
     "opening_limit",
@@ -147,9 +148,16 @@ def candidate_limits(
     recording [s]; ``pause_factor`` × the largest ratio of such a rest to the mean duration of the
     two units around it.
     """
+    return limits_of_units([recording_units(tr, levels, L, dt)[1] for tr in trajectories],
+                           span_factor, pause_factor)
+
+
+def limits_of_units(recordings: Sequence[Sequence[Unit]], span_factor: float, pause_factor: float
+                    ) -> tuple[int, float, float, float]:
+    """:func:`candidate_limits` from the movement units of each model recording (one list per
+    recording, of one tracker or of several trackers' combined motion)."""
     most, longest, pause, ratio = 1, 0.0, 0.0, 0.0
-    for tr in trajectories:
-        _, units = recording_units(tr, levels, L, dt)
+    for units in recordings:
         if not units:
             continue
         most = max(most, len(units))

@@ -18,7 +18,6 @@ The levels and candidate limits come from the model recordings (:func:`combined_
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections import deque
 from collections.abc import Sequence
@@ -28,6 +27,7 @@ import numpy as np
 from ..core.multitrajectory import MultiTrajectory
 from ..core.progress import screw_path_increment
 from ..core.trajectory import Trajectory
+from .limits import limits_of_units
 from .segmentation import MotionSegmenter, PoseBuffer, SpeedLevels, Unit, motion_speed
 from .stop import StopDetector
 
@@ -215,20 +215,8 @@ def multi_candidate_limits(samples: Sequence[MultiTrajectory], levels: SpeedLeve
     """``(max_units, max_duration [s], max_pause [s], pause_ratio)`` from the model recordings, by
     the single-tracker rule (:func:`~framefree.online.limits.candidate_limits`) on the units of
     the combined speed."""
-    most, longest, pause, ratio = 1, 0.0, 0.0, 0.0
-    for s in samples:
-        units = recording_units(s, levels, L, dt)
-        if not units:
-            continue
-        most = max(most, len(units))
-        longest = max(longest, units[-1].end_t - units[0].start_t)
-        for a, b in itertools.pairwise(units):
-            gap = b.start_t - a.end_t
-            pause = max(pause, gap)
-            ratio = max(ratio, gap / (0.5 * (a.end_t - a.start_t + b.end_t - b.start_t)))
-    if longest == 0.0:
-        raise ValueError("no movement found in the model recordings")
-    return 2 * most + 1, span_factor * longest, span_factor * pause, pause_factor * ratio
+    return limits_of_units([recording_units(s, levels, L, dt) for s in samples], span_factor,
+                           pause_factor)
 
 
 class GridJoiner:
