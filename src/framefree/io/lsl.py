@@ -186,28 +186,26 @@ class LslSource:
             yield from self._all()
             return
         k0 = self.tracker * self.per_tracker
-        try:
-            while True:
-                try:
-                    sample, ts = self._inlet.pull_sample(
-                        timeout=32000000.0 if self.timeout is None else self.timeout)
-                except self._lost:
-                    return
-                if ts is None:
-                    self.timed_out = True
-                    return
-                v = np.asarray(sample[k0:k0 + self.per_tracker], dtype=float)
-                if self.per_tracker == 8 and v[7] == 0:
-                    continue
-                if self.clock == "local":
-                    ts += self._inlet.time_correction()
-                self.received += 1
-                yield float(ts), v[:3].copy(), v[3:7][self._order]
-        finally:
-            self.close()
+        for ts, sample in self._samples():
+            v = np.asarray(sample[k0:k0 + self.per_tracker], dtype=float)
+            if self.per_tracker == 8 and v[7] == 0:
+                continue
+            self.received += 1
+            yield ts, v[:3].copy(), v[3:7][self._order]
 
     def _all(self) -> Iterator[tuple[float, np.ndarray, np.ndarray]]:
         """Every tracker of each sample: positions (n, 3), quaternions (n, 4) scalar first."""
+        for ts, sample in self._samples():
+            v = np.asarray(sample, dtype=float).reshape(self.trackers, self.per_tracker)
+            p = v[:, :3].copy()
+            if self.per_tracker == 8:
+                p[v[:, 7] == 0] = np.nan
+            self.received += 1
+            yield ts, p, v[:, 3:7][:, self._order]
+
+    def _samples(self) -> Iterator[tuple[float, list[float]]]:
+        """``(time stamp [s], the whole sample)`` until the stream is lost or times out (then
+        :attr:`timed_out`); the inlet is closed at the end."""
         try:
             while True:
                 try:
@@ -218,14 +216,9 @@ class LslSource:
                 if ts is None:
                     self.timed_out = True
                     return
-                v = np.asarray(sample, dtype=float).reshape(self.trackers, self.per_tracker)
-                p = v[:, :3].copy()
-                if self.per_tracker == 8:
-                    p[v[:, 7] == 0] = np.nan
                 if self.clock == "local":
                     ts += self._inlet.time_correction()
-                self.received += 1
-                yield float(ts), p, v[:, 3:7][:, self._order]
+                yield float(ts), sample
         finally:
             self.close()
 
