@@ -62,16 +62,8 @@ class MultiPoseBuffer(PoseBuffer):
         self.n_trackers = int(n_trackers)
         self._poses = np.zeros((self.capacity, self.n_trackers, 4, 4))
 
-    def snapshot(self, start: int) -> MultiPoseBuffer:
-        """A copy from running index ``start`` on (see :meth:`PoseBuffer.snapshot`)."""
-        start = min(max(start, self.oldest), self.count)
-        copy = MultiPoseBuffer(max(self.count - start, 2), self.n_trackers)
-        times, poses = self.slice(start, self.count - 1)
-        where = np.arange(start, self.count) % copy.capacity
-        copy._times[where] = times
-        copy._poses[where] = poses
-        copy.count, copy.first = self.count, start
-        return copy
+    def _empty(self, capacity: int) -> MultiPoseBuffer:
+        return MultiPoseBuffer(capacity, self.n_trackers)
 
 
 class MultiMotionSegmenter(MotionSegmenter):

@@ -158,13 +158,17 @@ class PoseBuffer:
         """Time [s] at a running index."""
         return float(self._times[index % self.capacity])
 
+    def _empty(self, capacity: int) -> PoseBuffer:
+        """An empty buffer of this kind (a subclass with more per-pose data overrides it)."""
+        return PoseBuffer(capacity)
+
     def snapshot(self, start: int) -> PoseBuffer:
         """A copy of the poses from running index ``start`` (at least :attr:`oldest`) to the
         latest, with the same running indices: it answers :meth:`slice` from ``start`` on exactly
         as this buffer does now, while this buffer goes on filling (another thread classifies
         from the copy)."""
         start = min(max(start, self.oldest), self.count)
-        copy = PoseBuffer(max(self.count - start, 2))
+        copy = self._empty(max(self.count - start, 2))
         times, poses = self.slice(start, self.count - 1)
         where = np.arange(start, self.count) % copy.capacity
         copy._times[where] = times
