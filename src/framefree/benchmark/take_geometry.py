@@ -79,9 +79,10 @@ def take_geometry(data: str | Path, config: RecognizerConfig | None = None
     """
     config = config or RecognizerConfig()
     classifier = SegmentClassifier(segment_descriptor(config), [])
+    L, k = config.descriptor.L, config.constants
     return _per_take(data, config, lambda tr, levels, gesture: [
-        m for m in [recording_geometry(tr, classifier, levels, config.L, config.margin, config.dt,
-                                       config.corner_angle)] if m is not None])
+        m for m in [recording_geometry(tr, classifier, levels, L, k.margin, k.dt,
+                                       k.corner_angle)] if m is not None])
 
 
 def _per_take(data: str | Path, config: RecognizerConfig,
@@ -94,7 +95,7 @@ def _per_take(data: str | Path, config: RecognizerConfig,
     n_trackers = min((r.sample.n_trackers for r in ds), default=0)
     for tracker in range(n_trackers):
         trajs = [r.sample.trackers[tracker] for r in ds]
-        levels = speed_levels(trajs, config.L, config.dt)
+        levels = speed_levels(trajs, config.descriptor.L, config.constants.dt)
         for r, tr in zip(ds, trajs, strict=True):
             values = measure(tr, levels, r.gesture)
             if values:
@@ -107,9 +108,9 @@ def take_rests(data: str | Path, config: RecognizerConfig | None = None) -> dict
     (:func:`~framefree.online.limits.longest_corner_rest`), per tracker, person and gesture,
     cut as :func:`take_geometry` cuts them; a take with no movement unit is left out."""
     config = config or RecognizerConfig()
+    L, k = config.descriptor.L, config.constants
     return _per_take(data, config, lambda tr, levels, gesture: [
-        r for r in [longest_corner_rest(tr, levels, config.L, config.dt, config.corner_angle)]
-        if r is not None])
+        r for r in [longest_corner_rest(tr, levels, L, k.dt, k.corner_angle)] if r is not None])
 
 
 def take_verticality(data: str | Path, up: str = "+z", config: RecognizerConfig | None = None
@@ -132,4 +133,5 @@ def take_verticality(data: str | Path, up: str = "+z", config: RecognizerConfig 
     config = config or RecognizerConfig()
     vertical = up_vector(up)
     return _per_take(data, config, lambda tr, levels, gesture: gesture_verticality(
-        [tr], [gesture], levels, config.L, vertical, config.dt).get(gesture, []))
+        [tr], [gesture], levels, config.descriptor.L, vertical, config.constants.dt
+    ).get(gesture, []))

@@ -248,7 +248,7 @@ def _library_models(path: str):
     lib = load_library(path)
     click.echo(f"models: {path} is a gesture library: {len(lib.takes)} takes of "
                f"{len(lib.takes.gestures)} gestures, with its descriptor and thresholds", err=True)
-    desc = segment_descriptor(lib.recognizer_config())
+    desc = segment_descriptor(lib.recognizer_config(), lib.learned_settings().window_spacing)
     return desc, dict(lib.gesture_thresholds), list(lib.takes.takes), list(lib.takes.labels)
 
 

@@ -210,7 +210,8 @@ def _changes(old, new) -> str:
 @click.option("--remove", "removals", multiple=True,
               help="Leave out a gesture (wave) or a take (wave/own/trial_3); repeatable.")
 @click.option("--set", "sets", multiple=True,
-              help="Recognizer setting KEY=VALUE (a RecognizerConfig field); repeatable.")
+              help="Recognizer setting KEY=JSON (a RecognizerConfig setting, descriptor setting "
+                   "or constant, or a learned value to fix); repeatable.")
 @click.option("--merge", "merges", multiple=True,
               help="Pool the takes of a gesture found in several sources (e.g. a second person's); "
                    "without it, one gesture name in two sources is an error. Repeatable.")
@@ -230,7 +231,7 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
     Then: framefree check / live / evaluate-stream / demo --models LIBRARY.npz
     """
     from ..library.store import enroll, load_library
-    from ..online.config import RecognizerConfig
+    from ..online.learned import split_settings
 
     if out is None:
         if len(sources) != 1 or not Path(sources[0]).is_dir():
@@ -241,27 +242,30 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
     takes, settings = _gather(sources, context, merges)
     if removals:
         takes = takes.without(removals)
-    base = RecognizerConfig.from_dict(settings) if settings else RecognizerConfig()
-    config = base.replace(**_parse_sets(sets), **({"up": up} if up else {}))
+    try:
+        config, given = split_settings({**(settings or {}), **_parse_sets(sets),
+                                        **({"up": up} if up else {})})
+    except (TypeError, ValueError) as exc:
+        raise click.BadParameter(str(exc), param_hint="--set") from None
     old = load_library(out) if Path(out).is_file() and not force else None
-    if old is not None and old.fingerprint == _fingerprint(takes, config):
+    if old is not None and old.fingerprint == _fingerprint(takes, {**config.to_dict(), **given}):
         click.echo(f"{out} is up to date ({len(takes)} takes of {len(takes.gestures)} gestures); "
                    "nothing to do (--force recalibrates)", err=True)
         return
     click.echo(f"{_changes(old, takes)}; building models and calibrating thresholds for "
                f"{len(takes)} takes of {len(takes.gestures)} gestures ...", err=True)
     t0 = time.perf_counter()
-    lib = enroll(takes, config, built_from=[str(Path(s).resolve()) for s in sources])
+    lib = enroll(takes, config, built_from=[str(Path(s).resolve()) for s in sources], **given)
     path = lib.save(out)
     click.echo(lib.summary())
     click.echo(f"wrote {path} ({time.perf_counter() - t0:.1f} s). Next: framefree check {path}; "
                f"framefree live --models {path} --source zmq://127.0.0.1:5556", err=True)
 
 
-def _fingerprint(takes, config) -> str:
+def _fingerprint(takes, settings: dict[str, Any]) -> str:
     from ..library.store import fingerprint
 
-    return fingerprint(takes, config.to_dict())
+    return fingerprint(takes, settings)
 
 
 @click.command("check")

@@ -3,17 +3,18 @@ thresholds, as bytes on disk. This module knows the layout and its versions only
 *is* (:class:`~framefree.library.GestureLibrary`) and how a recognizer is restored from one
 (:meth:`~framefree.online.Recognizer.restore`) live above it.
 
-File format (``FORMAT_VERSION`` 3; version 1 predates the recognizer's ``axis_prior`` setting,
-which changes the models' descriptors, and version 2 its corner limits, which change which
-negatives the thresholds were calibrated on, so their thresholds would not fit): a ``.npz`` (zip) archive
-readable with ``numpy.load(path, allow_pickle=False)`` plus one JSON member; nothing in it executes
-code when loaded.
+File format (``FORMAT_VERSION`` 4; version 3 stored the learned values inside one flat
+configuration and is migrated on loading (:mod:`framefree.online.library_settings`); version 1
+predates the recognizer's ``axis_prior`` setting, which changes the models' descriptors, and
+version 2 its corner limits, which change which negatives the thresholds were calibrated on, so
+neither can be read): a ``.npz`` (zip) archive readable with ``numpy.load(path,
+allow_pickle=False)`` plus one JSON member; nothing in it executes code when loaded.
 
 =================  ====================================================================================
 ``library.json``   ``format_version``, ``framefree_version``, ``created`` (UTC), ``built_from``,
-                   ``names``, ``labels``, ``settings`` (the configuration asked for), ``config`` (the
-                   configuration in use, with the calibrated resolution and thresholds),
-                   ``gesture_thresholds``, ``stop_threshold``, ``calibration`` (summary),
+                   ``names``, ``labels``, ``config`` (the user's settings,
+                   ``RecognizerConfig.to_dict``), ``learned`` (every value learned from the takes
+                   and its provenance, ``LearnedSettings.to_dict``), ``calibration`` (summary),
                    ``fingerprint`` (SHA-256 of takes, labels, settings and format)
 ``samples.npy``    float64 (S, 8): every take's rows ``t, x, y, z, qw, qx, qy, qz`` one after another
 ``offsets.npy``    int64 (M + 1,): take ``k`` is ``samples[offsets[k]:offsets[k + 1]]``
@@ -38,6 +39,7 @@ from ..errors import FramefreeError
 __all__ = [
     "FORMAT_VERSION",
     "JSON_MEMBER",
+    "READABLE_FORMATS",
     "LibraryError",
     "library_takes",
     "read_library_file",
@@ -46,7 +48,9 @@ __all__ = [
 ]
 
 #: Version of the library file layout and of the meaning of its settings.
-FORMAT_VERSION = 3
+FORMAT_VERSION = 4
+#: Older versions that are still read (and migrated by :mod:`framefree.online.library_settings`).
+READABLE_FORMATS = (3, FORMAT_VERSION)
 #: Name of the JSON member (stable across format versions, so any version can be recognized).
 JSON_MEMBER = "library.json"
 
@@ -114,10 +118,11 @@ def read_library_file(path: str | Path) -> tuple[dict[str, Any], list[np.ndarray
         with zipfile.ZipFile(path) as zf:
             meta = json.loads(zf.read(JSON_MEMBER))
             fmt = meta.get("format_version")
-            if fmt != FORMAT_VERSION:
+            if fmt not in READABLE_FORMATS:
                 raise LibraryError(
                     f"{path}: gesture library format {fmt} (framefree {meta.get('framefree_version')}), "
-                    f"this framefree {__version__} reads format {FORMAT_VERSION}; "
+                    f"this framefree {__version__} reads formats "
+                    f"{', '.join(map(str, READABLE_FORMATS))}; enroll it again: "
                     f"{rebuild_hint(path, meta)}")
             arrays = {n: np.lib.format.read_array(io.BytesIO(zf.read(f"{n}.npy")), allow_pickle=False)
                       for n in ("samples", "offsets")}

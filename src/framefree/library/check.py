@@ -189,10 +189,11 @@ class CheckReport:
         return "\n".join(lines)
 
 
-def descriptor_for(config: RecognizerConfig | None = None) -> Descriptor:
-    """The offline descriptor the recognizer classifies segments with
-    (:func:`~framefree.online.model_settings.segment_descriptor`)."""
-    return segment_descriptor(config or RecognizerConfig())
+def descriptor_for(config: RecognizerConfig | None = None, spacing: int | None = None
+                   ) -> Descriptor:
+    """The offline descriptor the recognizer classifies segments with, its windows ``spacing``
+    samples apart (:func:`~framefree.online.model_settings.segment_descriptor`)."""
+    return segment_descriptor(config or RecognizerConfig(), spacing)
 
 
 def _nearest_by_gesture(D: np.ndarray, labels: np.ndarray, gestures: Sequence[str]) -> np.ndarray:
@@ -261,10 +262,9 @@ def check_takes(
     """
     s = settings or CheckSettings()
     config = config or RecognizerConfig()
-    if config.relative_window and config.window_spacing is None:
-        config = config.replace(window_spacing=model_window_spacing(takes.takes, config))
     rng = np.random.default_rng(s.seed)
-    desc = descriptor_for(config)
+    relative = config.descriptor.relative_window
+    desc = descriptor_for(config, model_window_spacing(takes.takes, config) if relative else None)
     labels = np.array(takes.labels)
     gestures = takes.gestures
     base = _describe(desc, takes.takes, progress, "descriptors")
@@ -293,8 +293,10 @@ def check_takes(
             _probe_margin(Ds, labels, g, spread[g], s.probe_quantile),
             _probe_margin(De, labels, g, spread[g], s.probe_quantile),
             str(ekinds[int(np.argmin(ecol))]) if ecol.size else "-",
-            max(sustained_peak_speed(takes.takes[k].t, takes.takes[k].q, config.stop_window,
-                                     config.stop_min_duration) for k in np.flatnonzero(sel)),
+            max(sustained_peak_speed(takes.takes[k].t, takes.takes[k].q,
+                                     config.constants.stop_window,
+                                     config.constants.stop_min_duration)
+                for k in np.flatnonzero(sel)),
         )
     report = CheckReport(list(takes.names), list(takes.labels), D, list(predicted),
                          [str(x) for x in per_take], checks)
@@ -412,7 +414,7 @@ def _probe_distances(takes: TakeSet, desc: Descriptor, base: list[np.ndarray], r
     stops = [m for tr in takes.takes for m in stop_rotations(tr, rng, s.probes_per_take)]
     Ds = desc.distance_matrix(_describe(desc, stops, progress, "stop rotations"), base)
     everyday = [pr for g in takes.gestures for k in np.flatnonzero(labels == g)[:2]
-                for pr in everyday_motions(takes.takes[k], rng, config.L)]
+                for pr in everyday_motions(takes.takes[k], rng, config.descriptor.L)]
     De = desc.distance_matrix(_describe(desc, [tr for _, tr in everyday], progress, "everyday motion"), base)
     return Ds, De, np.array([kind for kind, _ in everyday])
 
@@ -425,8 +427,8 @@ def _describe(desc: Descriptor, trajs: Sequence, progress: bool, what: str) -> l
 
 def _findings(r: CheckReport, s: CheckSettings, config: RecognizerConfig) -> list[Finding]:
     out: list[Finding] = []
-
-    slowest_stop = slowest_stop_speed(config.stop_window, config.stop_min_duration)
+    k = config.constants
+    slowest_stop = slowest_stop_speed(k.stop_window, k.stop_min_duration)
     fastest = max(r.gestures.values(), key=lambda c: c.peak_speed).gesture
 
     def level(m: float) -> str | None:
@@ -449,10 +451,10 @@ def _findings(r: CheckReport, s: CheckSettings, config: RecognizerConfig) -> lis
         if c.stop_margin < s.warn_margin:
             out.append(Finding("warning", g, f"{g} is within {c.stop_margin:.2f}x of a stop rotation "
                                              "(fast wrist back-and-forth): give it another shape"))
-        if g == fastest and c.peak_speed * config.stop_margin > slowest_stop:
+        if g == fastest and c.peak_speed * k.stop_margin > slowest_stop:
             out.append(Finding("warning", g, f"{g} turns almost as fast as a stop signal (sustained "
                                              f"{c.peak_speed:.1f} rad/s): the stop threshold becomes "
-                                             f"{c.peak_speed * config.stop_margin:.1f} rad/s, above the "
+                                             f"{c.peak_speed * k.stop_margin:.1f} rad/s, above the "
                                              f"slowest stop signals ({slowest_stop:.1f} rad/s): "
                                              "perform it more slowly"))
         if c.everyday_margin < s.warn_margin:

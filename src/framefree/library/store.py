@@ -3,9 +3,10 @@ in one versioned file that starts a recognizer without recalibrating.
 
 Building models from recordings is cheap (0.04 s for the 35 HPM recordings); calibrating the
 recognizer is not (about 10 s for the same). So a library stores what is needed to rebuild the
-models exactly — the rows of the takes — together with the outcome of the calibration (the
-resolved :class:`~framefree.online.RecognizerConfig`), and loading rebuilds the models and
-restores everything else.
+models exactly — the rows of the takes — together with the user's settings
+(:class:`~framefree.online.RecognizerConfig`) and everything learned from the takes, with its
+provenance (:class:`~framefree.online.learned.LearnedSettings`); loading rebuilds the models and
+restores the rest.
 
 The file format is :mod:`framefree.io.library_file`.
 """
@@ -30,10 +31,11 @@ from ..io.library_file import (
     LibraryError,
     library_takes,
     read_library_file,
-    rebuild_hint,
     write_library_file,
 )
 from ..online.config import RecognizerConfig
+from ..online.learned import GIVEN, LearnedSettings, split_settings
+from ..online.library_settings import settings_from_meta
 from ..online.recognizer import Recognizer
 
 __all__ = [
@@ -281,16 +283,16 @@ def build_recognizer(
     takes: Sequence[Trajectory],
     labels: Sequence[str],
     config: RecognizerConfig,
-    gesture_thresholds: dict[str, float],
+    learned: LearnedSettings,
 ) -> Recognizer:
-    """A recognizer over models rebuilt from ``takes``, with the given thresholds (no calibration);
-    see :meth:`~framefree.online.Recognizer.restore`."""
-    return Recognizer.restore(takes, labels, config, gesture_thresholds)
+    """A recognizer over models rebuilt from ``takes``, with the learned values restored (no
+    calibration); see :meth:`~framefree.online.Recognizer.restore`."""
+    return Recognizer.restore(takes, labels, config, learned)
 
 
 @dataclass(frozen=True)
 class GestureLibrary:
-    """A vocabulary ready to go live: takes, settings and the calibrated thresholds.
+    """A vocabulary ready to go live: takes, the user's settings and what was learned from them.
 
     Build one with :func:`enroll`, write it with :meth:`save`, read it with :func:`load_library`,
     and start recognizing with :meth:`recognizer` (no recalibration).
@@ -299,30 +301,25 @@ class GestureLibrary:
     ----------
     takes : TakeSet
         The takes the models are built from.
-    settings : dict
-        The :class:`~framefree.online.RecognizerConfig` fields asked for at enrolment (``None``
-        where calibration chooses).
     config : dict
-        The configuration in use (``RecognizerConfig.to_dict``), with the calibrated values.
-    gesture_thresholds : dict of str to float
-        Decision threshold τ_g of each gesture.
-    stop_threshold : float
-        Stop-detector threshold on ``|q̇|`` [1/s].
+        The user's settings (``RecognizerConfig.to_dict``: descriptor settings and constants
+        nested).
+    learned : dict
+        Every value learned from the takes, with its provenance (``LearnedSettings.to_dict``).
     calibration : dict or None
         Summary of the calibration (for reports).
     built_from : tuple of str
         Folders and library files the takes came from.
     framefree_version : str
     format_version : int
+        The format of the file it was read from (a library of format 3 is migrated on loading).
     created : str
         UTC time of the enrolment (ISO 8601).
     """
 
     takes: TakeSet
-    settings: dict[str, Any]
     config: dict[str, Any]
-    gesture_thresholds: dict[str, float]
-    stop_threshold: float
+    learned: dict[str, Any]
     calibration: dict[str, Any] | None = None
     built_from: tuple[str, ...] = ()
     framefree_version: str = __version__
@@ -335,36 +332,53 @@ class GestureLibrary:
         return self.takes.gestures
 
     @property
+    def gesture_thresholds(self) -> dict[str, float]:
+        """Decision threshold τ_g of each gesture."""
+        return {str(g): float(v) for g, v in self.learned["gesture_thresholds"].items()}
+
+    @property
+    def stop_threshold(self) -> float:
+        """Stop-detector threshold on the windowed angular speed [rad/s]."""
+        return float(self.learned["stop_threshold"])
+
+    @property
+    def settings(self) -> dict[str, Any]:
+        """What was asked for at enrolment: the user's settings and any learned value fixed
+        instead of learned (``--set max_units=3``); enrolling again starts from these."""
+        rules = self.learned.get("provenance", {}).get("rules", {})
+        given = {k: self.learned[k] for k, r in rules.items() if r == GIVEN}
+        return {**self.config, **given}
+
+    @property
     def fingerprint(self) -> str:
         """SHA-256 of the takes and settings (equal fingerprints need no new calibration)."""
         return fingerprint(self.takes, self.settings)
 
     def recognizer_config(self) -> RecognizerConfig:
-        """The stored configuration as a :class:`~framefree.online.RecognizerConfig` (a library
-        saved before the ``align`` setting existed was calibrated with the singular values, one
-        saved before ``gesture_pauses`` existed keeps the pause limits common to all gestures)."""
-        old = {"align": "singular", "gesture_pauses": False}
-        return RecognizerConfig.from_dict({**old, **self.config}).replace(
-            stop_threshold=self.stop_threshold)
+        """The user's settings as a :class:`~framefree.online.RecognizerConfig`."""
+        return RecognizerConfig.from_dict(self.config)
+
+    def learned_settings(self) -> LearnedSettings:
+        """The learned values as :class:`~framefree.online.learned.LearnedSettings`."""
+        return LearnedSettings.from_dict(self.learned)
 
     def recognizer(self) -> Recognizer:
-        """A live recognizer: models rebuilt from the takes, thresholds restored (no calibration)."""
+        """A live recognizer: models rebuilt from the takes, learned values restored (no
+        calibration)."""
         return Recognizer.restore(self.takes.takes, self.takes.labels, self.recognizer_config(),
-                                  self.gesture_thresholds)
+                                  self.learned_settings())
 
     def meta(self) -> dict[str, Any]:
-        """The JSON member of the library file."""
+        """The JSON member of the library file (always the current format)."""
         return {
-            "format_version": self.format_version,
+            "format_version": FORMAT_VERSION,
             "framefree_version": self.framefree_version,
             "created": self.created,
             "built_from": list(self.built_from),
             "names": list(self.takes.names),
             "labels": list(self.takes.labels),
-            "settings": self.settings,
             "config": self.config,
-            "gesture_thresholds": self.gesture_thresholds,
-            "stop_threshold": self.stop_threshold,
+            "learned": self.learned,
             "calibration": self.calibration,
             "fingerprint": self.fingerprint,
         }
@@ -376,17 +390,18 @@ class GestureLibrary:
     def summary(self) -> str:
         """One line per gesture: takes, threshold, whether it is performed in one go (no long rest
         at a corner) and, with a known vertical, verticality range."""
+        config, learned = self.recognizer_config(), self.learned_settings()
         counts = self.takes.counts()
-        up = self.config.get("up")
-        vertical = (self.config.get("vertical_limits") or {}) if up else {}
-        one_go = (self.config.get("one_go") or []) if self.config.get("gesture_pauses") else []
+        up = config.up
+        vertical = (learned.vertical_limits or {}) if up else {}
+        one_go = (learned.one_go or []) if config.gesture_pauses else []
         lines = [f"{len(self.takes)} takes of {len(counts)} gestures, "
                  f"stop above {self.stop_threshold:.3g} rad/s"
                  + (f", up {up} (verticality limits)" if up else "")]
         for g, n in counts.items():
             line = f"  {g:<16} {n:3d} takes  τ = {self.gesture_thresholds.get(g, float('nan')):.4g}"
             if g in one_go:
-                line += f"  in one go (rests ≤ {self.config.get('min_pause', 0.5):.2g} s at a corner)"
+                line += f"  in one go (rests ≤ {config.constants.min_pause:.2g} s at a corner)"
             if g in vertical:
                 line += f"  vertical {vertical[g][0]:.2f}–{vertical[g][1]:.2f}"
             lines.append(line)
@@ -394,30 +409,25 @@ class GestureLibrary:
 
 
 def load_library(path: str | Path) -> GestureLibrary:
-    """Read a library file written by :meth:`GestureLibrary.save`.
+    """Read a library file written by :meth:`GestureLibrary.save` (one of format 3 is migrated,
+    :mod:`framefree.online.library_settings`).
 
     Raises
     ------
     LibraryError
-        When the file is not a library, was written by another format version, or its settings
-        do not fit this framefree (the message says how to rebuild it).
+        When the file is not a library, was written in a format that is no longer read, or its
+        settings do not fit this framefree (one line, saying how to enroll it again).
     """
     path = Path(path)
     meta, rows = read_library_file(path)
     names, labels = meta["names"], meta["labels"]
     takes = tuple(library_takes(path, rows, names))
-    lib = GestureLibrary(
-        TakeSet(takes, tuple(labels), tuple(names), tuple(rows)), meta["settings"], meta["config"],
-        {str(k): float(v) for k, v in meta["gesture_thresholds"].items()}, float(meta["stop_threshold"]),
-        meta.get("calibration"), tuple(meta.get("built_from") or ()), meta.get("framefree_version", "?"),
-        int(meta["format_version"]), meta.get("created", ""),
+    config, learned = settings_from_meta(path, meta, rows)
+    return GestureLibrary(
+        TakeSet(takes, tuple(labels), tuple(names), tuple(rows)), _as_json(config.to_dict()),
+        _as_json(learned.to_dict()), meta.get("calibration"), tuple(meta.get("built_from") or ()),
+        meta.get("framefree_version", "?"), int(meta["format_version"]), meta.get("created", ""),
     )
-    try:
-        lib.recognizer_config()
-    except (TypeError, ValueError) as exc:
-        raise LibraryError(f"{path}: settings do not fit framefree {__version__} ({exc}); "
-                           f"{rebuild_hint(path, meta)}") from None
-    return lib
 
 
 def _as_json(d: dict[str, Any]) -> dict[str, Any]:
@@ -443,8 +453,9 @@ def enroll(
     takes : TakeSet
         The vocabulary's takes (:func:`read_takes`, or a loaded library's ``takes``).
     config : RecognizerConfig, optional
-        Recognizer settings (default ``RecognizerConfig()``); ``overrides`` replace fields.
-        Fields left ``None`` (resolution, thresholds) are calibrated from the takes.
+        The user's settings (default ``RecognizerConfig()``); ``overrides`` change them by
+        name (:meth:`~framefree.online.RecognizerConfig.replace`) or fix a learned value
+        instead of learning it. Everything else is learned from the takes.
     built_from : sequence of str
         Where the takes came from (stored, and used in rebuild hints).
 
@@ -464,12 +475,9 @@ def enroll(
     What one, two and three takes give on held-out people is measured in docs/library.md.
     """
     refuse_copies(takes)
-    config = (config or RecognizerConfig()).replace(**overrides)
+    config, given = split_settings(overrides, config)
     takes = takes.as_stored()
-    rec = Recognizer.from_trajectories(list(takes.takes), list(takes.labels), config)
+    rec = Recognizer.from_trajectories(list(takes.takes), list(takes.labels), config, **given)
     calib = rec.calibration.summary() if getattr(rec, "calibration", None) is not None else None
-    return GestureLibrary(
-        takes, _as_json(config.to_dict()), _as_json(rec.config.to_dict()),
-        {g: float(v) for g, v in rec.gesture_thresholds.items()},
-        float(rec.stop_threshold), calib, tuple(str(s) for s in built_from),
-    )
+    return GestureLibrary(takes, _as_json(config.to_dict()), _as_json(rec.learned_.to_dict()),
+                          calib, tuple(str(s) for s in built_from))

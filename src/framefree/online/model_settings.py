@@ -1,20 +1,23 @@
-"""Every setting of the live recognizer that comes from its model recordings.
+"""Every value of the live recognizer that comes from its takes, and the parts built from them.
 
-:func:`resolve_config` fills each ``None`` field of a :class:`~framefree.online.config.RecognizerConfig`
-from the recordings: the rest and move speeds, the candidate limits (units, duration, pauses,
-the gestures drawn in one go), each gesture's geometric limits (closure, opening, size, corners,
-turns, and with a known vertical its verticality), the thresholds τ_g and the stop threshold.
-:func:`make_spotter` turns a resolved configuration into the spotter's per-model arrays, and
-:func:`segment_descriptor` is the offline descriptor every segment is classified with. A field
-that is already set is kept, so a saved library restores without recalibrating.
+:func:`resolve_learned` measures on the takes every :class:`~framefree.online.learned.
+LearnedSettings` value the caller did not give: the rest and move speeds, the candidate limits
+(units, duration, pauses, the gestures drawn in one go), each gesture's geometric limits
+(closure, opening, size, corners, turns, and with a known vertical its verticality), the
+thresholds τ_g and the stop threshold, and records the rule behind each (its
+:class:`~framefree.online.learned.Provenance`). A value that is given is kept, so a saved library
+restores without calibrating again. :func:`make_spotter` turns the settings into the spotter's
+per-model arrays, and :func:`segment_descriptor` is the offline descriptor every segment is
+classified with.
 
-See ``docs/online.md`` (What comes from the models).
+See ``docs/online.md`` (What it learns from the takes).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -23,6 +26,7 @@ from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor, get_descriptor
 from ..descriptors.bilts import window_spacing
 from .config import RecognizerConfig
+from .learned import GIVEN, LEARNED_NAMES, LearnedSettings, Provenance, rule_name, takes_digest
 from .limits import (
     candidate_limits,
     closure_limit,
@@ -38,161 +42,206 @@ from .limits import (
 from .segmentation import SpeedLevels, speed_levels
 from .spotting import SegmentClassifier, Spotter
 from .stop import sustained_peak_speed
-from .thresholds import SegmentThresholds, calibrate_segment_thresholds
+from .thresholds import SegmentThresholds, calibrate_segment_thresholds, reach_down
 from .vertical import up_vector, vertical_limits
 
-__all__ = ["make_spotter", "model_window_spacing", "resolve_config", "segment_descriptor"]
+__all__ = ["LearnedDraft", "make_spotter", "model_window_spacing", "resolve_learned",
+           "segment_descriptor", "stop_threshold_rule"]
 
 
-def segment_descriptor(config: RecognizerConfig) -> Descriptor:
+def segment_descriptor(config: RecognizerConfig, spacing: int | None = None) -> Descriptor:
     """The offline descriptor the recognizer classifies segments with: BILTS+ with screw-path
-    progress and the configuration's ``L``, ``ds_scale``, ``n_samples``, ``presmooth``,
-    ``axis_prior``, ``align`` and, with ``relative_window``, ``window_spacing``."""
-    spacing = config.window_spacing if config.relative_window else None
-    return get_descriptor("bilts+", progress="screw", L=config.L, ds_scale=config.ds_scale,
-                          n_samples=config.n_samples, presmooth=config.presmooth,
-                          axis_prior=config.axis_prior, spacing=spacing, align=config.align)
+    progress and the configuration's descriptor settings; with ``relative_window``, windows
+    ``spacing`` samples apart (the learned ``window_spacing``)."""
+    d = config.descriptor
+    return get_descriptor("bilts+", progress="screw", L=d.L, ds_scale=d.ds_scale,
+                          n_samples=d.n_samples, presmooth=d.presmooth, axis_prior=d.axis_prior,
+                          spacing=spacing if d.relative_window else None, align=d.align)
 
 
 def model_window_spacing(trajectories: Sequence[Trajectory], config: RecognizerConfig) -> int:
     """The reference's window spacing for a typical model recording: ``ds_scale`` over the median
     progress step of the recordings, rounded (at least 1)."""
-    steps = [reparameterize(tr, "screw", config.L, config.n_samples, presmooth=config.presmooth).ds
+    d = config.descriptor
+    steps = [reparameterize(tr, "screw", d.L, d.n_samples, presmooth=d.presmooth).ds
              for tr in trajectories]
-    return window_spacing(config.ds_scale, float(np.median(steps)))
+    return window_spacing(d.ds_scale, float(np.median(steps)))
 
 
-def resolve_config(
+class LearnedDraft:
+    """Learned values while they are being derived: the given ones, then each rule's.
+
+    Parameters
+    ----------
+    given : dict of str to object
+        Learned values fixed by the caller (kept, with the rule ``"given"``).
+    """
+
+    def __init__(self, given: dict[str, Any] | None = None) -> None:
+        self.values: dict[str, Any] = dict.fromkeys(LEARNED_NAMES)
+        self.rules: dict[str, str] = {}
+        for k, v in (given or {}).items():
+            if v is not None:
+                self.values[k], self.rules[k] = v, GIVEN
+
+    def missing(self, *names: str) -> bool:
+        """Whether any of ``names`` is still unknown."""
+        return any(self.values[n] is None for n in names)
+
+    def fill(self, rule: Callable[..., Any] | str, **values: Any) -> None:
+        """Set each of ``values`` that is still unknown, derived by ``rule``."""
+        for k, v in values.items():
+            if self.values[k] is None and v is not None:
+                self.values[k] = v
+                self.rules[k] = rule if isinstance(rule, str) else rule_name(rule)
+
+    def settings(self, takes: int = 0, digest: str = "") -> LearnedSettings:
+        """The values as :class:`LearnedSettings`, with their provenance."""
+        rules = {k: r for k, r in self.rules.items() if self.values[k] is not None}
+        return LearnedSettings(**self.values, provenance=Provenance(rules, takes, digest))
+
+
+def resolve_learned(
     trajectories: Sequence[Trajectory],
     labels: Sequence[str],
     config: RecognizerConfig,
     classifier: SegmentClassifier,
-) -> tuple[RecognizerConfig, SegmentThresholds | None]:
-    """Fill every ``None`` field of ``config`` from the model recordings.
+    draft: LearnedDraft,
+) -> tuple[LearnedSettings, SegmentThresholds | None]:
+    """Derive every learned value ``draft`` does not hold yet from the takes.
 
-    Returns the resolved configuration and the threshold calibration (``None`` when the thresholds
+    Returns the learned settings and the threshold calibration (``None`` when the thresholds
     were given).
     """
-    c = config
+    k, L = config.constants, config.descriptor.L
     gestures = list(dict.fromkeys(labels))
-    if c.rest_speed is None or c.move_speed is None:
-        lv = speed_levels(trajectories, c.L, c.dt, c.speed_lag, c.noise_factor, c.peak_fraction,
-                          c.move_factor)
-        c = c.replace(rest_speed=c.rest_speed or lv.rest, move_speed=c.move_speed or lv.move)
-    levels = SpeedLevels(c.rest_speed, c.move_speed)
-    c = _candidate_limits(trajectories, labels, c, levels)
-    c = _geometry_limits(trajectories, labels, c, levels, classifier)
-    if c.up is not None and c.vertical_limits is None:
-        values = gesture_verticality(trajectories, labels, levels, c.L, up_vector(c.up), c.dt)
-        limits = {g: vertical_limits(values.get(g, []), c.vertical_margin) for g in gestures}
-        c = c.replace(vertical_limits={g: v for g, v in limits.items() if v is not None})
-    c, calibration = _thresholds(trajectories, labels, c, levels, classifier,
-                                 config.size_limits is None)
-    if c.stop_threshold is None:
-        peak = max(sustained_peak_speed(tr.t, tr.q, c.stop_window, c.stop_min_duration)
+    v = draft.values
+    if draft.missing("rest_speed", "move_speed"):
+        lv = speed_levels(trajectories, L, k.dt, k.speed_lag, k.noise_factor, k.peak_fraction,
+                          k.move_factor)
+        draft.fill(speed_levels, rest_speed=lv.rest, move_speed=lv.move)
+    levels = SpeedLevels(v["rest_speed"], v["move_speed"])
+    if draft.missing("max_units", "max_duration", "max_pause", "pause_ratio"):
+        units, duration, pause, ratio = candidate_limits(trajectories, levels, L, k.span_factor,
+                                                         k.pause_factor, k.dt)
+        draft.fill(candidate_limits, max_units=units, max_duration=duration, max_pause=pause,
+                   pause_ratio=ratio)
+    if config.gesture_pauses and draft.missing("one_go"):
+        draft.fill(one_go_gestures, one_go=one_go_gestures(trajectories, labels, levels, L,
+                                                           config.confirm, k.dt, k.corner_angle))
+    sizes_derived = draft.missing("size_limits")
+    _geometry_limits(trajectories, labels, config, levels, classifier, draft)
+    if config.up is not None and draft.missing("vertical_limits"):
+        values = gesture_verticality(trajectories, labels, levels, L, up_vector(config.up), k.dt)
+        limits = {g: vertical_limits(values.get(g, []), k.vertical_margin) for g in gestures}
+        draft.fill(vertical_limits, vertical_limits={g: x for g, x in limits.items() if x is not None})
+    calibration = _thresholds(trajectories, labels, config, levels, classifier, draft, sizes_derived)
+    if config.stop_threshold is not None:
+        draft.fill(f"{GIVEN}: stop_threshold", stop_threshold=config.stop_threshold)
+    if draft.missing("stop_threshold"):
+        peak = max(sustained_peak_speed(tr.t, tr.q, k.stop_window, k.stop_min_duration)
                    for tr in trajectories)
-        c = c.replace(stop_threshold=max(c.stop_floor, c.stop_margin * peak))
-    return c, calibration
+        draft.fill(stop_threshold_rule(), stop_threshold=max(k.stop_floor, k.stop_margin * peak))
+    digest = takes_digest(tr.to_array() for tr in trajectories)
+    return draft.settings(len(trajectories), digest), calibration
 
 
-def _candidate_limits(trajectories: Sequence[Trajectory], labels: Sequence[str],
-                      c: RecognizerConfig, levels: SpeedLevels) -> RecognizerConfig:
-    """Fill the candidate limits left ``None`` (units, duration, pauses, and with
-    ``gesture_pauses`` the gestures drawn in one go) from the model recordings."""
-    if None in (c.max_units, c.max_duration, c.max_pause, c.pause_ratio):
-        units, duration, pause, ratio = candidate_limits(trajectories, levels, c.L, c.span_factor,
-                                                         c.pause_factor, c.dt)
-        c = c.replace(max_units=c.max_units or units, max_duration=c.max_duration or duration,
-                      max_pause=c.max_pause or pause,
-                      pause_ratio=ratio if c.pause_ratio is None else c.pause_ratio)
-    if c.gesture_pauses and c.one_go is None:
-        c = c.replace(one_go=one_go_gestures(trajectories, labels, levels, c.L, c.confirm, c.dt,
-                                             c.corner_angle))
-    return c
+def stop_threshold_rule() -> str:
+    """The rule of a derived stop threshold: the fastest sustained rotation of any take
+    (:func:`~framefree.online.stop.sustained_peak_speed`) times ``stop_margin``, at least
+    ``stop_floor``."""
+    return rule_name(sustained_peak_speed) + " × stop_margin, at least stop_floor"
 
 
 def _geometry_limits(trajectories: Sequence[Trajectory], labels: Sequence[str],
-                     c: RecognizerConfig, levels: SpeedLevels,
-                     classifier: SegmentClassifier) -> RecognizerConfig:
-    """Fill the closure, opening, size, corner and turn limits left ``None`` from the geometry
-    of the model recordings (:func:`~framefree.online.limits.gesture_geometry`)."""
-    if None not in (c.closure_limits, c.size_limits, c.opening_limits, c.corner_limits,
-                    c.forbidden_turns):
-        return c
+                     config: RecognizerConfig, levels: SpeedLevels,
+                     classifier: SegmentClassifier, draft: LearnedDraft) -> None:
+    """Derive the closure, opening, size, corner and turn limits ``draft`` lacks from the
+    geometry of the takes (:func:`~framefree.online.limits.gesture_geometry`)."""
+    names = ("closure_limits", "size_limits", "opening_limits", "corner_limits", "forbidden_turns")
+    if not draft.missing(*names):
+        return
+    k = config.constants
     gestures = list(dict.fromkeys(labels))
     closed, sizes, corners, turns = gesture_geometry(trajectories, labels, classifier, levels,
-                                                     c.L, c.margin, c.dt, c.corner_angle)
-    if c.corner_limits is None:
-        limits = {g: corner_limit(corners.get(g, []), c.corner_slack, c.slack_corners)
-                  for g in gestures}
-        c = c.replace(corner_limits={g: k for g, k in limits.items() if k is not None})
-    if c.forbidden_turns is None:
-        never = {g: forbidden_turns(turns.get(g, [])) for g in gestures}
-        c = c.replace(forbidden_turns={g: k for g, k in never.items() if k})
-    if c.closure_limits is None:
-        largest = {g: hi for g, (_, hi) in closed.items()}
-        largest = pooled_closures(largest) if c.closure_pooled else largest
-        c = c.replace(closure_limits={g: closure_limit(largest.get(g, 1.0), c.closure_exponent)
-                                      for g in gestures})
-    if c.opening_limits is None:
-        c = c.replace(opening_limits={g: opening_limit(closed.get(g, (0.0, 0.0))[0],
-                                                       c.closure_exponent) for g in gestures})
-    if c.size_limits is None:
-        c = c.replace(size_limits={g: size_limits(*sizes.get(g, (0.0, np.inf)), c.size_factor,
-                                                  c.size_growth) for g in gestures})
-    return c
+                                                     config.descriptor.L, k.margin, k.dt,
+                                                     k.corner_angle)
+    limits = {g: corner_limit(corners.get(g, []), k.corner_slack, k.slack_corners)
+              for g in gestures}
+    draft.fill(corner_limit, corner_limits={g: n for g, n in limits.items() if n is not None})
+    never = {g: forbidden_turns(turns.get(g, [])) for g in gestures}
+    draft.fill(forbidden_turns, forbidden_turns={g: n for g, n in never.items() if n})
+    largest = {g: hi for g, (_, hi) in closed.items()}
+    largest = pooled_closures(largest) if k.closure_pooled else largest
+    draft.fill(closure_limit, closure_limits={g: closure_limit(largest.get(g, 1.0),
+                                                               k.closure_exponent)
+                                              for g in gestures})
+    draft.fill(opening_limit, opening_limits={g: opening_limit(closed.get(g, (0.0, 0.0))[0],
+                                                               k.closure_exponent)
+                                              for g in gestures})
+    draft.fill(size_limits, size_limits={g: size_limits(*sizes.get(g, (0.0, np.inf)),
+                                                        k.size_factor, k.size_growth)
+                                         for g in gestures})
 
 
-def _thresholds(trajectories: Sequence[Trajectory], labels: Sequence[str], c: RecognizerConfig,
-                levels: SpeedLevels, classifier: SegmentClassifier, sizes_derived: bool
-                ) -> tuple[RecognizerConfig, SegmentThresholds | None]:
-    """Fill the thresholds τ_g left ``None``: one ``threshold`` for all, or calibrated
-    (:func:`~framefree.online.thresholds.calibrate_segment_thresholds`), which may also reach
-    the lower size limits down where nothing else looks like the gesture (only for size limits
-    derived here, ``sizes_derived``). Returns the configuration and the calibration (``None``
-    when the thresholds were given)."""
+def _thresholds(trajectories: Sequence[Trajectory], labels: Sequence[str],
+                config: RecognizerConfig, levels: SpeedLevels, classifier: SegmentClassifier,
+                draft: LearnedDraft, sizes_derived: bool) -> SegmentThresholds | None:
+    """Derive the thresholds τ_g ``draft`` lacks: one ``threshold`` for all, the user's
+    ``gesture_thresholds``, or calibrated (:func:`~framefree.online.thresholds.
+    calibrate_segment_thresholds`), which may also reach the lower size limits down where
+    nothing else looks like the gesture (only for size limits derived here, ``sizes_derived``).
+    Returns the calibration (``None`` when the thresholds were given)."""
     gestures = list(dict.fromkeys(labels))
-    if c.threshold is not None:
-        return c.replace(gesture_thresholds=dict.fromkeys(gestures, c.threshold)), None
-    if c.gesture_thresholds is not None:
-        return c, None
-    spotter = make_spotter(classifier, np.ones(len(labels)), c, list(labels))
+    if config.threshold is not None:
+        draft.fill(f"{GIVEN}: threshold",
+                   gesture_thresholds=dict.fromkeys(gestures, config.threshold))
+    if config.gesture_thresholds is not None:
+        draft.fill(f"{GIVEN}: gesture_thresholds", gesture_thresholds=config.gesture_thresholds)
+    if not draft.missing("gesture_thresholds"):
+        return None
+    k = config.constants
+    spotter = make_spotter(classifier, np.ones(len(labels)), config,
+                           draft.settings(), list(labels))
     calibration = calibrate_segment_thresholds(
-        trajectories, labels, classifier, levels, spotter, c.L, c.negative_quantile,
-        c.threshold_position, gated=c.gated_negatives, rivals=c.rival_negatives,
-        drawn=c.drawn_negatives,
-        reach=c.size_reach / c.size_factor if c.size and sizes_derived else 1.0)
-    c = c.replace(gesture_thresholds=calibration.thresholds)
+        trajectories, labels, classifier, levels, spotter, config.descriptor.L,
+        k.negative_quantile, k.threshold_position, gated=k.gated_negatives,
+        rivals=k.rival_negatives, drawn=k.drawn_negatives,
+        reach=k.size_reach / k.size_factor if config.size and sizes_derived else 1.0)
+    draft.fill(calibrate_segment_thresholds, gesture_thresholds=calibration.thresholds)
     if calibration.smallest_sizes:
-        c = c.replace(size_limits={g: (calibration.smallest_sizes.get(g, lo), hi)
-                                   for g, (lo, hi) in c.size_limits.items()})
-    return c, calibration
+        sizes = draft.values["size_limits"]
+        draft.values["size_limits"] = {g: (calibration.smallest_sizes.get(g, lo), hi)
+                                       for g, (lo, hi) in sizes.items()}
+        draft.rules["size_limits"] += " and " + rule_name(reach_down)
+    return calibration
 
 
 def make_spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray,
-                 c: RecognizerConfig,
+                 config: RecognizerConfig, learned: LearnedSettings,
                  labels: list[str]) -> Spotter:
-    """The spotter of a resolved configuration, with one threshold per model (M,): every limit
-    the configuration switches on, per model in the order of ``labels``."""
+    """The spotter of the given settings, with one threshold per model (M,): every limit the
+    configuration switches on, per model in the order of ``labels``."""
+    c, s, k = config, learned, config.constants
     closures = openings = sizes = corners = turns = one_go = None  # None: no limit
-    if c.closure and c.closure_limits is not None:
-        closures = np.array([c.closure_limits.get(g, 1.0) for g in labels])
-    if c.closure and c.opening_limits is not None:
-        openings = np.array([c.opening_limits.get(g, 0.0) for g in labels])
-    if c.size and c.size_limits is not None:
-        sizes = np.array([c.size_limits.get(g, (0.0, np.inf)) for g in labels])
-    if c.corners and c.corner_limits is not None:
-        corners = np.array([c.corner_limits.get(g, np.inf) for g in labels], dtype=float)
-    if c.turns and c.forbidden_turns is not None:
-        turns = np.array([c.forbidden_turns.get(g, 0) for g in labels], dtype=np.int64)
-    if c.gesture_pauses and c.one_go is not None:
-        one_go = np.array([g in c.one_go for g in labels])
+    if c.closure and s.closure_limits is not None:
+        closures = np.array([s.closure_limits.get(g, 1.0) for g in labels])
+    if c.closure and s.opening_limits is not None:
+        openings = np.array([s.opening_limits.get(g, 0.0) for g in labels])
+    if c.size and s.size_limits is not None:
+        sizes = np.array([s.size_limits.get(g, (0.0, np.inf)) for g in labels])
+    if c.corners and s.corner_limits is not None:
+        corners = np.array([s.corner_limits.get(g, np.inf) for g in labels], dtype=float)
+    if c.turns and s.forbidden_turns is not None:
+        turns = np.array([s.forbidden_turns.get(g, 0) for g in labels], dtype=np.int64)
+    if c.gesture_pauses and s.one_go is not None:
+        one_go = np.array([g in s.one_go for g in labels])
     up = vertical = None
-    if c.up is not None and c.vertical_limits is not None:
+    if c.up is not None and s.vertical_limits is not None:
         up = up_vector(c.up)
-        vertical = np.array([c.vertical_limits.get(g, (0.0, 1.0)) for g in labels])
-    return Spotter(classifier, model_thresholds, c.max_units, c.max_duration, c.max_pause,
-                   c.margin, c.confirm, c.max_wait, closures, c.L, sizes,
-                   math.inf if c.pause_ratio is None else c.pause_ratio, c.min_pause,
-                   c.return_error if c.closure else 0.0, openings, c.fire_on_motion,
-                   c.rest_before, corners, c.corner_angle, turns, up, vertical, one_go)
+        vertical = np.array([s.vertical_limits.get(g, (0.0, 1.0)) for g in labels])
+    return Spotter(classifier, model_thresholds, s.max_units, s.max_duration, s.max_pause,
+                   k.margin, c.confirm, c.max_wait, closures, c.descriptor.L, sizes,
+                   math.inf if s.pause_ratio is None else s.pause_ratio, k.min_pause,
+                   k.return_error if c.closure else 0.0, openings, k.fire_on_motion,
+                   k.rest_before, corners, k.corner_angle, turns, up, vertical, one_go)

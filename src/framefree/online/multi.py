@@ -10,7 +10,7 @@ offline :class:`~framefree.classifier.NearestNeighborClassifier` fitted on the m
 gives the same motion. Events, their order, the stop signal (either hand), background
 classification and the statistics are the single-tracker recognizer's.
 
-What comes from the models (:func:`resolve_multi_config`): the rest and move levels of the
+What comes from the models (:func:`resolve_multi_learned`): the rest and move levels of the
 combined speed, the candidate limits (units, duration, pauses), each gesture's size range, the
 thresholds τ_g (the offline rule :func:`~framefree.rejection.thresholds_from_models`, P + N, with
 P also measured on the models as the live spotter cuts them, :func:`multi_thresholds`), the
@@ -34,6 +34,8 @@ from ..rejection import thresholds_from_models
 from .acceptance import SampleGate
 from .config import RecognizerConfig
 from .events import Event
+from .learned import GIVEN, LearnedSettings, rule_name, split_settings, takes_digest
+from .model_settings import LearnedDraft, stop_threshold_rule
 from .multi_spotting import MultiSegmentClassifier, MultiSpotter, path_size
 from .multi_stream import (
     GridJoiner,
@@ -48,7 +50,7 @@ from .recognizer import STAT_KEYS, Recognizer
 from .segmentation import SpeedLevels, UniformResampler, Unit
 from .stop import StopDetector, sustained_peak_speed
 
-__all__ = ["MultiRecognizer", "multi_thresholds", "resolve_multi_config"]
+__all__ = ["MultiRecognizer", "multi_thresholds", "resolve_multi_learned"]
 
 
 def _classifier(invariance: str) -> Any:
@@ -57,9 +59,10 @@ def _classifier(invariance: str) -> Any:
     return NearestNeighborClassifier(invariance=invariance)
 
 
-def resolve_multi_config(samples: Sequence[MultiTrajectory], labels: Sequence[str],
-                         config: RecognizerConfig, classifier: Any) -> RecognizerConfig:
-    """Fill every ``None`` setting a :class:`MultiRecognizer` uses from the model recordings.
+def resolve_multi_learned(samples: Sequence[MultiTrajectory], labels: Sequence[str],
+                          config: RecognizerConfig, classifier: Any,
+                          draft: LearnedDraft | None = None) -> LearnedSettings:
+    """Learn every value a :class:`MultiRecognizer` uses that ``draft`` does not hold yet.
 
     Parameters
     ----------
@@ -69,37 +72,44 @@ def resolve_multi_config(samples: Sequence[MultiTrajectory], labels: Sequence[st
     config : RecognizerConfig
     classifier : NearestNeighborClassifier
         Fitted on ``samples`` (its model-to-model distances give the thresholds).
+    draft : LearnedDraft, optional
+        Values given instead of learned.
     """
-    c = config
+    draft = draft or LearnedDraft()
+    k, L, v = config.constants, config.descriptor.L, draft.values
     gestures = list(dict.fromkeys(labels))
-    if c.rest_speed is None or c.move_speed is None:
-        lv = multi_speed_levels(samples, c.L, c.dt, c.speed_lag, c.noise_factor, c.peak_fraction,
-                                c.move_factor)
-        c = c.replace(rest_speed=c.rest_speed or lv.rest, move_speed=c.move_speed or lv.move)
-    if None in (c.max_units, c.max_duration, c.max_pause, c.pause_ratio):
+    if draft.missing("rest_speed", "move_speed"):
+        lv = multi_speed_levels(samples, L, k.dt, k.speed_lag, k.noise_factor, k.peak_fraction,
+                                k.move_factor)
+        draft.fill(multi_speed_levels, rest_speed=lv.rest, move_speed=lv.move)
+    levels = SpeedLevels(v["rest_speed"], v["move_speed"])
+    if draft.missing("max_units", "max_duration", "max_pause", "pause_ratio"):
         units, duration, pause, ratio = multi_candidate_limits(
-            samples, SpeedLevels(c.rest_speed, c.move_speed), c.L, c.span_factor, c.pause_factor,
-            c.dt)
-        c = c.replace(max_units=c.max_units or units, max_duration=c.max_duration or duration,
-                      max_pause=c.max_pause or pause,
-                      pause_ratio=ratio if c.pause_ratio is None else c.pause_ratio)
-    if c.size_limits is None:
+            samples, levels, L, k.span_factor, k.pause_factor, k.dt)
+        draft.fill(multi_candidate_limits, max_units=units, max_duration=duration,
+                   max_pause=pause, pause_ratio=ratio)
+    if draft.missing("size_limits"):
         sizes: dict[str, list[float]] = {g: [] for g in gestures}
-        for s, g in zip(samples, labels, strict=True):
-            sizes[g].append(path_size(s))
-        c = c.replace(size_limits={g: (min(v) / c.size_factor, max(v) * c.size_growth)
-                                   for g, v in sizes.items()})
-    if c.gesture_thresholds is None:
-        if c.threshold is not None:
-            c = c.replace(gesture_thresholds=dict.fromkeys(gestures, c.threshold))
-        else:
-            levels = SpeedLevels(c.rest_speed, c.move_speed)
-            c = c.replace(gesture_thresholds=multi_thresholds(samples, labels, classifier, levels, c))
-    if c.stop_threshold is None:
-        peak = max(sustained_peak_speed(tr.t, tr.q, c.stop_window, c.stop_min_duration)
-                   for s in samples for tr in s.trackers)
-        c = c.replace(stop_threshold=max(c.stop_floor, c.stop_margin * peak))
-    return c
+        for smp, g in zip(samples, labels, strict=True):
+            sizes[g].append(path_size(smp))
+        draft.fill(rule_name(path_size) + " / size_factor and × size_growth",
+                   size_limits={g: (min(x) / k.size_factor, max(x) * k.size_growth)
+                                for g, x in sizes.items()})
+    if config.gesture_thresholds is not None:
+        draft.fill(f"{GIVEN}: gesture_thresholds", gesture_thresholds=config.gesture_thresholds)
+    if config.threshold is not None:
+        draft.fill(f"{GIVEN}: threshold", gesture_thresholds=dict.fromkeys(gestures, config.threshold))
+    if draft.missing("gesture_thresholds"):
+        draft.fill(multi_thresholds,
+                   gesture_thresholds=multi_thresholds(samples, labels, classifier, levels, config))
+    if config.stop_threshold is not None:
+        draft.fill(f"{GIVEN}: stop_threshold", stop_threshold=config.stop_threshold)
+    if draft.missing("stop_threshold"):
+        peak = max(sustained_peak_speed(tr.t, tr.q, k.stop_window, k.stop_min_duration)
+                   for smp in samples for tr in smp.trackers)
+        draft.fill(stop_threshold_rule(), stop_threshold=max(k.stop_floor, k.stop_margin * peak))
+    digest = takes_digest(tr.to_array() for smp in samples for tr in smp.trackers)
+    return draft.settings(len(samples), digest)
 
 
 def multi_thresholds(samples: Sequence[MultiTrajectory], labels: Sequence[str], classifier: Any,
@@ -112,7 +122,9 @@ def multi_thresholds(samples: Sequence[MultiTrajectory], labels: Sequence[str], 
     labels_ = np.asarray(labels)
     D = classifier.distance_matrix(list(samples))
     tau = thresholds_from_models(D, list(labels))
-    cuts = [live_cut(s, levels, c.L, c.dt, c.speed_lag, c.valley_ratio, c.margin) for s in samples]
+    k = c.constants
+    cuts = [live_cut(s, levels, c.descriptor.L, k.dt, k.speed_lag, k.valley_ratio, k.margin)
+            for s in samples]
     keep = [k for k, s in enumerate(cuts) if s is not None]
     Dc = np.full((len(samples), len(samples)), np.inf)
     Dc[keep] = classifier.distance_matrix([cuts[k] for k in keep])
@@ -141,7 +153,9 @@ class MultiRecognizer(Recognizer):
         The fitted offline classifier, wrapped.
     labels : sequence of str, length M
     config : RecognizerConfig
-        Resolved (:func:`resolve_multi_config`).
+        The user's settings.
+    learned : LearnedSettings
+        What was learned from the models (:func:`resolve_multi_learned`).
     invariance : str
         The classifier's invariance (reported by :meth:`describe`).
     gate_speeds : (float, float), optional
@@ -151,51 +165,53 @@ class MultiRecognizer(Recognizer):
     """
 
     def __init__(self, classifier: MultiSegmentClassifier, labels: Sequence[str],
-                 config: RecognizerConfig, invariance: str = "gravity",
+                 config: RecognizerConfig, learned: LearnedSettings, invariance: str = "gravity",
                  gate_speeds: tuple[float, float] = (5.0, 30.0)) -> None:
-        c = config
+        c, s, k = config, learned, config.constants
         self.classifier = classifier
-        self.labels = [str(s) for s in labels]
+        self.labels = [str(x) for x in labels]
         self.gestures = list(dict.fromkeys(self.labels))
         self.config = c
+        self.learned_ = s
         self.calibration = None
         self.invariance = invariance
         self.tracker_names = classifier.names
         self.n_trackers = len(classifier.names)
-        self.gesture_thresholds = {g: float(c.gesture_thresholds[g]) for g in self.gestures}
+        self.gesture_thresholds = {g: float(s.gesture_thresholds[g]) for g in self.gestures}
         self.model_thresholds = np.array([self.gesture_thresholds[g] for g in self.labels])
-        self.stop_threshold = float(c.stop_threshold)
+        self.stop_threshold = float(s.stop_threshold)
         n = self.n_trackers
         self.gate_speeds = (float(gate_speeds[0]), float(gate_speeds[1]))
-        self.gates = [SampleGate(max_bridge=c.max_bridge, nominal_period=c.dt,
+        self.gates = [SampleGate(max_bridge=c.max_bridge, nominal_period=k.dt,
                                  max_speed=self.gate_speeds[0],
                                  max_angular_speed=self.gate_speeds[1]) for _ in range(n)]
-        self.stop = StopGroup([StopDetector(self.stop_threshold, c.stop_window, c.stop_min_duration,
-                                            c.stop_rearm, c.stop_refractory, c.stop_confirm,
-                                            c.stop_sustain_ratio, c.stop_instant)
+        self.stop = StopGroup([StopDetector(self.stop_threshold, k.stop_window, k.stop_min_duration,
+                                            k.stop_rearm, k.stop_refractory, k.stop_confirm,
+                                            k.stop_sustain_ratio, k.stop_instant)
                                for _ in range(n)])
-        self.resamplers = [UniformResampler(c.dt) for _ in range(n)]
-        self.joiner = GridJoiner(n, c.dt)
-        capacity = math.ceil((c.max_duration + c.max_wait + 2.0) / c.dt) + 2 * c.margin
-        self.segmenter = MultiMotionSegmenter(SpeedLevels(c.rest_speed, c.move_speed), c.L, c.dt,
-                                              c.speed_lag, c.valley_ratio, capacity, n)
-        sizes = np.array([c.size_limits.get(g, (0.0, np.inf)) for g in self.labels]) if c.size else None
+        self.resamplers = [UniformResampler(k.dt) for _ in range(n)]
+        self.joiner = GridJoiner(n, k.dt)
+        capacity = math.ceil((s.max_duration + c.max_wait + 2.0) / k.dt) + 2 * k.margin
+        self.segmenter = MultiMotionSegmenter(SpeedLevels(s.rest_speed, s.move_speed),
+                                              c.descriptor.L, k.dt, k.speed_lag, k.valley_ratio,
+                                              capacity, n)
+        sizes = np.array([s.size_limits.get(g, (0.0, np.inf)) for g in self.labels]) if c.size else None
         self.spotter = MultiSpotter(
-            classifier, self.model_thresholds, sizes, max_units=c.max_units,
-            max_duration=c.max_duration, max_pause=c.max_pause, margin=c.margin,
-            confirm=c.confirm, max_wait=c.max_wait, L=c.L, pause_ratio=c.pause_ratio,
-            min_pause=c.min_pause, fire_on_motion=c.fire_on_motion, rest_before=c.rest_before)
+            classifier, self.model_thresholds, sizes, max_units=s.max_units,
+            max_duration=s.max_duration, max_pause=s.max_pause, margin=k.margin,
+            confirm=c.confirm, max_wait=c.max_wait, L=c.descriptor.L, pause_ratio=s.pause_ratio,
+            min_pause=k.min_pause, fire_on_motion=k.fire_on_motion, rest_before=k.rest_before)
         self._counts = dict.fromkeys(STAT_KEYS, 0)
         self.observations: list[tuple[float, np.ndarray]] = []
         self._worker = None
-        self._recent_units: deque[Unit] = deque(maxlen=max(1, c.max_units))
+        self._recent_units: deque[Unit] = deque(maxlen=max(1, s.max_units))
 
     @classmethod
     def from_samples(cls, samples: Sequence[MultiTrajectory], labels: Sequence[str],
                      config: RecognizerConfig | None = None, invariance: str = "gravity",
                      **overrides: Any) -> MultiRecognizer:
-        """Fit the offline classifier on the model recordings and derive every setting left
-        ``None`` (:func:`resolve_multi_config`).
+        """Fit the offline classifier on the model recordings and learn from them every value
+        not given (:func:`resolve_multi_learned`).
 
         Parameters
         ----------
@@ -203,7 +219,7 @@ class MultiRecognizer(Recognizer):
             Model recordings, one gesture performance each, all with the same trackers.
         labels : sequence of str
         config : RecognizerConfig, optional
-            Keyword ``overrides`` replace its fields.
+            Keyword ``overrides`` change its settings by name, or fix a learned value.
         invariance : {"gravity", "full"}
             Of the offline classifier (:class:`~framefree.classifier.NearestNeighborClassifier`).
             ``"gravity"`` (the default here, unlike offline): keeps the world's vertical (+z in
@@ -220,11 +236,11 @@ class MultiRecognizer(Recognizer):
         counts = {s.n_trackers for s in samples}
         if len(counts) != 1:
             raise ValueError(f"model recordings with different numbers of trackers: {sorted(counts)}")
-        config = (config or RecognizerConfig()).replace(**overrides)
+        config, given = split_settings(overrides, config)
         clf = _classifier(invariance).fit(list(samples), list(labels))
-        resolved = resolve_multi_config(samples, labels, config, clf)
+        learned = resolve_multi_learned(samples, labels, config, clf, LearnedDraft(given))
         wrapped = MultiSegmentClassifier(clf, samples[0].names, samples[0].up)
-        return cls(wrapped, labels, resolved, invariance, gate_limits(samples))
+        return cls(wrapped, labels, config, learned, invariance, gate_limits(samples))
 
     # ---------------------------------------------------------------------------------- running
     @property
@@ -266,7 +282,7 @@ class MultiRecognizer(Recognizer):
 
     def warmup(self) -> None:
         """Run every stage once on a synthetic two-handed motion, then reset."""
-        t = np.arange(0.0, 6.0, self.config.dt)
+        t = np.arange(0.0, 6.0, self.config.constants.dt)
         x = np.clip((t - 1.0) / 1.5, 0.0, 1.0)
         s = np.sin(np.pi * x**3 * (10 - 15 * x + 6 * x**2))
         offsets = np.arange(self.n_trackers)[:, None] * np.array([0.0, 0.4, 0.0])

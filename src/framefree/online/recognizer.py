@@ -28,15 +28,22 @@ from typing import Any
 
 import numpy as np
 
-from .._version import __version__
 from ..core import se3
 from ..core.trajectory import Trajectory
-from ..io.library_file import LibraryError, library_takes, read_library_file, rebuild_hint
+from ..io.library_file import library_takes, read_library_file
 from .acceptance import SampleGate
 from .background import SerialWorker
 from .config import RecognizerConfig
 from .events import STOP, Event
-from .model_settings import make_spotter, model_window_spacing, resolve_config, segment_descriptor
+from .learned import LearnedSettings, restored_provenance, split_settings
+from .library_settings import settings_from_meta
+from .model_settings import (
+    LearnedDraft,
+    make_spotter,
+    model_window_spacing,
+    resolve_learned,
+    segment_descriptor,
+)
 from .segmentation import (
     MotionSegmenter,
     PoseBuffer,
@@ -101,38 +108,40 @@ class Recognizer(StreamingRecognizer):
         classifier: SegmentClassifier,
         labels: Sequence[str],
         config: RecognizerConfig,
+        learned: LearnedSettings,
         calibration: SegmentThresholds | None = None,
     ) -> None:
-        c = config
+        c, s, k = config, learned, config.constants
         missing = [n for n in ("rest_speed", "move_speed", "max_units", "max_duration", "max_pause",
                                "pause_ratio", "gesture_thresholds", "stop_threshold")
-                   if getattr(c, n) is None]
+                   if getattr(s, n) is None]
         if missing:
-            raise ValueError(f"unresolved settings {missing}: use Recognizer.from_trajectories")
+            raise ValueError(f"unlearned values {missing}: use Recognizer.from_trajectories")
         self.classifier = classifier
-        self.labels = [str(s) for s in labels]
+        self.labels = [str(x) for x in labels]
         self.gestures = list(dict.fromkeys(self.labels))
-        absent = set(self.gestures) - set(c.gesture_thresholds)
+        absent = set(self.gestures) - set(s.gesture_thresholds)
         if absent:
             raise ValueError(f"gesture_thresholds lacks {sorted(absent)}")
         self.config = c
+        self.learned_ = s
         self.calibration = calibration
-        self.gesture_thresholds = {g: float(c.gesture_thresholds[g]) for g in self.gestures}
+        self.gesture_thresholds = {g: float(s.gesture_thresholds[g]) for g in self.gestures}
         self.model_thresholds = np.array([self.gesture_thresholds[g] for g in self.labels])
-        self.stop_threshold = float(c.stop_threshold)
-        self.gate = SampleGate(max_bridge=c.max_bridge, nominal_period=c.dt)
-        self.stop = StopDetector(self.stop_threshold, c.stop_window, c.stop_min_duration,
-                                 c.stop_rearm, c.stop_refractory, c.stop_confirm,
-                                 c.stop_sustain_ratio, c.stop_instant)
-        self.resampler = UniformResampler(c.dt)
-        capacity = math.ceil((c.max_duration + c.max_wait + 2.0) / c.dt) + 2 * c.margin
-        self.segmenter = MotionSegmenter(SpeedLevels(c.rest_speed, c.move_speed), c.L, c.dt,
-                                         c.speed_lag, c.valley_ratio, capacity)
-        self.spotter = make_spotter(classifier, self.model_thresholds, c, self.labels)
+        self.stop_threshold = float(s.stop_threshold)
+        self.gate = SampleGate(max_bridge=c.max_bridge, nominal_period=k.dt)
+        self.stop = StopDetector(self.stop_threshold, k.stop_window, k.stop_min_duration,
+                                 k.stop_rearm, k.stop_refractory, k.stop_confirm,
+                                 k.stop_sustain_ratio, k.stop_instant)
+        self.resampler = UniformResampler(k.dt)
+        capacity = math.ceil((s.max_duration + c.max_wait + 2.0) / k.dt) + 2 * k.margin
+        self.segmenter = MotionSegmenter(SpeedLevels(s.rest_speed, s.move_speed), c.descriptor.L,
+                                         k.dt, k.speed_lag, k.valley_ratio, capacity)
+        self.spotter = make_spotter(classifier, self.model_thresholds, c, s, self.labels)
         self._counts = dict.fromkeys(STAT_KEYS, 0)
         self.observations: list[tuple[float, np.ndarray]] = []
         self._worker: SerialWorker | None = None
-        self._recent_units: deque[Unit] = deque(maxlen=max(1, c.max_units))
+        self._recent_units: deque[Unit] = deque(maxlen=max(1, s.max_units))
 
     # ------------------------------------------------------------------------------ construction
     @classmethod
@@ -141,31 +150,45 @@ class Recognizer(StreamingRecognizer):
         trajectories: Sequence[Trajectory],
         labels: Sequence[str],
         config: RecognizerConfig | None = None,
+        learned: LearnedSettings | None = None,
         **overrides: Any,
     ) -> Recognizer:
-        """Build the models from recordings and derive what the configuration leaves ``None``.
+        """Build the models from the takes and learn from them every value not given.
 
         Parameters
         ----------
         trajectories : sequence of Trajectory
-            Model recordings, one gesture performance each (with a little rest before and after).
+            Model recordings (takes), one gesture performance each (with a little rest before
+            and after).
         labels : sequence of str
             Gesture of each recording.
         config : RecognizerConfig, optional
-            Defaults to ``RecognizerConfig()``; keyword ``overrides`` replace its fields (e.g.
-            ``gesture_thresholds={...}`` to skip the calibration).
+            The user's settings (default ``RecognizerConfig()``).
+        learned : LearnedSettings, optional
+            Learned values to keep instead of deriving them (a library's); a value left None is
+            derived.
+        **overrides
+            Changes by name: a user setting, a descriptor setting or constant
+            (:meth:`RecognizerConfig.replace`), or a learned value to fix (``max_units=3``).
         """
         if len(trajectories) != len(labels):
             raise ValueError(f"{len(trajectories)} trajectories but {len(labels)} labels")
         if not trajectories:
             raise ValueError("no model recordings")
-        config = (config or RecognizerConfig()).replace(**overrides)
-        if config.relative_window and config.window_spacing is None:
-            config = config.replace(window_spacing=model_window_spacing(trajectories, config))
-        descriptor = segment_descriptor(config)
+        config, given = split_settings(overrides, config)
+        draft = LearnedDraft({**(learned.values() if learned is not None else {}), **given})
+        if learned is not None:  # what a library learned keeps its rules
+            draft.rules.update({n: r for n, r in learned.provenance.rules.items()
+                                if n not in given and n in draft.rules})
+        if config.descriptor.relative_window and draft.missing("window_spacing"):
+            draft.fill(model_window_spacing,
+                       window_spacing=model_window_spacing(trajectories, config))
+        descriptor = segment_descriptor(config, draft.values["window_spacing"])
         classifier = SegmentClassifier(descriptor, [descriptor.compute(tr) for tr in trajectories])
-        resolved, calibration = resolve_config(trajectories, labels, config, classifier)
-        return cls(classifier, labels, resolved, calibration)
+        resolved, calibration = resolve_learned(trajectories, labels, config, classifier, draft)
+        if learned is not None:
+            resolved = resolved.replace(provenance=restored_provenance(resolved, learned))
+        return cls(classifier, labels, config, resolved, calibration)
 
     @classmethod
     def restore(
@@ -173,40 +196,33 @@ class Recognizer(StreamingRecognizer):
         takes: Sequence[Trajectory],
         labels: Sequence[str],
         config: RecognizerConfig,
-        gesture_thresholds: dict[str, float],
+        learned: LearnedSettings,
     ) -> Recognizer:
-        """A recognizer over models rebuilt from ``takes`` with thresholds restored (no calibration).
+        """A recognizer over models rebuilt from ``takes`` with the learned values restored (no
+        calibration; a value the library lacks is learned from the takes).
 
-        ``config`` must be the resolved configuration found at enrolment (every value the
-        recognizer derives from its models already set). This is the only place that knows how a
-        recognizer is restored from a gesture library.
+        This is the only place that knows how a recognizer is restored from a gesture library.
         """
-        config = config.replace(gesture_thresholds=dict(gesture_thresholds))
-        return cls.from_trajectories(list(takes), list(labels), config)
+        return cls.from_trajectories(list(takes), list(labels), config, learned)
 
     @classmethod
     def load(cls, path: str | Path) -> Recognizer:
         """A recognizer from a gesture library file written by ``framefree enroll``
-        (:mod:`framefree.library`): models rebuilt from the stored takes, thresholds restored, no
-        calibration.
+        (:mod:`framefree.library`): models rebuilt from the stored takes, learned values
+        restored, no calibration. A library of the previous format is migrated
+        (:func:`~framefree.online.library_settings.settings_from_meta`).
 
         Raises
         ------
         LibraryError
-            When the file is not a library, was written in another format version, or its
-            settings do not fit this framefree (the message says how to rebuild it).
+            When the file is not a library, was written in a format that cannot be migrated, or
+            its settings do not fit this framefree (one line, saying how to rebuild it).
         """
         path = Path(path)
         meta, rows = read_library_file(path)
-        try:
-            config = RecognizerConfig.from_dict(meta["config"]).replace(
-                stop_threshold=float(meta["stop_threshold"]))
-        except (TypeError, ValueError) as exc:
-            raise LibraryError(f"{path}: settings do not fit framefree {__version__} ({exc}); "
-                               f"{rebuild_hint(path, meta)}") from None
+        config, learned = settings_from_meta(path, meta)
         takes = library_takes(path, rows, meta["names"])
-        thresholds = {str(k): float(v) for k, v in meta["gesture_thresholds"].items()}
-        return cls.restore(takes, meta["labels"], config, thresholds)
+        return cls.restore(takes, meta["labels"], config, learned)
 
     # ---------------------------------------------------------------------------------- running
     @property
@@ -287,7 +303,7 @@ class Recognizer(StreamingRecognizer):
 
     def warmup(self) -> None:
         """Run every stage once on a synthetic motion (loads the compiled kernels), then reset."""
-        t = np.arange(0.0, 6.0, self.config.dt)
+        t = np.arange(0.0, 6.0, self.config.constants.dt)
         x = np.clip((t - 1.0) / 1.5, 0.0, 1.0)
         s = np.sin(np.pi * x**3 * (10 - 15 * x + 6 * x**2))
         for k in range(t.size):
@@ -416,10 +432,13 @@ class Recognizer(StreamingRecognizer):
         return out
 
     def describe(self) -> dict[str, Any]:
-        """Parameters (resolved), models and calibration as a JSON-friendly dict."""
+        """Everything the recognizer runs with, as a JSON-friendly dict: ``config``, the user's
+        settings (with the descriptor settings and constants nested), ``learned``, every value
+        learned from the takes with its provenance, the models and the calibration."""
         return {
             "method": self.method,
             "config": self.config.to_dict(),
+            "learned": self.learned_.to_dict(),
             "gesture_thresholds": dict(self.gesture_thresholds),
             "stop_threshold": self.stop_threshold,
             "n_models": len(self.labels),

@@ -193,7 +193,7 @@ def _leave_one_out(models: np.ndarray, labels: np.ndarray) -> np.ndarray:
 
 def _stop_detector(trajectories: Sequence[Trajectory], threshold: float | None) -> StopDetector:
     """framefree's stop detector with the default recognizer's settings."""
-    c = RecognizerConfig()
+    c = RecognizerConfig().constants
     if threshold is None:
         peak = max(sustained_peak_speed(tr.t, tr.q, c.stop_window, c.stop_min_duration)
                    for tr in trajectories)

@@ -1,0 +1,246 @@
+"""What the live recognizer learns from its takes, with where each value came from.
+
+:class:`LearnedSettings` is to a :class:`~framefree.online.Recognizer` what the attributes
+ending in ``_`` are to a fitted scikit-learn estimator: measured on the takes when the
+recognizer is built (:func:`~framefree.online.model_settings.resolve_learned`), never chosen by
+a user. A gesture library file stores it, so loading a library calibrates nothing; its
+:class:`Provenance` says which rule derived each value, from which takes, in which framefree.
+
+An expert may fix a learned value instead (``Recognizer.from_trajectories(..., max_units=3)``,
+``--set max_units=3``): it is then kept as given, and its provenance says so.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .._version import __version__
+from .config import RecognizerConfig
+
+__all__ = ["GIVEN", "LEARNED_NAMES", "LearnedSettings", "Provenance", "rule_name",
+           "split_settings", "takes_digest"]
+
+#: The rule recorded for a value the caller fixed instead of letting the takes decide.
+GIVEN = "given"
+
+
+def rule_name(fn: Callable[..., Any]) -> str:
+    """``module.function`` of the function that derives a value (for :class:`Provenance`)."""
+    return f"{fn.__module__}.{fn.__qualname__}"
+
+
+def takes_digest(arrays: Iterable[np.ndarray]) -> str:
+    """SHA-256 (hex) of the takes' samples, to say which takes a value was learned from."""
+    h = hashlib.sha256()
+    for a in arrays:
+        h.update(np.ascontiguousarray(a, dtype=float).tobytes())
+    return h.hexdigest()
+
+
+@dataclass(frozen=True)
+class Provenance:
+    """Where the learned values came from.
+
+    Attributes
+    ----------
+    rules : dict of str to str
+        For each learned value, the function that derived it (``module.function``), ``"given"``
+        for a value the caller fixed, or ``"given: threshold"`` and the like for one that a user
+        setting decided.
+    takes : int
+        How many takes they were learned from.
+    takes_sha256 : str
+        SHA-256 of the takes' samples (``t, x, y, z, qw, qx, qy, qz`` of every take in turn, one
+        tracker after the other).
+    framefree : str
+        The framefree version that learned them.
+    note : str
+        Anything else (e.g. that they were migrated from an older library file).
+    """
+
+    rules: dict[str, str] = field(default_factory=dict)
+    takes: int = 0
+    takes_sha256: str = ""
+    framefree: str = __version__
+    note: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        """As a JSON-serializable dict."""
+        return dataclasses.asdict(self)
+
+
+def _per_gesture(kind: type) -> Callable[[Any], Any]:
+    def cast(d: Any) -> Any:
+        if d is None:
+            return None
+        if kind is tuple:
+            return {str(g): (float(v[0]), float(v[1])) for g, v in d.items()}
+        return {str(g): kind(v) for g, v in d.items()}
+    return cast
+
+
+_CASTS: dict[str, Callable[[Any], Any]] = {
+    "window_spacing": int, "rest_speed": float, "move_speed": float, "max_units": int,
+    "max_duration": float, "max_pause": float, "pause_ratio": float,
+    "one_go": lambda v: [str(g) for g in v], "closure_limits": _per_gesture(float),
+    "opening_limits": _per_gesture(float), "size_limits": _per_gesture(tuple),
+    "corner_limits": _per_gesture(int), "forbidden_turns": _per_gesture(int),
+    "vertical_limits": _per_gesture(tuple), "gesture_thresholds": _per_gesture(float),
+    "stop_threshold": float,
+}
+
+
+@dataclass(frozen=True)
+class LearnedSettings:
+    """Every value of the live recognizer derived from its takes (None: not derived, or not
+    used by this recognizer).
+
+    Attributes
+    ----------
+    window_spacing : int
+        Spacing [samples] of the BILTS+ windows with ``relative_window``: ``ds_scale`` over the
+        takes' median progress step.
+    rest_speed, move_speed : float
+        The segmenter's rest and move levels [m/s of screw path].
+    max_units : int
+        Most movement units in a candidate (twice a take's, plus one).
+    max_duration, max_pause : float
+        Longest candidate [s] and longest rest inside one [s].
+    pause_ratio : float
+        Longest rest inside a candidate relative to its units' mean duration.
+    one_go : list of str
+        The gestures the takes draw in one go (no rest at a corner).
+    closure_limits, opening_limits : dict of str to float
+        Largest and smallest closure (end-to-start distance over path) accepted per gesture.
+    size_limits : dict of str to (float, float)
+        Smallest and largest size [m of screw path] accepted per gesture.
+    corner_limits : dict of str to int
+        Most corners accepted, for each gesture whose takes agree on their number.
+    forbidden_turns : dict of str to int
+        :func:`~framefree.online.span_shape.turn_kinds` bits a candidate may not show, per
+        gesture (used with ``RecognizerConfig.turns``).
+    vertical_limits : dict of str to (float, float)
+        Smallest and largest verticality per gesture (only with ``RecognizerConfig.up``).
+    gesture_thresholds : dict of str to float
+        Decision threshold τ_g per gesture [DTW distance].
+    stop_threshold : float
+        The stop detector's threshold on the windowed angular speed [rad/s].
+    provenance : Provenance
+        Which rule derived each value, from which takes, in which framefree.
+    """
+
+    window_spacing: int | None = None
+    rest_speed: float | None = None
+    move_speed: float | None = None
+    max_units: int | None = None
+    max_duration: float | None = None
+    max_pause: float | None = None
+    pause_ratio: float | None = None
+    one_go: list[str] | None = None
+    closure_limits: dict[str, float] | None = None
+    opening_limits: dict[str, float] | None = None
+    size_limits: dict[str, tuple[float, float]] | None = None
+    corner_limits: dict[str, int] | None = None
+    forbidden_turns: dict[str, int] | None = None
+    vertical_limits: dict[str, tuple[float, float]] | None = None
+    gesture_thresholds: dict[str, float] | None = None
+    stop_threshold: float | None = None
+    provenance: Provenance = field(default_factory=Provenance)
+
+    def __post_init__(self) -> None:
+        for name, cast in _CASTS.items():
+            value = getattr(self, name)
+            if value is not None:
+                object.__setattr__(self, name, cast(value))
+        if isinstance(self.provenance, dict):
+            object.__setattr__(self, "provenance", Provenance(**self.provenance))
+        if self.max_units is not None and self.max_units < 1:
+            raise ValueError(f"max_units must be at least 1, got {self.max_units}")
+        if self.window_spacing is not None and self.window_spacing < 1:
+            raise ValueError(f"window_spacing must be at least 1, got {self.window_spacing}")
+        for name in ("stop_threshold", "rest_speed", "move_speed"):
+            if getattr(self, name) is not None and not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
+        bad = {g: v for g, v in (self.gesture_thresholds or {}).items() if not v > 0}
+        if bad:
+            raise ValueError(f"gesture thresholds must be positive, got {bad}")
+
+    def values(self) -> dict[str, Any]:
+        """The learned values by name (without the provenance)."""
+        return {n: getattr(self, n) for n in LEARNED_NAMES}
+
+    def replace(self, **changes: Any) -> LearnedSettings:
+        """A copy with some values changed."""
+        return dataclasses.replace(self, **changes)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Values and provenance, JSON-serializable (as a gesture library stores them)."""
+        return dataclasses.asdict(self)
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> LearnedSettings:
+        """Inverse of :meth:`to_dict`; unknown keys raise ``ValueError`` naming them."""
+        unknown = sorted(set(d) - set(LEARNED_NAMES) - {"provenance"})
+        if unknown:
+            raise ValueError(f"unknown learned values {unknown}")
+        return cls(**d)
+
+
+#: Names of the learned values.
+LEARNED_NAMES = tuple(f.name for f in dataclasses.fields(LearnedSettings) if f.name != "provenance")
+
+
+def split_settings(settings: dict[str, Any], config: RecognizerConfig | None = None
+                   ) -> tuple[RecognizerConfig, dict[str, Any]]:
+    """Sort flat settings (keyword overrides, ``--set KEY=JSON``) into a configuration and the
+    learned values given instead of derived.
+
+    ``gesture_thresholds`` and ``stop_threshold`` are user settings, so they go to the
+    configuration; any other learned name (``max_units``, ``closure_limits``, ...) is fixed as
+    given; ``None`` for one of those is ignored (it is derived, as by default).
+
+    Parameters
+    ----------
+    settings : dict
+        Names as :meth:`RecognizerConfig.replace` takes them, or learned names.
+    config : RecognizerConfig, optional
+        The configuration they change (default ``RecognizerConfig()``).
+
+    Returns
+    -------
+    config : RecognizerConfig
+    given : dict
+        Learned values to keep as given.
+
+    Raises
+    ------
+    ValueError
+        Naming every setting that is neither a configuration setting nor a learned value.
+    """
+    config = config or RecognizerConfig()
+    names = RecognizerConfig.names() | {"descriptor", "constants"}
+    unknown = sorted(set(settings) - names - set(LEARNED_NAMES))
+    if unknown:
+        raise ValueError(f"unknown recognizer settings {unknown}")
+    mine = {k: v for k, v in settings.items() if k in names}
+    given = {k: v for k, v in settings.items() if k not in names and v is not None}
+    return config.replace(**mine), given
+
+
+def restored_provenance(resolved: LearnedSettings, stored: LearnedSettings) -> Provenance:
+    """The provenance of values restored from ``stored`` (a library's), completed to
+    ``resolved``: the stored takes, version and note, every rule of ``resolved``, and a note
+    naming the values learned only now (a library older than them)."""
+    p = stored.provenance
+    fresh = [n for n in resolved.provenance.rules if n not in p.rules]
+    note = p.note
+    if fresh:
+        note = (f"{note}; " if note else "") + (f"{', '.join(fresh)} learned on loading by "
+                                                f"framefree {__version__}")
+    return dataclasses.replace(p, rules=dict(resolved.provenance.rules), note=note)
