@@ -112,7 +112,8 @@ def _segments(trajs, labels, counts, repeat, threads):
         reps = -(-count // len(labels))
         models = (calibrated.classifier.models * reps)[:count]
         many = SegmentClassifier(calibrated.classifier.descriptor, models)
-        rec = Recognizer(many, (list(labels) * reps)[:count], calibrated.config)
+        rec = Recognizer(many, (list(labels) * reps)[:count], calibrated.config,
+                         calibrated.learned_)
         rec.warmup()
         r = _measure(rec, t, p, q, repeat)
         r.update({"models": count, "threads": threads})

@@ -165,7 +165,7 @@ def _realtime(recs, streams) -> dict:
 def _recognizers(classifier_for, labels, config, trackers: int):
     from framefree.online import Recognizer
 
-    recs = [Recognizer(classifier_for(), labels, config) for _ in range(trackers)]
+    recs = [Recognizer(classifier_for(), labels, *config) for _ in range(trackers)]
     recs[0].warmup()
     return recs
 
@@ -216,14 +216,16 @@ def main() -> None:
             for rate in rates:
                 for n in trackers:
                     key = f"{rate} Hz, {n} tracker{'s' if n > 1 else ''}, pruning {'on' if prune else 'off'}"
-                    recs = _recognizers(lambda c=clf: c, model_labels, calibrated.config, n)
+                    recs = _recognizers(lambda c=clf: c, model_labels,
+                                        (calibrated.config, calibrated.learned_), n)
                     row["cost"][key] = r = _cost(recs, streams[(rate, n)])
                     _print(key, r)
         if count in realtime:
             clf = SegmentClassifier(descriptor, models, prune=True)
             for n in trackers:
                 key = f"120 Hz, {n} tracker{'s' if n > 1 else ''}, background, real time"
-                recs = _recognizers(lambda c=clf: c, model_labels, calibrated.config, n)
+                recs = _recognizers(lambda c=clf: c, model_labels,
+                                    (calibrated.config, calibrated.learned_), n)
                 row["realtime"][key] = r = _realtime(recs, streams[(120, n)])
                 _print(key, r)
         row["same_events"] = all(

@@ -59,7 +59,7 @@ def main() -> None:
     config = RecognizerConfig()
     corners = corners_of_every_recording(args.data, config)
     rows = [exceeded(corners, slack) for slack in (0, 1, 2)]
-    rows.append(exceeded(corners, config.corner_slack, config.slack_corners))
+    rows.append(exceeded(corners, config.constants.corner_slack, config.constants.slack_corners))
     for r in rows:
         rule = "" if r["smooth"] is None else f" up to {r['smooth']} corner(s), none above"
         print(f"slack {r['slack']}{rule}: limits for {r['limits']} of {r['sets']} (controller, gesture, "
@@ -74,7 +74,8 @@ def main() -> None:
     for k, (n, over) in sorted(by_count.items()):
         print(f"takes agreeing on {k} corner(s): {over} of {n} other people's performances have more")
     if args.json:
-        args.json.write_text(json.dumps({"corner_angle": config.corner_angle, "L": config.L,
+        args.json.write_text(json.dumps({"corner_angle": config.constants.corner_angle,
+                                         "L": config.descriptor.L,
                                          "rows": rows, "by_agreed_count": by_count,
                                          "corners": by_name(corners)}, indent=1))
 

@@ -49,14 +49,15 @@ def main() -> None:
     every = np.concatenate([np.asarray(v) for v in rests.values()])
     print(f"{every.size} takes; longest rest at a corner, quantiles 50/75/90/99 %: "
           + ", ".join(f"{q:.2f}" for q in np.quantile(every, [0.5, 0.75, 0.9, 0.99])) + " s")
-    rows = [refused(rests, config.confirm, allowed) for allowed in (config.min_pause, 0.75, 1.0)]
+    rows = [refused(rests, config.confirm, allowed)
+            for allowed in (config.constants.min_pause, 0.75, 1.0)]
     for r in rows:
         print(f"one go below {r['one_go_below']:.2f} s, {r['allowed']:.2f} s allowed: "
               f"{r['one_go_sets']} of {r['sets']} (controller, person, gesture) sets in one go; "
               f"{r['refused']} of {r['checked']} other people's performances pause longer "
               f"({100 * r['fraction']:.1f} %) {r['by_gesture']}")
     if args.json:
-        args.json.write_text(json.dumps({"confirm": config.confirm, "min_pause": config.min_pause,
+        args.json.write_text(json.dumps({"confirm": config.confirm, "min_pause": config.constants.min_pause,
                                          "rows": rows, "rests": by_name(rests)}, indent=1))
 
 

@@ -62,7 +62,7 @@ def main() -> None:
               f"performances larger ({100 * r['above_fraction']:.1f} %), {r['below']:4d} smaller "
               f"({100 * r['below_fraction']:.1f} %)")
     if args.json:
-        args.json.write_text(json.dumps({"L": config.L, "rows": rows, "sizes": by_name(sizes)},
+        args.json.write_text(json.dumps({"L": config.descriptor.L, "rows": rows, "sizes": by_name(sizes)},
                                         indent=1))
 
 

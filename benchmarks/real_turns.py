@@ -64,7 +64,8 @@ def main() -> None:
           f"performances show a forbidden turn ({100 * r['fraction']:.1f} %); by gesture "
           f"{r['by_gesture']}")
     if args.json:
-        args.json.write_text(json.dumps({"corner_angle": config.corner_angle, "L": config.L,
+        args.json.write_text(json.dumps({"corner_angle": config.constants.corner_angle,
+                                         "L": config.descriptor.L,
                                          "result": r, "turns": by_name(turns)}, indent=1))
 
 

@@ -87,8 +87,8 @@ def test_distances_are_the_recognizers(hpm_takes: TakeSet) -> None:
     rec = Recognizer.from_trajectories(list(few.takes), list(few.labels), cfg, gesture_thresholds=taus,
                                        stop_threshold=10.0)
     # the recognizer fixes its window spacing from the takes, as the check does
-    assert rec.config.window_spacing == model_window_spacing(list(few.takes), cfg)
-    desc = descriptor_for(rec.config)
+    assert rec.learned_.window_spacing == model_window_spacing(list(few.takes), cfg)
+    desc = descriptor_for(rec.config, rec.learned_.window_spacing)
     mine = [desc.compute(tr) for tr in few.takes]
     for a, b in zip(mine, rec.classifier.models, strict=True):
         np.testing.assert_array_equal(a, b)

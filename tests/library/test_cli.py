@@ -144,8 +144,9 @@ def test_enroll_with_a_vertical(recorded, enrolled, tmp_path) -> None:
     res = CliRunner().invoke(cli, ["enroll", str(enrolled), "--up", "+y", "-o", str(upright)])
     assert res.exit_code == 0, res.output
     assert "up +y" in res.output and "vertical 0." in res.output
-    config = load_library(upright).recognizer_config()
-    assert config.up == "+y" and set(config.vertical_limits) == set(load_library(enrolled).gestures)
+    lib = load_library(upright)
+    assert lib.recognizer_config().up == "+y"
+    assert set(lib.learned_settings().vertical_limits) == set(load_library(enrolled).gestures)
     res = CliRunner().invoke(cli, ["enroll", str(enrolled), "--up", "north", "-o", str(upright)])
     assert res.exit_code == 2 and "north" in res.output
 
@@ -204,12 +205,17 @@ def test_enroll_keeps_settings(recorded, tmp_path) -> None:
     lib, _ = recorded
     out = tmp_path / "strict.npz"
     res = CliRunner().invoke(cli, ["enroll", str(lib), "-o", str(out), "--set", "negative_quantile=0.1",
-                                   "--set", "confirm=0.3"])
+                                   "--set", "confirm=0.3", "--set", "max_units=4"])
     assert res.exit_code == 0, res.output
     from framefree.library import load_library
 
     loaded = load_library(out)
-    assert loaded.settings["negative_quantile"] == 0.1 and loaded.config["confirm"] == 0.3
+    assert loaded.config["constants"]["negative_quantile"] == 0.1 and loaded.config["confirm"] == 0.3
+    assert loaded.learned["max_units"] == 4 and loaded.settings["max_units"] == 4
+    again = CliRunner().invoke(cli, ["enroll", str(out), "-o", str(out)])  # the settings carry over
+    assert again.exit_code == 0 and "up to date" in again.output, again.output
+    unknown = CliRunner().invoke(cli, ["enroll", str(lib), "-o", str(out), "--set", "nonsense=1"])
+    assert unknown.exit_code == 2 and "nonsense" in unknown.output
     bad = CliRunner().invoke(cli, ["enroll", str(lib), "-o", str(out), "--set", "nonsense"])
     assert bad.exit_code == 2 and "KEY=VALUE" in bad.output
 

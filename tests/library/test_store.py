@@ -46,6 +46,7 @@ def test_round_trip_gives_identical_decisions(hpm_takes: TakeSet, hpm_library_fi
     assert loaded.gesture_thresholds == calibrated.gesture_thresholds
     assert loaded.stop_threshold == calibrated.stop_threshold
     assert loaded.config == calibrated.config
+    assert loaded.learned_.values() == calibrated.learned_.values()
     for a, b in zip(loaded.classifier.models, calibrated.classifier.models, strict=True):
         np.testing.assert_array_equal(a, b)
     events_a, _ = run_stream(calibrated, traj)
@@ -84,7 +85,10 @@ def test_file_is_plain_arrays_and_json(hpm_library_file: Path, hpm_takes: TakeSe
         meta = json.loads(zf.read("library.json"))
     assert meta["format_version"] == FORMAT_VERSION
     assert meta["names"][0] == hpm_takes.names[0] and len(meta["labels"]) == 35
-    assert set(meta["gesture_thresholds"]) == set(hpm_takes.gestures)
+    assert set(meta["learned"]["gesture_thresholds"]) == set(hpm_takes.gestures)
+    rules = meta["learned"]["provenance"]["rules"]
+    assert rules["gesture_thresholds"].endswith("thresholds.calibrate_segment_thresholds")
+    assert meta["learned"]["provenance"]["takes"] == 35 and "rest_speed" not in meta["config"]
 
 
 def test_loaded_library_keeps_everything(hpm_library: GestureLibrary, hpm_library_file: Path) -> None:
@@ -93,6 +97,7 @@ def test_loaded_library_keeps_everything(hpm_library: GestureLibrary, hpm_librar
     assert lib.takes.names == hpm_library.takes.names
     assert lib.gesture_thresholds == hpm_library.gesture_thresholds
     assert lib.config == hpm_library.config and lib.settings == hpm_library.settings
+    assert lib.learned == hpm_library.learned
     assert "35 takes of 7 gestures" in lib.summary()
 
 
@@ -110,7 +115,7 @@ def _rewrite(src: Path, dst: Path, change) -> Path:
 
 def test_other_format_version_says_how_to_rebuild(hpm_library_file: Path, tmp_path: Path) -> None:
     old = _rewrite(hpm_library_file, tmp_path / "old.npz", lambda m: m.update(format_version=0))
-    hint = r"format 0 .*rebuild it with: framefree enroll .*-o .*old\.npz"
+    hint = r"format 0 .*enroll it again: framefree enroll .*-o .*old\.npz"
     with pytest.raises(LibraryError, match=hint) as exc:
         load_library(old)
     assert "\n" not in str(exc.value)
@@ -121,38 +126,22 @@ def test_settings_of_another_version_say_how_to_rebuild(hpm_library_file: Path, 
         meta["config"]["latency_fraction"] = 0.2
 
     bad = _rewrite(hpm_library_file, tmp_path / "alien.npz", alien)
-    with pytest.raises(LibraryError, match="rebuild it with"):
+    with pytest.raises(LibraryError, match=r"latency_fraction.*enroll it again") as exc:
         load_library(bad)
+    assert "\n" not in str(exc.value)
 
 
-def test_a_library_from_before_the_gram_alignment_keeps_its_alignment(hpm_library_file: Path,
-                                                                       tmp_path: Path) -> None:
-    """A library saved before ``align`` existed was calibrated on the singular values: it is
-    restored with them, so its thresholds fit; a new one uses the default."""
-    assert load_library(hpm_library_file).recognizer_config().align == "gram"
-    old = _rewrite(hpm_library_file, tmp_path / "before.npz", lambda m: m["config"].pop("align"))
-    restored = load_library(old).recognizer()
-    assert restored.config.align == "singular" and restored.classifier.descriptor.align == "singular"
-
-
-def test_a_library_from_before_the_one_go_rule_keeps_the_common_pauses(hpm_library_file: Path,
-                                                                     tmp_path: Path) -> None:
-    """A library saved before ``gesture_pauses`` existed restores without per-gesture pause
-    limits (what it was measured with); a new one has them, *go right* (a circle drawn in one
-    go) limited and the out-and-back gestures, whose demonstrator pauses, not."""
+def test_a_new_library_aligns_on_gram_and_limits_pauses_of_gestures_drawn_in_one_go(
+        hpm_library_file: Path) -> None:
+    """The defaults: gram alignment, and per-gesture pause limits, *go right* (a circle drawn in
+    one go) limited and the out-and-back gestures, whose demonstrator pauses, not. (Libraries
+    saved before either existed: tests/library/test_library_versions.py.)"""
     library = load_library(hpm_library_file)
+    assert library.recognizer_config().descriptor.align == "gram"
     new = library.recognizer()
-    assert new.config.gesture_pauses and new.config.one_go == ["go_right"]
+    assert new.config.gesture_pauses and new.learned_.one_go == ["go_right"]
     one_go = [line.split()[0] for line in library.summary().splitlines() if "in one go" in line]
     assert one_go == ["go_right"]
-
-    def forget(meta: dict) -> None:
-        meta["config"].pop("gesture_pauses")
-        meta["config"].pop("one_go")
-
-    restored = load_library(_rewrite(hpm_library_file, tmp_path / "before.npz", forget)).recognizer()
-    assert not restored.config.gesture_pauses
-    assert not restored.spotter.one_go.any()
 
 
 def test_not_a_library(tmp_path: Path) -> None:

@@ -59,7 +59,8 @@ def test_background_events_are_the_inline_events(recognizer, streams):
 def test_two_trackers_in_background_give_each_tracker_its_own_events(recognizer, streams):
     """Two recognizers, one per tracker, pushed alternately (two workers, one kernel lock)."""
     alone = [_events(recognizer, tr) for tr in streams]
-    recs = [recognizer, Recognizer(recognizer.classifier, recognizer.labels, recognizer.config)]
+    recs = [recognizer, Recognizer(recognizer.classifier, recognizer.labels, recognizer.config,
+                                   recognizer.learned_)]
     for rec in recs:
         rec.reset()
         rec.background = True

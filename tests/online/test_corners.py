@@ -26,7 +26,7 @@ from hypothesis import strategies as st
 from framefree.benchmark.take_geometry import other_peoples, take_geometry
 from framefree.core import se3
 from framefree.datasets.layout import load_model_recordings
-from framefree.online import Recognizer, RecognizerConfig
+from framefree.online import Recognizer, RecognizerConfig, SpottingConstants
 from framefree.online.limits import corner_limit, recording_units
 from framefree.online.segmentation import MotionSegmenter, SpeedLevels, Unit, heading, speed_levels
 from framefree.online.span_shape import corner_count, is_corner, turn_angle
@@ -102,9 +102,9 @@ def test_a_person_drawing_a_square_fluently_has_its_three_corners(models, who):
     the speed minimum inside a rounded corner their headings have partly turned (40-145° for a
     90° corner, one or two of three corners below 60° in most of these takes), the sides' chords
     turn by about 90°. Every take counts its three corners (v16, :func:`is_corner`)."""
-    c = RecognizerConfig()
-    lv = speed_levels(models[0], c.L, c.dt, c.speed_lag, c.noise_factor, c.peak_fraction,
-                      c.move_factor)
+    c = RecognizerConfig().constants
+    lv = speed_levels(models[0], RecognizerConfig().descriptor.L, c.dt, c.speed_lag,
+                      c.noise_factor, c.peak_fraction, c.move_factor)
     drawer = person(who)
     assert drawer.coarticulation > 0.2
     session = take_session("square", drawer, 3, seed=who)
@@ -155,7 +155,7 @@ def models():
 
 def test_corner_limits_come_from_the_demonstrations(models):
     rec = Recognizer.from_trajectories(*models)
-    limits = rec.config.corner_limits
+    limits = rec.learned_.corner_limits
     assert limits["go_right"] == 2  # one turn of a circle, and two corners' slack
     assert all(limits[g] == 3 for g in limits if g != "go_right")  # out, reverse, back
     sp = rec.spotter
@@ -171,9 +171,9 @@ def test_corner_limits_come_from_the_demonstrations(models):
 
 def test_corner_angle_is_checked():
     with pytest.raises(ValueError, match="corner_angle"):
-        RecognizerConfig(corner_angle=200.0)
+        SpottingConstants(corner_angle=200.0)
     with pytest.raises(ValueError, match="corner_slack"):
-        RecognizerConfig(corner_slack=-1)
+        RecognizerConfig().replace(corner_slack=-1)
 
 
 def test_a_corner_limit_only_where_the_demonstrations_agree():
@@ -201,8 +201,8 @@ def test_a_triangle_admits_no_square_and_a_zigzag_no_letter_m():
     labels = ["zigzag"] * 5 + ["triangle"] * 5
     strict, loose = (Recognizer.from_trajectories(takes, labels, corner_slack=1, slack_corners=k)
                      for k in (1, None))
-    assert strict.config.corner_limits == {"zigzag": 2, "triangle": 2}
-    assert loose.config.corner_limits == {"zigzag": 3, "triangle": 3}
+    assert strict.learned_.corner_limits == {"zigzag": 2, "triangle": 2}
+    assert loose.learned_.corner_limits == {"zigzag": 3, "triangle": 3}
     for rec, admitted in ((strict, [True, False]), (loose, [True, True])):
         sp = rec.spotter
         for g in ("zigzag", "triangle"):
@@ -214,7 +214,7 @@ def test_a_triangle_admits_no_square_and_a_zigzag_no_letter_m():
 
 def _real_corner_counts(angle: float) -> dict:
     """{(controller, person, gesture): [corners of each take]} of the real Vive recordings."""
-    config = RecognizerConfig(corner_angle=angle)
+    config = RecognizerConfig().replace(corner_angle=angle)
     return {key: [n for _, _, n, _ in takes] for key, takes in take_geometry(MACHETE, config).items()}
 
 
@@ -236,7 +236,7 @@ def test_real_people_stay_within_a_corner_limit_from_another_persons_takes():
     performances of the gesture must stay within it with the default slack (all six people,
     v17: 0.17 % exceed it). Without slack they do not (25.8 %: real people break strokes where
     others did not)."""
-    config = RecognizerConfig()
+    config = SpottingConstants()
     counts = _real_corner_counts(config.corner_angle)
     assert _exceeding(counts, config.corner_slack, config.slack_corners) <= 0.02
     assert _exceeding(counts, 0) > 0.05
@@ -247,10 +247,10 @@ def test_real_people_add_corners_to_gestures_of_several_too():
     recordings, with takes cut at v17's rest level, where one person's takes agree on two corners
     or more, other people's performances have more (v16's level had shown none, which is why v15
     gave such gestures no slack). The shipped two-takes subset has no such case."""
-    assert RecognizerConfig().slack_corners is None
+    assert SpottingConstants().slack_corners is None
     if MACHETE == SHIPPED_MACHETE:
         pytest.skip("the shipped subset has no gesture of several agreed corners; needs the six people")
-    counts = _real_corner_counts(RecognizerConfig().corner_angle)
+    counts = _real_corner_counts(SpottingConstants().corner_angle)
     several = {k: v for k, v in counts.items() if corner_limit(v, 0) is not None and v[0] >= 2}
     others = [c for key, own in several.items() for c in other_peoples(counts, key) if c > own[0]]
     assert others

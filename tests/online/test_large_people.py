@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from framefree.benchmark.take_geometry import other_peoples, take_geometry
 from framefree.datasets.layout import load_model_recordings
-from framefree.online import Recognizer, RecognizerConfig
+from framefree.online import Recognizer, RecognizerConfig, SpottingConstants
 from framefree.online.evaluation import run_stream
 from framefree.online.limits import size_limits
 from framefree.replica import replica_path
@@ -32,7 +32,7 @@ def test_size_limits_shrink_and_grow_the_demonstrations_range_separately(smalles
 
 def test_size_growth_must_be_positive():
     with pytest.raises(ValueError, match="size_growth"):
-        RecognizerConfig(size_growth=0.0)
+        RecognizerConfig().replace(size_growth=0.0)
 
 
 @pytest.fixture(scope="module")
@@ -41,11 +41,12 @@ def models():
 
 
 def test_the_upper_size_limit_is_the_largest_demonstration_times_the_growth(models):
-    grown = Recognizer.from_trajectories(*models).config
-    plain = Recognizer.from_trajectories(*models, size_growth=1.5).config
-    for g, (lo, hi) in grown.size_limits.items():
+    grown = Recognizer.from_trajectories(*models)
+    plain = Recognizer.from_trajectories(*models, size_growth=1.5).learned_
+    growth = grown.config.constants.size_growth
+    for g, (lo, hi) in grown.learned_.size_limits.items():
         assert lo == pytest.approx(plain.size_limits[g][0])
-        assert hi == pytest.approx(plain.size_limits[g][1] * grown.size_growth / 1.5)
+        assert hi == pytest.approx(plain.size_limits[g][1] * growth / 1.5)
 
 
 def test_a_circle_drawn_much_larger_than_the_demonstrations_is_still_taken(models):
@@ -81,5 +82,5 @@ def test_real_people_stay_below_an_upper_size_limit_from_another_persons_takes()
     """Real Vive recordings: at most 2 % of another person's performances exceed one person's
     largest take times the default growth; more than 5 % exceed it by a quarter."""
     sizes = _real_sizes()
-    assert _larger(sizes, RecognizerConfig().size_growth) <= 0.02
+    assert _larger(sizes, SpottingConstants().size_growth) <= 0.02
     assert _larger(sizes, 1.25) > 0.05

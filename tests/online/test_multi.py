@@ -208,8 +208,8 @@ def test_thresholds_allow_for_the_live_cut(recognizer, people, offline):
     base = thresholds_from_models(offline.distance_matrix(samples), labels)
     assert all(recognizer.gesture_thresholds[g] >= base[g] for g in base)
     assert any(recognizer.gesture_thresholds[g] > base[g] for g in base)
-    c = recognizer.config
-    cut = live_cut(samples[0], SpeedLevels(c.rest_speed, c.move_speed), c.L)
+    s = recognizer.learned_
+    cut = live_cut(samples[0], SpeedLevels(s.rest_speed, s.move_speed), recognizer.config.descriptor.L)
     assert cut is not None and cut.t[-1] - cut.t[0] < samples[0].t[-1] - samples[0].t[0] + 1.0
 
 

@@ -102,8 +102,8 @@ def zigzag_and_a_pause():
 
 def test_the_recognizer_takes_the_limits_from_the_demonstrations(zigzag_and_a_pause):
     on, off = zigzag_and_a_pause
-    assert on.config.one_go == ["zigzag", "circle"]
-    assert off.config.one_go is None
+    assert on.learned_.one_go == ["zigzag", "circle"]
+    assert off.learned_.one_go is None
     for g, admitted in (("zigzag", [True, True, False]), ("out_and_back", [True, True, True])):
         j = on.labels.index(g)
         closes = np.full(3, 0.5 * (on.spotter.opening_limits[j] + on.spotter.closure_limits[j]))
@@ -144,6 +144,6 @@ def test_real_people_rarely_rest_at_a_corner_where_another_person_did_not():
         if len(own) >= 2 and np.median(own) < config.confirm:
             others = other_peoples(rests, key)
             checked += len(others)
-            over += sum(r > config.min_pause for r in others)
+            over += sum(r > config.constants.min_pause for r in others)
     assert checked > 0
     assert over / checked <= 0.02

@@ -50,13 +50,14 @@ def _strokes(gaps: list[float], dt: float = 0.02) -> tuple[np.ndarray, np.ndarra
 
 def _spot(rec: Recognizer, gaps: list[float], **rules) -> list:
     """Run a spotter that accepts every candidate over the strokes: the (time, candidate) fired."""
-    c = rec.config
+    s, dt = rec.learned_, rec.config.constants.dt
     M = len(rec.labels)
     sp = Spotter(rec.classifier, np.full(M, 1e9), max_units=4, max_duration=10.0, max_pause=5.0,
-                 confirm=c.confirm, max_wait=5.0, **rules)
-    seg = MotionSegmenter(SpeedLevels(c.rest_speed, c.move_speed), c.L, c.dt, capacity=2000)
+                 confirm=rec.config.confirm, max_wait=5.0, **rules)
+    seg = MotionSegmenter(SpeedLevels(s.rest_speed, s.move_speed), rec.config.descriptor.L, dt,
+                          capacity=2000)
     fired = []
-    for t, T in zip(*_strokes(gaps, c.dt), strict=True):
+    for t, T in zip(*_strokes(gaps, dt), strict=True):
         unit = seg.push(float(t), T)
         hit = sp.step(float(t), seg.resting, unit, seg.buffer)
         if hit is not None:
@@ -75,7 +76,7 @@ def test_a_gesture_ends_in_rest(recognizer):
     # v6 fired the best candidate so far as soon as the hand moved on without a better one: with
     # the reference's alignment (on which v6 ran), a part of this very motion
     reference = Recognizer.from_trajectories(*load_model_recordings(replica_path(0), "original_1"),
-                                             RecognizerConfig(align="singular"))
+                                             RecognizerConfig().replace(align="singular"))
     eager = _spot(reference, [0.0, 0.0], fire_on_motion=True)
     assert eager[0][1].end_t < _spot(reference, [0.0, 0.0], fire_on_motion=False)[0][1].end_t
 
@@ -83,14 +84,15 @@ def test_a_gesture_ends_in_rest(recognizer):
 def test_a_gesture_starts_from_rest(recognizer):
     """With ``rest_before``, no candidate starts at a unit that follows another after a shorter
     rest; after a long rest, a stroke may start a gesture again."""
-    c = recognizer.config
+    s, dt = recognizer.learned_, recognizer.config.constants.dt
     M = len(recognizer.labels)
     sp = Spotter(recognizer.classifier, np.full(M, 1e9), max_units=4, max_duration=10.0,
                  max_pause=5.0, rest_before=0.3)
-    seg = MotionSegmenter(SpeedLevels(c.rest_speed, c.move_speed), c.L, c.dt, capacity=2000)
+    seg = MotionSegmenter(SpeedLevels(s.rest_speed, s.move_speed), recognizer.config.descriptor.L,
+                          dt, capacity=2000)
     starts = []
     units = []
-    for t, T in zip(*_strokes([0.1, 1.0, 0.1], c.dt), strict=True):
+    for t, T in zip(*_strokes([0.1, 1.0, 0.1], dt), strict=True):
         unit = seg.push(float(t), T)
         if unit is not None:
             units.append(unit)
@@ -129,7 +131,7 @@ def test_drawn_shapes_leave_the_other_negatives_as_they_were(recognizer):
     """The drawn family has its own random stream: asking for it changes no other episode."""
     trajs, labels = load_model_recordings(replica_path(0), "original_1")
     trajs, labels = trajs[:6], labels[:6]
-    L = recognizer.config.L
+    L = recognizer.config.descriptor.L
     without = non_gesture_motions(trajs, labels, L, kinds=("rest", "moves"), seed=3)
     both = non_gesture_motions(trajs, labels, L, kinds=("rest", "moves", "drawn"), seed=3)
     kept = [(k, tr) for k, tr in both if k != "drawn"]

@@ -3,13 +3,15 @@ held-out people, real non-gesture motion, faults, reproducible configuration."""
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
 from framefree import Trajectory
 from framefree.datasets.layout import load_model_recordings
 from framefree.descriptors import get_descriptor
-from framefree.online import Recognizer, RecognizerConfig, model_settings, spotting
+from framefree.online import LearnedSettings, Recognizer, RecognizerConfig, model_settings, spotting
 from framefree.online.evaluation import match_events, run_stream
 from framefree.online.events import STOP
 from framefree.online.limits import pooled_closures
@@ -59,10 +61,10 @@ def test_a_segment_is_classified_live_as_offline(recognizer, models, heldout_str
     monkeypatch.setattr(spotting.SegmentClassifier, "distances", record)
     run_stream(recognizer, heldout_stream.traj)
     assert len(seen) > 10
-    c = recognizer.config
+    c = recognizer.config.descriptor
     offline = get_descriptor("bilts+", progress="screw", L=c.L, ds_scale=c.ds_scale,
                              n_samples=c.n_samples, presmooth=c.presmooth, axis_prior=c.axis_prior,
-                             spacing=c.window_spacing, align=c.align)
+                             spacing=recognizer.learned_.window_spacing, align=c.align)
     model_desc = [offline.compute(tr) for tr in models[0]]
     for times, poses, d in seen[::5]:
         query = Trajectory.from_poses(times - times[0], poses)
@@ -105,16 +107,19 @@ def test_each_fault_kind_costs_little(recognizer, heldout_stream, kind):
     assert recognizer.stats["samples"] == t.size
 
 
-def test_a_resolved_configuration_rebuilds_without_calibration(recognizer, models, heldout_stream,
-                                                               monkeypatch):
+def test_settings_and_learned_values_rebuild_without_calibration(recognizer, models,
+                                                                 heldout_stream, monkeypatch):
     restored = RecognizerConfig.from_dict(recognizer.config.to_dict())
     assert restored == recognizer.config
+    learned = LearnedSettings.from_dict(json.loads(json.dumps(recognizer.learned_.to_dict())))
+    assert learned == recognizer.learned_
 
     def fail(*args, **kwargs):
         raise AssertionError("calibration must not run")
 
     monkeypatch.setattr(model_settings, "calibrate_segment_thresholds", fail)
-    rebuilt = Recognizer.from_trajectories(*models, restored)
+    rebuilt = Recognizer.from_trajectories(*models, restored, learned)
+    assert rebuilt.learned_ == recognizer.learned_
     a, _ = run_stream(recognizer, heldout_stream.traj)
     b, _ = run_stream(rebuilt, heldout_stream.traj)
     assert a == b
@@ -130,16 +135,35 @@ def test_memory_stays_bounded(recognizer, heldout_stream):
     assert rec.segmenter.units.maxlen is not None
 
 
-def test_unresolved_configuration_is_refused(recognizer):
-    with pytest.raises(ValueError, match="unresolved"):
-        Recognizer(recognizer.classifier, recognizer.labels, RecognizerConfig())
+def test_unlearned_values_are_refused(recognizer):
+    with pytest.raises(ValueError, match="unlearned"):
+        Recognizer(recognizer.classifier, recognizer.labels, RecognizerConfig(), LearnedSettings())
 
 
 def test_configuration_is_validated():
-    with pytest.raises(ValueError):
-        RecognizerConfig(L=-1.0)
+    with pytest.raises(ValueError, match="L must be positive"):
+        RecognizerConfig().replace(L=-1.0)
     with pytest.raises(ValueError, match="unknown"):
         RecognizerConfig.from_dict({"nonsense": 1})
+    with pytest.raises(ValueError, match=r"unknown recognizer settings \['rest_speed'\]"):
+        RecognizerConfig().replace(rest_speed=0.1)  # learned: given to from_trajectories
+
+
+def test_a_user_sets_few_things_and_every_name_still_reaches_its_place(models):
+    """The user's settings are few; a descriptor setting or constant is changed by name, and a
+    learned value given by name is kept, with "given" as its rule."""
+    assert len(RecognizerConfig.user_names()) <= 20
+    c = RecognizerConfig().replace(ds_scale=0.09, size_factor=2.0, confirm=0.3)
+    assert (c.descriptor.ds_scale, c.constants.size_factor, c.confirm) == (0.09, 2.0, 0.3)
+    assert RecognizerConfig.from_dict(c.flat()) == c == RecognizerConfig.from_dict(c.to_dict())
+    rec = Recognizer.from_trajectories(*models, max_units=3, gesture_thresholds=None, threshold=0.2)
+    rules = rec.learned_.provenance.rules
+    assert rec.learned_.max_units == 3 and rules["max_units"] == "given"
+    assert rules["gesture_thresholds"] == "given: threshold"
+    assert rules["rest_speed"] == "framefree.online.segmentation.speed_levels"
+    assert rec.learned_.provenance.takes == len(models[0])
+    described = rec.describe()
+    assert "rest_speed" not in described["config"] and described["learned"]["max_units"] == 3
 
 
 def test_thresholds_come_from_the_models_and_their_rivals(recognizer, models):
@@ -153,16 +177,16 @@ def test_thresholds_come_from_the_models_and_their_rivals(recognizer, models):
         P, N = max(cal.positives[g]), cal.negatives[g]
         rival = between[np.ix_(labels == g, labels != g)].min()
         assert N <= rival
-        a = recognizer.config.threshold_position
+        a = recognizer.config.constants.threshold_position
         assert tau == pytest.approx(P ** (1 - a) * N**a) if np.isfinite(N) else tau == 2 * P
         assert min(P, N) <= tau <= max(P, N)
 
 
 def test_the_window_spacing_is_the_models_and_fixed(recognizer, models):
-    c = recognizer.config
-    assert c.relative_window and c.window_spacing == model_window_spacing(models[0], c)
+    c, spacing = recognizer.config.descriptor, recognizer.learned_.window_spacing
+    assert c.relative_window and spacing == model_window_spacing(models[0], recognizer.config)
     desc = recognizer.classifier.descriptor
-    assert desc.spacing == c.window_spacing and desc.axis_prior == c.axis_prior == 1.0
+    assert desc.spacing == spacing and desc.axis_prior == c.axis_prior == 1.0
     # a gesture performed half as large keeps its number of descriptor samples (the windows cover
     # the same fraction of it); the reference's window spacing would change with the size
     traj = models[0][models[1].index("go_left")]
@@ -177,9 +201,9 @@ def test_pooled_closure_limits_share_the_returning_gestures_largest_closure(reco
     returning one; a one-way gesture keeps its own; nothing is recalibrated but the limits."""
     assert pooled_closures({"a": 0.02, "b": 0.06, "swipe": 0.9}) == {"a": 0.06, "b": 0.06, "swipe": 0.9}
     assert pooled_closures({"swipe": 0.9}) == {"swipe": 0.9}
-    own = recognizer.config.closure_limits
-    c = recognizer.config.replace(closure_limits=None, closure_pooled=True)
-    pooled = Recognizer.from_trajectories(*models, config=c).config.closure_limits
+    own = recognizer.learned_.closure_limits
+    c = recognizer.config.replace(closure_pooled=True)
+    pooled = Recognizer.from_trajectories(*models, config=c).learned_.closure_limits
     assert set(pooled.values()) == {max(own.values())}
 
 
@@ -213,7 +237,7 @@ def test_a_hesitant_person_keeps_the_gestures_whole(recognizer):
     who = replace(person(HELDOUT_PEOPLE[3]), hesitation=1.0, hesitation_pause=(0.25, 0.4))
     traj, segments = make_stream(11, person=who, n_gestures=10, n_stops=0)
     events, _ = run_stream(recognizer, traj)
-    assert recognizer.config.max_units == 5  # two units per model gesture, each may be cut once
+    assert recognizer.learned_.max_units == 5  # two units per model gesture, each may be cut once
     assert match_events(events, segments, traj.duration).f1 >= 0.9
 
 

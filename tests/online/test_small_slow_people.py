@@ -35,7 +35,7 @@ def test_move_level_is_the_rest_level_times_the_hysteresis(models):
         lv = speed_levels(trajs, 0.1, move_factor=factor)
         assert lv.move == pytest.approx(factor * lv.rest)
     with pytest.raises(ValueError, match="move_factor"):
-        RecognizerConfig(move_factor=1.0)
+        RecognizerConfig().replace(move_factor=1.0)
 
 
 def _stroke(peak: float, dt: float = 0.02, duration: float = 1.0) -> np.ndarray:
@@ -113,11 +113,12 @@ def test_the_size_range_reaches_down_unless_a_negative_in_the_band_would_be_take
 def test_a_forearm_turn_keeps_its_size_range_and_a_circle_reaches_down(recognizer, models):
     """On the replica's models: a re-grip turned back is a *go down* done by less, so *go down*
     keeps its lower size limit; nothing that is no gesture looks like a small circle."""
-    c = recognizer.config
+    k, sizes = recognizer.config.constants, recognizer.learned_.size_limits
     never = Recognizer.from_trajectories(*models, size_reach=1.0)
-    plain = never.config.size_limits
-    assert c.size_limits["go_down"] == pytest.approx(plain["go_down"])
-    ratio = c.size_reach / c.size_factor
-    assert c.size_limits["go_right"][0] == pytest.approx(plain["go_right"][0] / ratio)
-    assert c.size_limits["go_right"][1] == pytest.approx(plain["go_right"][1])
+    plain = never.learned_.size_limits
+    assert sizes["go_down"] == pytest.approx(plain["go_down"])
+    ratio = k.size_reach / k.size_factor
+    assert sizes["go_right"][0] == pytest.approx(plain["go_right"][0] / ratio)
+    assert sizes["go_right"][1] == pytest.approx(plain["go_right"][1])
+    assert recognizer.learned_.provenance.rules["size_limits"].endswith("thresholds.reach_down")
     assert recognizer.gesture_thresholds == pytest.approx(never.gesture_thresholds)

@@ -93,7 +93,7 @@ def drawn_recognizer():
 
 def test_the_recognizer_forbids_what_the_demonstrations_never_do(drawn_recognizer):
     rec, (takes, labels) = drawn_recognizer
-    assert rec.config.forbidden_turns == {"zigzag": SAME_SENSE, "triangle": ALTERNATING}
+    assert rec.learned_.forbidden_turns == {"zigzag": SAME_SENSE, "triangle": ALTERNATING}
     sp = rec.spotter
     j = rec.labels.index("zigzag")
     size = float(np.mean(sp.size_limits[j]))

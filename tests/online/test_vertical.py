@@ -53,7 +53,7 @@ def test_axis_names():
     with pytest.raises(ValueError, match="up must be one of"):
         RecognizerConfig(up="w")
     with pytest.raises(ValueError, match="vertical_margin"):
-        RecognizerConfig(vertical_margin=1.5)
+        RecognizerConfig().replace(vertical_margin=1.5)
 
 
 def test_verticality_of_lines_and_of_no_motion():
@@ -101,11 +101,11 @@ def zigzag_alone():
 
 def test_the_recognizer_derives_the_limits(zigzag_alone):
     upright, blind = zigzag_alone
-    lo, hi = upright.config.vertical_limits["zigzag"]
+    lo, hi = upright.learned_.vertical_limits["zigzag"]
     assert lo == 0.0 or hi == pytest.approx(lo + 2 * VERTICAL_MARGIN, abs=0.1)  # clipped at 0
     assert hi - VERTICAL_MARGIN == pytest.approx(0.3, abs=0.1)  # a Z drawn on a wall: about 0.3
     assert hi < verticality(drawn_positions(LETTER_N), UP)
-    assert blind.config.vertical_limits is None
+    assert blind.learned_.vertical_limits is None
 
 
 @settings(max_examples=5, deadline=None)
@@ -144,7 +144,7 @@ def test_a_library_keeps_its_vertical(tmp_path):
     lib = enroll(TakeSet(tuple(takes), ("zigzag",) * 3, tuple(f"z{k}" for k in range(3))), up="+y")
     rec = load_recognizer(lib.save(tmp_path / "zigzag.npz"))
     assert rec.config.up == "+y"
-    (lo, hi), = lib.recognizer_config().vertical_limits.values()
-    assert rec.config.vertical_limits["zigzag"] == pytest.approx((lo, hi))
+    (lo, hi), = lib.learned_settings().vertical_limits.values()
+    assert rec.learned_.vertical_limits["zigzag"] == pytest.approx((lo, hi))
     assert hi < verticality(drawn_positions(LETTER_N), UP)
     assert rec.spotter.up == pytest.approx(UP)

@@ -60,9 +60,10 @@ class LibraryError(FramefreeError):
 
 
 def rebuild_hint(path: Path, meta: dict[str, Any]) -> str:
-    """The command that rebuilds the library ``path`` from the folders it was built from."""
+    """What to do about a library that cannot be read: enroll it again from the folders it was
+    built from (the command)."""
     src = " ".join(meta.get("built_from") or []) or "LIBRARY_FOLDER"
-    return f"rebuild it with: framefree enroll {src} -o {path}"
+    return f"enroll it again: framefree enroll {src} -o {path}"
 
 
 def write_library_file(path: str | Path, meta: dict[str, Any], rows: Sequence[np.ndarray]) -> Path:
@@ -122,8 +123,7 @@ def read_library_file(path: str | Path) -> tuple[dict[str, Any], list[np.ndarray
                 raise LibraryError(
                     f"{path}: gesture library format {fmt} (framefree {meta.get('framefree_version')}), "
                     f"this framefree {__version__} reads formats "
-                    f"{', '.join(map(str, READABLE_FORMATS))}; enroll it again: "
-                    f"{rebuild_hint(path, meta)}")
+                    f"{', '.join(map(str, READABLE_FORMATS))}; {rebuild_hint(path, meta)}")
             arrays = {n: np.lib.format.read_array(io.BytesIO(zf.read(f"{n}.npy")), allow_pickle=False)
                       for n in ("samples", "offsets")}
     except (OSError, KeyError, zipfile.BadZipFile, json.JSONDecodeError, ValueError) as exc:

@@ -25,7 +25,9 @@ if TYPE_CHECKING:
     from ..io.sources import CsvReplay, ZmqPublisher, ZmqSource, open_source
     from .acceptance import Accepted, SampleGate
     from .config import RecognizerConfig
+    from .constants import DescriptorSettings, SpottingConstants
     from .events import STOP, Event
+    from .learned import LearnedSettings, Provenance
     from .recognizer import Recognizer
     from .stop import StopDetector, sustained_peak_speed
 
@@ -34,6 +36,10 @@ _LAZY = {
     "Accepted": ".acceptance",
     "SampleGate": ".acceptance",
     "RecognizerConfig": ".config",
+    "DescriptorSettings": ".constants",
+    "SpottingConstants": ".constants",
+    "LearnedSettings": ".learned",
+    "Provenance": ".learned",
     "STOP": ".events",
     "Event": ".events",
     "Recognizer": ".recognizer",
@@ -49,10 +55,14 @@ __all__ = [
     "STOP",
     "Accepted",
     "CsvReplay",
+    "DescriptorSettings",
     "Event",
+    "LearnedSettings",
+    "Provenance",
     "Recognizer",
     "RecognizerConfig",
     "SampleGate",
+    "SpottingConstants",
     "StopDetector",
     "ZmqPublisher",
     "ZmqSource",

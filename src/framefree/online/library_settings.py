@@ -58,7 +58,7 @@ def settings_from_meta(path: str | Path, meta: dict[str, Any],
         return _migrate_v3(meta, rows)
     except (KeyError, TypeError, ValueError) as exc:
         raise LibraryError(f"{path}: settings do not fit framefree {__version__} ({exc}); "
-                           f"enroll it again: {rebuild_hint(Path(path), meta)}") from None
+                           f"{rebuild_hint(Path(path), meta)}") from None
 
 
 def _migrate_v3(meta: dict[str, Any], rows: Sequence[np.ndarray]
