@@ -102,15 +102,15 @@ def test_a_person_drawing_a_square_fluently_has_its_three_corners(models, who):
     the speed minimum inside a rounded corner their headings have partly turned (40-145° for a
     90° corner, one or two of three corners below 60° in most of these takes), the sides' chords
     turn by about 90°. Every take counts its three corners (v16, :func:`is_corner`)."""
-    c = RecognizerConfig().constants
-    lv = speed_levels(models[0], RecognizerConfig().descriptor.L, c.dt, c.speed_lag,
-                      c.noise_factor, c.peak_fraction, c.move_factor)
+    c, L = SpottingConstants(), RecognizerConfig().descriptor.L
+    lv = speed_levels(models[0], L, c.dt, c.speed_lag, c.noise_factor, c.peak_fraction,
+                      c.move_factor)
     drawer = person(who)
     assert drawer.coarticulation > 0.2
     session = take_session("square", drawer, 3, seed=who)
     for take in session.segments:
         _, units = recording_units(session.traj.slice_time(take.start_t - 0.3, take.end_t + 0.3),
-                                   SpeedLevels(lv.rest, lv.move), c.L, c.dt)
+                                   SpeedLevels(lv.rest, lv.move), L, c.dt)
         assert corner_count(units, c.corner_angle) == 3
 
 
