@@ -66,8 +66,9 @@ STAT_KEYS = ("grid", "units", "candidates", "events", "stops", "restarts")
 class Recognizer(StreamingRecognizer):
     """Streaming gesture recognizer: segment spotting with offline-identical classification.
 
-    Build it with :meth:`from_trajectories` or :meth:`from_dataset` (which derive and calibrate
-    everything left ``None`` in the configuration); the constructor takes a fully resolved one.
+    Build it with :meth:`from_trajectories` or :meth:`from_dataset`, which learn from the takes
+    every value the user does not set, or with :meth:`load` from a gesture library; the
+    constructor takes the learned values ready.
 
     Parameters
     ----------
@@ -76,12 +77,19 @@ class Recognizer(StreamingRecognizer):
     labels : sequence of str, length M
         Gesture of each model.
     config : RecognizerConfig
-        Resolved configuration (see :func:`resolve_config`).
+        The user's settings (with the descriptor settings and constants).
+    learned : LearnedSettings
+        Everything learned from the takes (:func:`~framefree.online.model_settings.
+        resolve_learned`), at least the speed levels, candidate limits and thresholds.
     calibration : SegmentThresholds, optional
         Kept for reporting.
 
     Attributes
     ----------
+    config : RecognizerConfig
+        As given.
+    learned_ : LearnedSettings
+        As given: the learned values and their provenance.
     gesture_thresholds : dict of str to float
         τ_g per gesture.
     stop_threshold : float
