@@ -46,8 +46,7 @@ class RecognizerConfig:
         One decision threshold τ for every gesture, > 0 [DTW distance]; None: each gesture's is
         calibrated on the takes.
     gesture_thresholds : dict of str to float or None
-        τ_g of some or every gesture, > 0 (None: calibrated). Given for every gesture, no
-        calibration runs.
+        τ_g of every gesture, > 0 (None: calibrated); then no calibration runs.
     stop_threshold : float or None
         The stop signal's angular speed [rad/s], > 0; None: from the takes (the fastest rotation
         of any take, with a margin).

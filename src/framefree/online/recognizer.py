@@ -228,7 +228,7 @@ class Recognizer(StreamingRecognizer):
         """
         path = Path(path)
         meta, rows = read_library_file(path)
-        config, learned = settings_from_meta(path, meta)
+        config, learned = settings_from_meta(path, meta, rows)
         takes = library_takes(path, rows, meta["names"])
         return cls.restore(takes, meta["labels"], config, learned)
 
