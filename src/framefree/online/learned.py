@@ -164,9 +164,8 @@ class LearnedSettings:
             raise ValueError(f"max_units must be at least 1, got {self.max_units}")
         if self.window_spacing is not None and self.window_spacing < 1:
             raise ValueError(f"window_spacing must be at least 1, got {self.window_spacing}")
-        for name in ("stop_threshold", "rest_speed", "move_speed"):
-            if getattr(self, name) is not None and not getattr(self, name) > 0:
-                raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
+        if self.stop_threshold is not None and not self.stop_threshold > 0:
+            raise ValueError(f"stop_threshold must be positive, got {self.stop_threshold}")
         bad = {g: v for g, v in (self.gesture_thresholds or {}).items() if not v > 0}
         if bad:
             raise ValueError(f"gesture thresholds must be positive, got {bad}")
