@@ -147,16 +147,17 @@ def _record_multi(source: str, gesture: str, library: str, settings: Any,
         raise click.ClickException("no take found: perform the gesture between rests of about a second")
 
 
-def _no_multi(sources: tuple[str, ...], command: str) -> None:
-    """One line for a folder of multi-tracker takes: libraries hold one tracker."""
-    from ..datasets.multi_models import holds_several_trackers
-    from ..errors import FramefreeError
+def _multi_sources(sources: tuple[str, ...]) -> bool:
+    """Whether the sources hold takes of several trackers (one line when they mix)."""
+    from .multi_library_cli import is_multi_source
 
-    for src in sources:
-        if holds_several_trackers(src):
-            raise FramefreeError(f"{src}: takes of several trackers; `framefree {command}` "
-                                 "builds libraries of one tracker. Give the folder itself as "
-                                 "--models to framefree live or evaluate-stream")
+    return is_multi_source(sources)
+
+
+_invariance_option = click.option(
+    "--invariance", type=click.Choice(("full", "gravity")), default=None,
+    help="Takes of several trackers only: what the comparison ignores (default gravity, which "
+         "keeps the vertical, +z; full for a world of unknown vertical). Stored in the library.")
 
 
 def _parse_sets(sets: tuple[str, ...]) -> dict[str, Any]:
@@ -219,13 +220,17 @@ def _changes(old, new) -> str:
                    "+y: the OpenVR source, the replica). Then a Z is no N; the live world "
                    "must share that vertical. Default: no vertical, frame-free.")
 @click.option("--force", is_flag=True, help="Recalibrate even if the library file is up to date.")
+@_invariance_option
 def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, removals: tuple[str, ...],
-               sets: tuple[str, ...], merges: tuple[str, ...], up: str | None, force: bool):
+               sets: tuple[str, ...], merges: tuple[str, ...], up: str | None, force: bool,
+               invariance: str | None = None):
     """Build the models and calibrate the thresholds once; write a library file for live use.
 
     \b
     SOURCES are library folders (<gesture>/<context>/trial_k.csv) and/or library files (.npz),
-    merged. Adding a gesture: framefree enroll lib.npz new_takes/ -o lib.npz
+    merged. Takes of several trackers: folders <gesture>/<recording> (framefree record from a
+    multi-tracker source) or <person>/<gesture>/<recording>, and their library files.
+    Adding a gesture: framefree enroll lib.npz new_takes/ -o lib.npz
     Removing one:        framefree enroll lib.npz --remove wave -o lib.npz
     Then: framefree check / live / evaluate-stream / demo --models LIBRARY.npz
     """
@@ -237,7 +242,16 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
             raise click.UsageError("give the library file to write with -o/--out")
         folder = Path(sources[0]).resolve()
         out = str(folder.with_name(folder.name + ".npz"))
-    _no_multi(sources, "enroll")
+    if _multi_sources(sources):
+        from .multi_library_cli import enroll_multi_sources
+
+        extra = {"up": up} if up else {}
+        enroll_multi_sources(sources, out, context, removals, {**_parse_sets(sets), **extra},
+                             merges, invariance, force)
+        return
+    if invariance is not None:
+        raise click.UsageError("--invariance applies to takes of several trackers; one tracker is "
+                               "compared by BILTS+, invariant to every change of frame")
     takes, settings = _gather(sources, context, merges)
     if removals:
         takes = takes.without(removals)
@@ -270,22 +284,32 @@ def _fingerprint(takes, config) -> str:
 @click.option("--out", type=click.Path(file_okay=False), default=".", show_default=True,
               help="Folder for the report (JSON) and figures; never inside the library.")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random probes.")
-def check_cmd(library: str, context: str | None, out: str, seed: int):
+@_invariance_option
+def check_cmd(library: str, context: str | None, out: str, seed: int, invariance: str | None = None):
     """Can these gestures be told apart? Leave-one-out recognition, margins, robustness to frames
     and speed, closeness to stop signals and everyday motion, with advice.
 
-    LIBRARY is a library folder or file. Exit status 1 when there is a problem.
+    LIBRARY is a library folder or file, of one tracker or of several. Exit status 1 when there
+    is a problem.
     """
     from ..library.check import CheckSettings, check_takes
     from ..library.figures import plot_distance_map, plot_take_gallery
     from ..library.store import load_library, read_takes
     from ..online.config import RecognizerConfig
 
-    _no_multi((library,), "check")
     lib_path = Path(library).resolve()
     out_dir = Path(out).resolve()
     if lib_path.is_dir() and (out_dir == lib_path or lib_path in out_dir.parents):
         raise click.UsageError(f"--out {out} is inside the library {library}; choose another folder")
+    if _multi_sources((library,)):
+        from .multi_library_cli import check_multi
+
+        if context is not None:
+            raise click.UsageError("--context does not apply to takes of several trackers")
+        check_multi(library, out_dir, seed, invariance)
+        return
+    if invariance is not None:
+        raise click.UsageError("--invariance applies to takes of several trackers")
     if lib_path.is_dir():
         takes, config = read_takes(lib_path, context), RecognizerConfig()
     else:

@@ -19,7 +19,8 @@ import numpy as np
 from ..core.multitrajectory import MultiTrajectory
 from ..errors import FramefreeError
 
-__all__ = ["check_trackers", "match_trackers", "multi_recognizer", "n_trackers"]
+__all__ = ["check_trackers", "library_multi_recognizer", "match_trackers", "multi_recognizer",
+           "n_trackers"]
 
 #: Settings of the command line that a recognizer of several trackers does not use.
 _UNUSED = ("resolution", "latency_min", "ds_scale")
@@ -60,6 +61,24 @@ def multi_recognizer(found: Any, method: str, gestures: list[str] | None,
     click.echo(f"{len(rec.labels)} models, {len(rec.gestures)} gestures, {rec.n_trackers} trackers "
                f"({', '.join(rec.tracker_names)}), invariance {invariance}, thresholds {taus}, stop above "
                f"{rec.stop_threshold:.3g} rad/s ({time.perf_counter() - t0:.1f} s)", err=True)
+    return rec
+
+
+def library_multi_recognizer(path: str) -> Any:
+    """A :class:`~framefree.online.multi.MultiRecognizer` from a gesture library file of several
+    trackers (``framefree enroll`` of multi-tracker takes): nothing recalibrated, warmed up."""
+    from ..library.multi_library import load_multi_library
+
+    click.echo(f"loading gesture library {path} (several trackers) ...", err=True)
+    t0 = time.perf_counter()
+    lib = load_multi_library(path)
+    rec = lib.recognizer()
+    rec.warmup()
+    taus = ", ".join(f"{g} {rec.gesture_thresholds[g]:.4g}" for g in rec.gestures)
+    click.echo(f"{len(rec.labels)} models, {len(rec.gestures)} gestures, {rec.n_trackers} trackers "
+               f"({', '.join(rec.tracker_names)}), invariance {lib.invariance}, thresholds {taus}, "
+               f"stop above {rec.stop_threshold:.3g} rad/s ({time.perf_counter() - t0:.1f} s)",
+               err=True)
     return rec
 
 

@@ -158,6 +158,7 @@ def _only(found: Any, gestures: list[str], models: str) -> Any:
 
 def _library_recognizer(path: str, method: str, overrides: dict[str, Any]):
     """A recognizer from a gesture library file (:mod:`framefree.library`): no calibration."""
+    from ..datasets.multi_models import is_multi_library
     from ..online import Recognizer
 
     if method != "segments" or overrides:
@@ -165,6 +166,10 @@ def _library_recognizer(path: str, method: str, overrides: dict[str, Any]):
                  else "--" + next(iter(overrides)).replace("_", "-"))
         raise FramefreeError(f"{given} does not apply to a gesture library file; its settings are fixed "
                              "when enrolling (framefree enroll ... --set KEY=VALUE)")
+    if is_multi_library(path):  # several trackers: framefree.commands.multi_cli
+        from .multi_cli import library_multi_recognizer
+
+        return library_multi_recognizer(path)
     click.echo(f"loading gesture library {path} ...", err=True)
     t0 = time.perf_counter()
     rec = Recognizer.load(path)

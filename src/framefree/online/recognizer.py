@@ -198,6 +198,9 @@ class Recognizer(StreamingRecognizer):
         """
         path = Path(path)
         meta, rows = read_library_file(path)
+        if meta.get("trackers"):
+            raise LibraryError(f"{path}: a gesture library of several trackers; load it with "
+                               "framefree.library.multi_library.load_multi_library(path).recognizer()")
         try:
             config = RecognizerConfig.from_dict(meta["config"]).replace(
                 stop_threshold=float(meta["stop_threshold"]))
