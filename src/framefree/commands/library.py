@@ -46,13 +46,20 @@ def _pose_source(spec: str, timeout: float):
 @click.option("--keep-all", is_flag=True,
               help="Keep every move as a take: also the moves back to the start between performances "
               "of an open stroke and small settling moves (left out by default).")
+@click.option("--tracker-names", default=None, metavar="A,B",
+              help="Names of the trackers of a live source of several trackers, in its order "
+              "(default: the source's names, else tracker_0, tracker_1, ...).")
 def record_cmd(source: str, gesture: str, library: str, context: str, max_takes: int | None,
-               timeout: float, min_rest: float | None, margin: float | None, keep_all: bool):
+               timeout: float, min_rest: float | None, margin: float | None, keep_all: bool,
+               tracker_names: str | None = None):
     """Record takes of a gesture: perform it, rest a second, perform it again, ...
 
     \b
-    A multi-tracker CSV file (t,NAME.x,...) is cut at the rests of all its trackers together;
-    its takes go to LIBRARY/GESTURE/trial_<k>.csv, a --models folder for live and evaluate-stream.
+    Several trackers: a multi-tracker CSV file (t,NAME.x,...), an LSL stream of several trackers
+    (lsl://NAME; lsl://NAME#K records tracker K alone), a ROS 2 bag with several pose topics
+    (BAG#/right,/left) or ZeroMQ multi-tracker messages (zmq://127.0.0.1:PORT?trackers=N) are cut
+    at the rests of all trackers together; the takes go to LIBRARY/GESTURE/trial_<k>.csv, a
+    --models folder for live and evaluate-stream and a source of enroll.
 
     \b
     One long recording is cut into takes at the rests (frame-free motion speed), each trimmed to
@@ -64,11 +71,19 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
     """
     from ..library.recorder import TakeRecorder
     from ..library.takes import TakeSettings, write_take
+    from .multi_record import live_multi_source, record_multi_file, record_multi_live
 
     changes = {k: v for k, v in (("min_rest", min_rest), ("margin", margin)) if v is not None}
     if _multi_file(source):
-        _record_multi(source, gesture, library, TakeSettings(**changes), max_takes)
+        record_multi_file(source, gesture, library, TakeSettings(**changes), max_takes)
         return
+    several = live_multi_source(source, timeout)
+    if several is not None:
+        record_multi_live(several, source, gesture, library, TakeSettings(**changes), max_takes,
+                          tracker_names)
+        return
+    if tracker_names is not None:
+        raise click.UsageError("--tracker-names applies to a live source of several trackers")
     recorder = TakeRecorder(TakeSettings(**changes), keep_all=keep_all)
     src = _pose_source(source, timeout)
     click.echo(f"recording {gesture!r} from {source}: perform it, rest a second or two, perform it again "
@@ -124,27 +139,6 @@ def _multi_file(spec: str) -> bool:
     from ..io.multicsv import has_tracker_header
 
     return has_tracker_header(spec)
-
-
-def _record_multi(source: str, gesture: str, library: str, settings: Any,
-                  max_takes: int | None) -> None:
-    """``framefree record`` from a multi-tracker CSV: the takes, cut at the rests of the trackers'
-    combined speed, written as ``LIBRARY/GESTURE/trial_<k>.csv`` (multi-tracker CSV)."""
-    from ..io.multicsv import read_multi_csv
-    from ..library.multi_takes import split_multi_takes, write_multi_take
-
-    found = split_multi_takes(read_multi_csv(source), settings)[:max_takes]
-    click.echo(f"recording {gesture!r} from {source} ({len(found[0][1].names) if found else 0} "
-               "trackers, cut at the rests of their combined motion)", err=True)
-    for k, (span, take) in enumerate(found, start=1):
-        path = write_multi_take(take, library, gesture)
-        click.secho(f"take {k} recorded ({span.duration:.1f} s)   [{path}]", fg="green", err=True)
-    folder = Path(library) / gesture
-    click.echo(f"{len(found)} takes of {gesture} written to {folder} "
-               f"({len(list(folder.glob('*.csv'))) if folder.is_dir() else 0} there now). Next: "
-               f"framefree live --models {library} --source ...", err=True)
-    if not found:
-        raise click.ClickException("no take found: perform the gesture between rests of about a second")
 
 
 def _multi_sources(sources: tuple[str, ...]) -> bool:

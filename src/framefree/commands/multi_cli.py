@@ -52,6 +52,10 @@ def multi_recognizer(found: Any, method: str, gestures: list[str] | None,
                                  f"{', '.join(sorted(set(labels)))})")
         keep = [k for k, g in enumerate(labels) if g in gestures]
         samples, labels = [samples[k] for k in keep], [labels[k] for k in keep]
+    if len(set(labels)) < 2:
+        raise FramefreeError(f"{models}: recordings of {len(set(labels))} gesture(s); models of "
+                             "several trackers need at least two gestures (each threshold is "
+                             "measured against the others)")
     click.echo(found.description, err=True)
     click.echo("building the gesture models (several trackers) and calibrating ...", err=True)
     t0 = time.perf_counter()

@@ -43,6 +43,7 @@ __all__ = [
     "UnitsAndOrder",
     "ZmqPublisher",
     "ZmqSource",
+    "carries_several",
     "check_loopback",
     "decode_pose",
     "encode_pose",
@@ -398,6 +399,14 @@ class UnitsAndOrder:
                 if len(first) == self.check_after:
                     warn_if_implausible(np.asarray(first), self.name, self.quat_order)
             yield t, p, q
+
+
+def carries_several(spec: str) -> bool:
+    """Whether a live or bag source spec names several trackers by itself (whatever the models):
+    a ROS 2 bag with several topics (``BAG#/right,/left``) or several tf frames
+    (``BAG#/tf:world>right,world>left``), or ZeroMQ with ``?trackers=N``, N > 1. An LSL stream's
+    trackers are known once it is found (:class:`~framefree.io.lsl.LslSource`)."""
+    return False
 
 
 def open_source(

@@ -314,8 +314,13 @@ def enroll_multi(takes: MultiTakeSet, config: RecognizerConfig | None = None,
     Raises
     ------
     LibraryError
-        For a take that is an exact copy of another (its gesture's threshold would be about 0).
+        For fewer than two gestures, or a take that is an exact copy of another (its gesture's
+        threshold would be about 0).
     """
+    if len(takes.gestures) < 2:
+        raise LibraryError(f"takes of {len(takes.gestures)} gesture(s) ({', '.join(takes.gestures)}): "
+                           "a library needs at least two, each gesture's threshold is measured "
+                           "against the others")
     _refuse_copies(takes)
     config = config or RecognizerConfig()
     stored = takes.as_stored()
