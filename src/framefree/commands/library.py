@@ -71,21 +71,21 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
     """
     from ..library.recorder import TakeRecorder
     from ..library.takes import TakeSettings, write_take
-    from .multi_record import live_multi_source, record_multi_file, record_multi_live
+    from .multi_record import open_record_source, record_multi_file, record_multi_live
 
     changes = {k: v for k, v in (("min_rest", min_rest), ("margin", margin)) if v is not None}
     if _multi_file(source):
         record_multi_file(source, gesture, library, TakeSettings(**changes), max_takes)
         return
-    several = live_multi_source(source, timeout)
-    if several is not None:
-        record_multi_live(several, source, gesture, library, TakeSettings(**changes), max_takes,
+    opened = open_record_source(source, timeout)
+    if opened is not None and opened.n_trackers > 1:
+        record_multi_live(opened, source, gesture, library, TakeSettings(**changes), max_takes,
                           tracker_names)
         return
     if tracker_names is not None:
         raise click.UsageError("--tracker-names applies to a live source of several trackers")
     recorder = TakeRecorder(TakeSettings(**changes), keep_all=keep_all)
-    src = _pose_source(source, timeout)
+    src = opened if opened is not None else _pose_source(source, timeout)
     click.echo(f"recording {gesture!r} from {source}: perform it, rest a second or two, perform it again "
                "... (Ctrl-C to stop)", err=True)
     written: list[Path] = []

@@ -16,26 +16,41 @@ import click
 
 from ..errors import FramefreeError
 
-__all__ = ["live_multi_source", "record_multi_file", "record_multi_live"]
+__all__ = ["open_record_source", "record_multi_file", "record_multi_live"]
 
 #: Seconds of stream time between two looks for finished takes while recording.
 _POLL_PERIOD = 0.5
 
 
-def live_multi_source(spec: str, timeout: float) -> Any | None:
-    """The source of several trackers ``spec`` names, opened, or None when it carries one tracker
-    (or is no live multi-tracker source): ``lsl://NAME`` without a tracker index whose stream has
-    several trackers, a bag spec naming several topics, ``zmq://...`` with ``?trackers=N``."""
-    from ..io.sources import open_source
+class _OneTracker:
+    """A source of several trackers that brings one: poses as (t, p (3,), q (4,))."""
+
+    n_trackers = 1
+
+    def __init__(self, source: Any) -> None:
+        self.source = source
+
+    def __iter__(self):
+        for t, p, q in self.source:
+            yield t, p.reshape(-1, 3)[0], q.reshape(-1, 4)[0]
+
+
+def open_record_source(spec: str, timeout: float) -> Any | None:
+    """A live source ``spec`` names, opened, with its number of trackers (``n_trackers``), or None
+    for the sources of one tracker that ``record`` reads as before (a CSV file, a bag of one
+    topic, ``lsl://NAME#K``, OpenVR): ``lsl://NAME`` brings every tracker of its stream, ZeroMQ
+    those of its first message, a bag spec those it names (``BAG#/right,/left``)."""
+    from ..io.sources import carries_several, open_source
 
     if spec.startswith("lsl://") and "#" not in spec:
         src = open_source(spec, speed=0.0, timeout=timeout, several=True)
-        if src.n_trackers > 1:
-            return src
-        src.source.close()
-        return None
-    from ..io.sources import carries_several
-
+        return src if src.n_trackers > 1 else _OneTracker(src)
+    if spec.startswith(("zmq://", "tcp://", "ipc://")):
+        src = open_source(spec, speed=0.0, timeout=timeout, several=True)
+        if src.source.peek() == 0:
+            raise FramefreeError(f"{spec}: no pose arrived within {timeout:g} s; is a publisher "
+                                 "running (framefree stream FILE --port PORT)?")
+        return src
     if carries_several(spec):
         return open_source(spec, speed=0.0, timeout=timeout, several=True)
     return None
@@ -44,7 +59,8 @@ def live_multi_source(spec: str, timeout: float) -> Any | None:
 def _names(src: Any, given: str | None) -> tuple[str, ...]:
     n = int(src.n_trackers)
     if given is None:
-        return tuple(getattr(src, "tracker_names", None) or (f"tracker_{k}" for k in range(n)))
+        known = getattr(getattr(src, "traj", None), "names", None)  # a bag's topics or frames
+        return tuple(known or (f"tracker_{k}" for k in range(n)))
     names = tuple(s.strip() for s in given.split(","))
     if len(names) != n or len(set(names)) != n or not all(names):
         raise FramefreeError(f"--tracker-names {given}: the source carries {n} trackers; give "

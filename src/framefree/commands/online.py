@@ -226,12 +226,19 @@ def stream_cmd(file: str, port: int, rate: float | None, speed: float, fmt: str,
 
     \b
     Message: 8 little-endian float64 t,x,y,z,qw,qx,qy,qz (or JSON); an empty message ends it.
+    A multi-tracker CSV (t,NAME.x,...) sends every tracker in one message: t, then x,y,z,qw,qx,
+    qy,qz of each tracker.
     In another terminal: framefree live --models DIR --source zmq://127.0.0.1:PORT
     """
     from ..core.trajectory import Trajectory
+    from ..io.multicsv import has_tracker_header, read_multi_csv
     from ..io.sources import CsvReplay, ZmqPublisher
 
-    traj = Trajectory.from_csv(file, quat_order=quat_order, units=units, skip_header=skip_header)
+    if has_tracker_header(file):  # several trackers: one message carries them all
+        traj = read_multi_csv(file)
+    else:
+        traj = Trajectory.from_csv(file, quat_order=quat_order, units=units,
+                                   skip_header=skip_header)
     src = CsvReplay(traj, speed=speed, rate=rate)
     pub = ZmqPublisher(f"tcp://127.0.0.1:{port}", join_wait=join_wait, fmt=fmt)
     click.echo(f"publishing {len(src.traj)} poses of {file} on tcp://127.0.0.1:{port}", err=True)
@@ -357,6 +364,9 @@ def _match_source(rec: Any, src: Any, spec: str) -> None:
     multi-tracker file gets its trackers in the models' order."""
     from .multi_cli import match_trackers, n_trackers
 
+    inner = getattr(src, "source", src)
+    if hasattr(inner, "expect"):  # ZeroMQ: every message must bring the models' trackers
+        inner.expect(n_trackers(rec))
     have = getattr(src, "n_trackers", 1)
     if hasattr(src, "traj"):
         src.traj = match_trackers(rec, src.traj, spec)

@@ -9,6 +9,11 @@ ZeroMQ message format (PUB/SUB, one pose per message, no topic prefix)
   (``struct`` format ``"<8d"``);
 * **JSON** (accepted too, for other languages): a UTF-8 object ``{"t": 1.23, "p": [x, y, z],
   "q": [qw, qx, qy, qz]}``;
+* **several trackers**: binary ``t`` then ``x, y, z, qw, qx, qy, qz`` of each tracker in turn,
+  ``8 + 56 n`` bytes for ``n`` trackers (one tracker is the 64-byte message above); JSON with
+  one row per tracker, ``{"t": 1.23, "p": [[x, y, z], ...], "q": [[qw, qx, qy, qz], ...]}``.
+  A source of several trackers takes every message with the same number of trackers (a NaN
+  position: that tracker lost tracking);
 * **end of stream**: an empty message (0 bytes). The subscriber stops when it receives it, or when
   no message arrives for ``timeout`` seconds.
 
@@ -97,12 +102,16 @@ def _attach(sock: Any, endpoint: str, bind: bool) -> None:
 
 
 def encode_pose(t: float, p: np.ndarray, q: np.ndarray) -> bytes:
-    """Binary pose message (64 bytes)."""
-    return struct.pack(MESSAGE_FORMAT, float(t), *map(float, p), *map(float, q))
+    """Binary pose message: 64 bytes for one tracker (``p`` (3,), ``q`` (4,)), ``8 + 56 n`` for
+    ``n`` trackers (``p`` (n, 3), ``q`` (n, 4))."""
+    rows = np.column_stack([np.asarray(p, dtype=float).reshape(-1, 3),
+                            np.asarray(q, dtype=float).reshape(-1, 4)])
+    return struct.pack(f"<{1 + rows.size}d", float(t), *rows.ravel().tolist())
 
 
 def decode_pose(msg: bytes) -> Pose | None:
-    """Decode a binary or JSON pose message; ``None`` for the end-of-stream message.
+    """Decode a binary or JSON pose message; ``None`` for the end-of-stream message. One tracker:
+    ``p`` (3,), ``q`` (4,); several: ``p`` (n, 3), ``q`` (n, 4).
 
     Raises
     ------
@@ -117,11 +126,18 @@ def decode_pose(msg: bytes) -> Pose | None:
     if msg[:1] == b"{":
         try:
             d = json.loads(msg.decode("utf-8"))
-            return float(d["t"]), np.asarray(d["p"], dtype=float).reshape(3), np.asarray(
-                d["q"], dtype=float).reshape(4)
+            p, q = np.asarray(d["p"], dtype=float), np.asarray(d["q"], dtype=float)
+            if p.ndim == 1:
+                return float(d["t"]), p.reshape(3), q.reshape(4)
+            return float(d["t"]), p.reshape(-1, 3), q.reshape(p.shape[0], 4)
         except (ValueError, KeyError, TypeError) as exc:
             raise FramefreeError(f"malformed JSON pose message: {exc}") from None
-    raise FramefreeError(f"pose message of {len(msg)} bytes: expected 64 bytes '<8d' or JSON")
+    if len(msg) > 64 and (len(msg) - 8) % 56 == 0:
+        v = np.frombuffer(msg, dtype="<f8")
+        rows = v[1:].reshape(-1, 7)
+        return float(v[0]), rows[:, :3].copy(), rows[:, 3:].copy()
+    raise FramefreeError(f"pose message of {len(msg)} bytes: expected 64 bytes '<8d' (8 + 56 "
+                         "per tracker for several) or JSON")
 
 
 class CsvReplay:
@@ -192,11 +208,15 @@ class ZmqSource:
         Stop after this many seconds without a message (None: wait forever).
     """
 
-    def __init__(self, endpoint: str, bind: bool = False, timeout: float | None = 5.0) -> None:
+    def __init__(self, endpoint: str, bind: bool = False, timeout: float | None = 5.0,
+                 several: bool = False) -> None:
         import zmq
 
         self.endpoint = check_loopback(endpoint)
         self.timeout = timeout
+        #: trackers every message must carry (several: the first message's, or :meth:`expect`'s)
+        self.expected: int | None = None if several else 1
+        self._first: Pose | None = None
         self._ctx = zmq.Context.instance()
         self._sock = self._ctx.socket(zmq.SUB)
         self._sock.setsockopt(zmq.SUBSCRIBE, b"")
@@ -206,6 +226,42 @@ class ZmqSource:
         #: whether the stream ended because no message came for ``timeout`` seconds
         self.timed_out = False
 
+    @property
+    def n_trackers(self) -> int:
+        """Trackers per message (before the first message of a source of several: 2 until
+        :meth:`expect` or :meth:`peek` tells)."""
+        return self.expected or 2
+
+    def expect(self, n: int) -> None:
+        """Every message must carry ``n`` trackers (the models'); another count is an error."""
+        self.expected = int(n)
+
+    def _receive(self, poller: Any, wait_ms: int | None) -> Pose | None:
+        if not poller.poll(wait_ms):
+            self.timed_out = True
+            return None
+        pose = decode_pose(self._sock.recv())
+        if pose is None:
+            return None
+        have = 1 if pose[1].ndim == 1 else pose[1].shape[0]
+        if self.expected is None:
+            self.expected = have
+        elif have != self.expected:
+            raise FramefreeError(f"{self.endpoint}: a pose message of {have} tracker(s), but "
+                                 f"{self.expected} are expected (every message carries the same "
+                                 "trackers)")
+        return pose
+
+    def peek(self) -> int:
+        """Wait for the first message (up to ``timeout``) and return how many trackers it
+        carries (0: none came); iterating yields it first."""
+        import zmq
+
+        poller = zmq.Poller()
+        poller.register(self._sock, zmq.POLLIN)
+        self._first = self._receive(poller, None if self.timeout is None else int(1000 * self.timeout))
+        return 0 if self._first is None else int(self.expected or 0)
+
     def __iter__(self) -> Iterator[Pose]:
         import zmq
 
@@ -213,11 +269,12 @@ class ZmqSource:
         poller.register(self._sock, zmq.POLLIN)
         wait_ms = None if self.timeout is None else int(1000 * self.timeout)
         try:
-            while True:
-                if not poller.poll(wait_ms):
-                    self.timed_out = True
-                    return
-                pose = decode_pose(self._sock.recv())
+            if self._first is not None:
+                self.received += 1
+                yield self._first
+                self._first = None
+            while not self._sock.closed:
+                pose = self._receive(poller, wait_ms)
                 if pose is None:
                     return
                 self.received += 1
@@ -265,12 +322,12 @@ class ZmqPublisher:
         self.sent = 0
 
     def send(self, t: float, p: np.ndarray, q: np.ndarray) -> None:
-        """Publish one pose."""
+        """Publish one pose: ``p`` (3,) and ``q`` (4,), or (n, 3) and (n, 4) for n trackers."""
         if self.fmt == "binary":
             msg = encode_pose(t, p, q)
         else:
-            msg = json.dumps({"t": float(t), "p": [float(x) for x in p],
-                              "q": [float(x) for x in q]}).encode()
+            msg = json.dumps({"t": float(t), "p": np.asarray(p, dtype=float).tolist(),
+                              "q": np.asarray(q, dtype=float).tolist()}).encode()
         self._sock.send(msg)
         self.sent += 1
 
@@ -405,8 +462,10 @@ def carries_several(spec: str) -> bool:
     """Whether a live or bag source spec names several trackers by itself (whatever the models):
     a ROS 2 bag with several topics (``BAG#/right,/left``) or several tf frames
     (``BAG#/tf:world>right,world>left``), or ZeroMQ with ``?trackers=N``, N > 1. An LSL stream's
-    trackers are known once it is found (:class:`~framefree.io.lsl.LslSource`)."""
-    return False
+    trackers are known once it is found (:class:`~framefree.io.lsl.LslSource`), a ZeroMQ
+    stream's from its first message (:meth:`ZmqSource.peek`)."""
+    rest = spec.partition("#")[2]
+    return "," in rest and not spec.startswith(("lsl://", "zmq://", "tcp://", "ipc://", "ros2://"))
 
 
 def open_source(
@@ -423,17 +482,22 @@ def open_source(
     numbers (a CSV file's columns, or the pose messages).
 
     With ``several`` (models of several trackers), ``lsl://NAME`` yields every tracker of the
-    stream at once (positions (n, 3), quaternions (n, 4)); a multi-tracker CSV file
-    (:mod:`framefree.io.multicsv`) always does. The other sources carry one tracker, and say so.
+    stream at once (positions (n, 3), quaternions (n, 4)), ZeroMQ every tracker of each message,
+    a bag every topic or tf frame named (``BAG#/right,/left``; without a topic, all its pose
+    topics: :mod:`framefree.io.multi_bag`); a multi-tracker CSV file (:mod:`framefree.io.multicsv`)
+    always does. OpenVR and live ROS 2 topics carry one tracker, and say so.
     """
-    if several and not spec.startswith("lsl://") and (
-            spec.startswith(("zmq://", "tcp://", "ipc://", "ros2://")) or spec == "openvr"
-            or not Path(spec).is_file()):
+    zmq = spec.startswith(("zmq://", "tcp://", "ipc://"))
+    if several and not spec.startswith("lsl://") and not zmq and (
+            spec.startswith("ros2://") or spec == "openvr"
+            or not (Path(spec).exists() or Path(spec.partition("#")[0]).exists())):
         raise FramefreeError(f"{spec}: this source carries one tracker, and the models have "
-                             "several; use a multi-tracker CSV file or an LSL stream of all the "
-                             "trackers (docs/io.md)")
-    if spec.startswith(("zmq://", "tcp://", "ipc://")):
-        return UnitsAndOrder(ZmqSource(spec, timeout=timeout), spec, quat_order, units)
+                             "several; use a multi-tracker CSV file, an LSL stream or ZeroMQ "
+                             "messages of all the trackers, or a bag with a topic or tf frame "
+                             "per tracker (docs/io.md)")
+    if zmq:
+        return UnitsAndOrder(ZmqSource(spec, timeout=timeout, several=several), spec, quat_order,
+                             units)
     if spec == "openvr":
         return UnitsAndOrder(OpenVRSource(), spec, quat_order, units)
     if spec.startswith("lsl://"):
@@ -455,9 +519,10 @@ def open_source(
     from .rosbag import RosbagSource, is_bag
 
     if is_bag(spec.partition("#")[0]):
-        if several:
-            raise FramefreeError(f"{spec}: a bag source carries one pose topic, and the models "
-                                 "have several trackers; export a multi-tracker CSV")
+        if several or carries_several(spec):
+            from .multi_bag import multi_bag_sample
+
+            return CsvReplay(multi_bag_sample(spec, units), speed=speed)
         return UnitsAndOrder(RosbagSource.from_spec(spec, speed=speed), spec, "wxyz", units)
     path = Path(spec)
     if not path.is_file():
