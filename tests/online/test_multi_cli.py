@@ -88,9 +88,33 @@ def test_invariance_is_for_several_trackers(files):
     one_line_error(res, "--invariance applies to models of several trackers")
 
 
-def test_the_rerun_view_is_refused_for_two_trackers(files):
-    res = run("live", "--models", PEOPLE, "--source", files["session"], "--view", "rerun")
-    one_line_error(res, "not available for models of several trackers")
+def test_the_rerun_view_shows_both_trackers(files, tmp_path):
+    """`--save` records each controller's frame and path, the combined speed, the stop detector
+    and every event; the view changes no event."""
+    rr_chunk = pytest.importorskip("rerun.chunk", reason="pip install 'framefree[view]'")
+    rrd, ev = tmp_path / "view.rrd", tmp_path / "ev.jsonl"
+    res = run("live", "--models", PEOPLE, "--source", files["session"], "--speed", "0",
+              "--no-view", "--save", rrd, "--emit", f"jsonl:{ev}")
+    assert res.exit_code == 0, res.output
+    rows: dict[str, int] = {}
+    for chunk in rr_chunk.RrdReader(rrd).stream():
+        rows[chunk.entity_path] = rows.get(chunk.entity_path, 0) + chunk.num_rows
+    expected = {"/world/controller_0", "/world/controller_0/path", "/world/controller_1",
+                "/world/controller_1/path", "/speed/motion", "/speed/cut", "/stop/angular_speed",
+                "/events", "/distance/hook_left", "/threshold/uppercut_right"}
+    assert expected <= set(rows), sorted(rows)
+    assert "/world/tracker" not in rows
+    n_events = len(ev.read_text().splitlines())
+    assert n_events >= 6 and rows["/events"] == n_events
+    plain = run("live", "--models", PEOPLE, "--source", files["session"], "--speed", "0",
+                "--no-view", "--emit", f"jsonl:{tmp_path / 'plain.jsonl'}")
+    assert plain.exit_code == 0
+
+    def strip(path):
+        return [{k: v for k, v in json.loads(ln).items() if k != "wall_time"}
+                for ln in path.read_text().splitlines()]
+
+    assert strip(ev) == strip(tmp_path / "plain.jsonl")
 
 
 def test_record_cuts_a_two_tracker_recording_into_takes_for_live(tmp_path):

@@ -323,9 +323,6 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     # the source and the viewer are checked (a ZeroMQ subscriber connected, a rerun viewer on
     # 127.0.0.1 started) before the slow model building
     several = holds_several_trackers(models)
-    if several and (view_kind == "rerun" or save_rrd):
-        raise FramefreeError("--view rerun and --save show one tracker; they are not available "
-                             "for models of several trackers")
     src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units,
                       several=several)
     if not several:
