@@ -71,19 +71,13 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
     """
     from ..library.recorder import TakeRecorder
     from ..library.takes import TakeSettings, write_take
-    from .multi_record import open_record_source, record_multi_file, record_multi_live
+    from .multi_record import record_if_several
 
     changes = {k: v for k, v in (("min_rest", min_rest), ("margin", margin)) if v is not None}
-    if _multi_file(source):
-        record_multi_file(source, gesture, library, TakeSettings(**changes), max_takes)
+    done, opened = record_if_several(source, gesture, library, TakeSettings(**changes), max_takes,
+                                     timeout, tracker_names)
+    if done:
         return
-    opened = open_record_source(source, timeout)
-    if opened is not None and opened.n_trackers > 1:
-        record_multi_live(opened, source, gesture, library, TakeSettings(**changes), max_takes,
-                          tracker_names)
-        return
-    if tracker_names is not None:
-        raise click.UsageError("--tracker-names applies to a live source of several trackers")
     recorder = TakeRecorder(TakeSettings(**changes), keep_all=keep_all)
     src = opened if opened is not None else _pose_source(source, timeout)
     click.echo(f"recording {gesture!r} from {source}: perform it, rest a second or two, perform it again "
@@ -132,13 +126,6 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
                f"Next: framefree check {library}", err=True)
     if not written:
         raise click.ClickException("no take found: perform the gesture between rests of about a second")
-
-
-def _multi_file(spec: str) -> bool:
-    """Whether ``spec`` is a multi-tracker CSV file (``t,NAME.x,...`` header)."""
-    from ..io.multicsv import has_tracker_header
-
-    return has_tracker_header(spec)
 
 
 def _multi_sources(sources: tuple[str, ...]) -> bool:

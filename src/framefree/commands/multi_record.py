@@ -16,7 +16,7 @@ import click
 
 from ..errors import FramefreeError
 
-__all__ = ["open_record_source", "record_multi_file", "record_multi_live"]
+__all__ = ["open_record_source", "record_if_several", "record_multi_file", "record_multi_live"]
 
 #: Seconds of stream time between two looks for finished takes while recording.
 _POLL_PERIOD = 0.5
@@ -54,6 +54,25 @@ def open_record_source(spec: str, timeout: float) -> Any | None:
     if carries_several(spec):
         return open_source(spec, speed=0.0, timeout=timeout, several=True)
     return None
+
+
+def record_if_several(source: str, gesture: str, library: str, settings: Any,
+                      max_takes: int | None, timeout: float, tracker_names: str | None
+                      ) -> tuple[bool, Any]:
+    """``framefree record`` when ``source`` carries several trackers. Returns whether it did, and
+    the source already opened for one tracker (None: the caller opens it)."""
+    from ..io.multicsv import has_tracker_header
+
+    if has_tracker_header(source):
+        record_multi_file(source, gesture, library, settings, max_takes)
+        return True, None
+    opened = open_record_source(source, timeout)
+    if opened is not None and opened.n_trackers > 1:
+        record_multi_live(opened, source, gesture, library, settings, max_takes, tracker_names)
+        return True, None
+    if tracker_names is not None:
+        raise FramefreeError("--tracker-names applies to a source of several trackers")
+    return False, opened
 
 
 def _names(src: Any, given: str | None) -> tuple[str, ...]:

@@ -162,8 +162,7 @@ def check_multi_takes(takes: MultiTakeSet, invariance: str = "gravity",
     copies = max(s.perturbations, 1)
     pert = [perturbed_multi(tk, rng, invariance, speed_range=s.speed_range, size_range=s.size_range)
             for tk in takes.takes for _ in range(copies)]
-    Dp = clf.distance_matrix(pert)
-    owner = np.repeat(np.arange(len(takes)), copies)
+    Dp, owner = clf.distance_matrix(pert), np.repeat(np.arange(len(takes)), copies)
     Dp[np.arange(owner.size), owner] = np.inf
     plabels = labels[owner]
     pnear = _nearest_by_gesture(Dp, labels, gestures)
