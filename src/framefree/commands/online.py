@@ -456,7 +456,10 @@ def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None, rview:
             sim.halt()
             click.echo("interrupted: robot stopped", err=True)
     finally:
-        deliver(_finish(rec))
+        final = _finish(rec)
+        if rview is not None:
+            rview.log_events(final)
+        deliver(final)
     if tty:
         click.echo(err=err)
     return n, t0, sim

@@ -113,6 +113,12 @@ class RerunView:
         for g, th in self.thresholds.items():
             s.log(f"threshold/{g}", rr.Scalars(th))
         self._observations(getattr(rec, "observations", ()))
+        self.log_events(events)
+
+    def log_events(self, events: list[Any]) -> None:
+        """Log events as text lines at their times (also those a background classifier hands
+        over only when the stream has ended)."""
+        rr, s = self.rr, self.stream
         for ev in events:
             s.set_time(TIMELINE, duration=float(ev.time))
             d = ev.dissimilarity
