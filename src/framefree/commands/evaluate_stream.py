@@ -13,7 +13,7 @@ from ..core.posecsv import QUAT_ORDERS
 from ..errors import FramefreeError
 from ..labels import METHODS
 from .inputs import writable_file, writable_folder
-from .multi_cli import check_trackers, match_trackers, n_trackers
+from .multi_cli import check_trackers, match_trackers
 from .online import (
     _check_emit,
     _emit_option,
@@ -89,9 +89,6 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
         loaded = [(path, traj, [s for s in segs if s.label in gestures]) for path, traj, segs in loaded]
     rec = _recognizer(models, model_context, model_quat_order, units, method, gestures, **kw)
     loaded = [(path, match_trackers(rec, traj, path), segs) for path, traj, segs in loaded]
-    if save_rrd and n_trackers(rec) > 1:
-        raise FramefreeError("--save: the rerun view shows one tracker; it is not available "
-                             "for models of several trackers")
     out = _emitters(emit, rec)
     rview = _rerun_view(rec, False, save_rrd)
     try:

@@ -46,13 +46,20 @@ def _pose_source(spec: str, timeout: float):
 @click.option("--keep-all", is_flag=True,
               help="Keep every move as a take: also the moves back to the start between performances "
               "of an open stroke and small settling moves (left out by default).")
+@click.option("--tracker-names", default=None, metavar="A,B",
+              help="Names of the trackers of a live source of several trackers, in its order "
+              "(default: the source's names, else tracker_0, tracker_1, ...).")
 def record_cmd(source: str, gesture: str, library: str, context: str, max_takes: int | None,
-               timeout: float, min_rest: float | None, margin: float | None, keep_all: bool):
+               timeout: float, min_rest: float | None, margin: float | None, keep_all: bool,
+               tracker_names: str | None = None):
     """Record takes of a gesture: perform it, rest a second, perform it again, ...
 
     \b
-    A multi-tracker CSV file (t,NAME.x,...) is cut at the rests of all its trackers together;
-    its takes go to LIBRARY/GESTURE/trial_<k>.csv, a --models folder for live and evaluate-stream.
+    Several trackers: a multi-tracker CSV file (t,NAME.x,...), an LSL stream of several trackers
+    (lsl://NAME; lsl://NAME#K records tracker K alone), a ROS 2 bag with several pose topics
+    (BAG#/right,/left) or ZeroMQ multi-tracker messages (zmq://127.0.0.1:PORT?trackers=N) are cut
+    at the rests of all trackers together; the takes go to LIBRARY/GESTURE/trial_<k>.csv, a
+    --models folder for live and evaluate-stream and a source of enroll.
 
     \b
     One long recording is cut into takes at the rests (frame-free motion speed), each trimmed to
@@ -64,13 +71,15 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
     """
     from ..library.recorder import TakeRecorder
     from ..library.takes import TakeSettings, write_take
+    from .multi_record import record_if_several
 
     changes = {k: v for k, v in (("min_rest", min_rest), ("margin", margin)) if v is not None}
-    if _multi_file(source):
-        _record_multi(source, gesture, library, TakeSettings(**changes), max_takes)
+    done, opened = record_if_several(source, gesture, library, TakeSettings(**changes), max_takes,
+                                     timeout, tracker_names)
+    if done:
         return
     recorder = TakeRecorder(TakeSettings(**changes), keep_all=keep_all)
-    src = _pose_source(source, timeout)
+    src = opened if opened is not None else _pose_source(source, timeout)
     click.echo(f"recording {gesture!r} from {source}: perform it, rest a second or two, perform it again "
                "... (Ctrl-C to stop)", err=True)
     written: list[Path] = []
@@ -119,44 +128,17 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
         raise click.ClickException("no take found: perform the gesture between rests of about a second")
 
 
-def _multi_file(spec: str) -> bool:
-    """Whether ``spec`` is a multi-tracker CSV file (``t,NAME.x,...`` header)."""
-    from ..io.multicsv import has_tracker_header
+def _multi_sources(sources: tuple[str, ...]) -> bool:
+    """Whether the sources hold takes of several trackers (one line when they mix)."""
+    from .multi_library_cli import is_multi_source
 
-    return has_tracker_header(spec)
-
-
-def _record_multi(source: str, gesture: str, library: str, settings: Any,
-                  max_takes: int | None) -> None:
-    """``framefree record`` from a multi-tracker CSV: the takes, cut at the rests of the trackers'
-    combined speed, written as ``LIBRARY/GESTURE/trial_<k>.csv`` (multi-tracker CSV)."""
-    from ..io.multicsv import read_multi_csv
-    from ..library.multi_takes import split_multi_takes, write_multi_take
-
-    found = split_multi_takes(read_multi_csv(source), settings)[:max_takes]
-    click.echo(f"recording {gesture!r} from {source} ({len(found[0][1].names) if found else 0} "
-               "trackers, cut at the rests of their combined motion)", err=True)
-    for k, (span, take) in enumerate(found, start=1):
-        path = write_multi_take(take, library, gesture)
-        click.secho(f"take {k} recorded ({span.duration:.1f} s)   [{path}]", fg="green", err=True)
-    folder = Path(library) / gesture
-    click.echo(f"{len(found)} takes of {gesture} written to {folder} "
-               f"({len(list(folder.glob('*.csv'))) if folder.is_dir() else 0} there now). Next: "
-               f"framefree live --models {library} --source ...", err=True)
-    if not found:
-        raise click.ClickException("no take found: perform the gesture between rests of about a second")
+    return is_multi_source(sources)
 
 
-def _no_multi(sources: tuple[str, ...], command: str) -> None:
-    """One line for a folder of multi-tracker takes: libraries hold one tracker."""
-    from ..datasets.multi_models import holds_several_trackers
-    from ..errors import FramefreeError
-
-    for src in sources:
-        if holds_several_trackers(src):
-            raise FramefreeError(f"{src}: takes of several trackers; `framefree {command}` "
-                                 "builds libraries of one tracker. Give the folder itself as "
-                                 "--models to framefree live or evaluate-stream")
+_invariance_option = click.option(
+    "--invariance", type=click.Choice(("full", "gravity")), default=None,
+    help="Takes of several trackers only: what the comparison ignores (default gravity, which "
+         "keeps the vertical, +z; full for a world of unknown vertical). Stored in the library.")
 
 
 def _parse_sets(sets: tuple[str, ...]) -> dict[str, Any]:
@@ -220,13 +202,17 @@ def _changes(old, new) -> str:
                    "+y: the OpenVR source, the replica). Then a Z is no N; the live world "
                    "must share that vertical. Default: no vertical, frame-free.")
 @click.option("--force", is_flag=True, help="Recalibrate even if the library file is up to date.")
+@_invariance_option
 def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, removals: tuple[str, ...],
-               sets: tuple[str, ...], merges: tuple[str, ...], up: str | None, force: bool):
+               sets: tuple[str, ...], merges: tuple[str, ...], up: str | None, force: bool,
+               invariance: str | None = None):
     """Build the models and calibrate the thresholds once; write a library file for live use.
 
     \b
     SOURCES are library folders (<gesture>/<context>/trial_k.csv) and/or library files (.npz),
-    merged. Adding a gesture: framefree enroll lib.npz new_takes/ -o lib.npz
+    merged. Takes of several trackers: folders <gesture>/<recording> (framefree record from a
+    multi-tracker source) or <person>/<gesture>/<recording>, and their library files.
+    Adding a gesture: framefree enroll lib.npz new_takes/ -o lib.npz
     Removing one:        framefree enroll lib.npz --remove wave -o lib.npz
     Then: framefree check / live / evaluate-stream / demo --models LIBRARY.npz
     """
@@ -238,7 +224,16 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
             raise click.UsageError("give the library file to write with -o/--out")
         folder = Path(sources[0]).resolve()
         out = str(folder.with_name(folder.name + ".npz"))
-    _no_multi(sources, "enroll")
+    if _multi_sources(sources):
+        from .multi_library_cli import enroll_multi_sources
+
+        extra = {"up": up} if up else {}
+        enroll_multi_sources(sources, out, context, removals, {**_parse_sets(sets), **extra},
+                             merges, invariance, force)
+        return
+    if invariance is not None:
+        raise click.UsageError("--invariance applies to takes of several trackers; one tracker is "
+                               "compared by BILTS+, invariant to every change of frame")
     takes, settings = _gather(sources, context, merges)
     if removals:
         takes = takes.without(removals)
@@ -274,22 +269,32 @@ def _fingerprint(takes, settings: dict[str, Any]) -> str:
 @click.option("--out", type=click.Path(file_okay=False), default=".", show_default=True,
               help="Folder for the report (JSON) and figures; never inside the library.")
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random probes.")
-def check_cmd(library: str, context: str | None, out: str, seed: int):
+@_invariance_option
+def check_cmd(library: str, context: str | None, out: str, seed: int, invariance: str | None = None):
     """Can these gestures be told apart? Leave-one-out recognition, margins, robustness to frames
     and speed, closeness to stop signals and everyday motion, with advice.
 
-    LIBRARY is a library folder or file. Exit status 1 when there is a problem.
+    LIBRARY is a library folder or file, of one tracker or of several. Exit status 1 when there
+    is a problem.
     """
     from ..library.check import CheckSettings, check_takes
     from ..library.figures import plot_distance_map, plot_take_gallery
     from ..library.store import load_library, read_takes
     from ..online.config import RecognizerConfig
 
-    _no_multi((library,), "check")
     lib_path = Path(library).resolve()
     out_dir = Path(out).resolve()
     if lib_path.is_dir() and (out_dir == lib_path or lib_path in out_dir.parents):
         raise click.UsageError(f"--out {out} is inside the library {library}; choose another folder")
+    if _multi_sources((library,)):
+        from .multi_library_cli import check_multi
+
+        if context is not None:
+            raise click.UsageError("--context does not apply to takes of several trackers")
+        check_multi(library, out_dir, seed, invariance)
+        return
+    if invariance is not None:
+        raise click.UsageError("--invariance applies to takes of several trackers")
     if lib_path.is_dir():
         takes, config = read_takes(lib_path, context), RecognizerConfig()
     else:

@@ -19,7 +19,8 @@ import numpy as np
 from ..core.multitrajectory import MultiTrajectory
 from ..errors import FramefreeError
 
-__all__ = ["check_trackers", "match_trackers", "multi_recognizer", "n_trackers"]
+__all__ = ["check_trackers", "library_multi_recognizer", "match_trackers", "multi_recognizer",
+           "n_trackers"]
 
 #: Settings of the command line that a recognizer of several trackers does not use.
 _UNUSED = ("resolution", "latency_min", "ds_scale")
@@ -51,6 +52,10 @@ def multi_recognizer(found: Any, method: str, gestures: list[str] | None,
                                  f"{', '.join(sorted(set(labels)))})")
         keep = [k for k, g in enumerate(labels) if g in gestures]
         samples, labels = [samples[k] for k in keep], [labels[k] for k in keep]
+    if len(set(labels)) < 2:
+        raise FramefreeError(f"{models}: recordings of {len(set(labels))} gesture(s); models of "
+                             "several trackers need at least two gestures (each threshold is "
+                             "measured against the others)")
     click.echo(found.description, err=True)
     click.echo("building the gesture models (several trackers) and calibrating ...", err=True)
     t0 = time.perf_counter()
@@ -60,6 +65,24 @@ def multi_recognizer(found: Any, method: str, gestures: list[str] | None,
     click.echo(f"{len(rec.labels)} models, {len(rec.gestures)} gestures, {rec.n_trackers} trackers "
                f"({', '.join(rec.tracker_names)}), invariance {invariance}, thresholds {taus}, stop above "
                f"{rec.stop_threshold:.3g} rad/s ({time.perf_counter() - t0:.1f} s)", err=True)
+    return rec
+
+
+def library_multi_recognizer(path: str) -> Any:
+    """A :class:`~framefree.online.multi.MultiRecognizer` from a gesture library file of several
+    trackers (``framefree enroll`` of multi-tracker takes): nothing recalibrated, warmed up."""
+    from ..library.multi_library import load_multi_library
+
+    click.echo(f"loading gesture library {path} (several trackers) ...", err=True)
+    t0 = time.perf_counter()
+    lib = load_multi_library(path)
+    rec = lib.recognizer()
+    rec.warmup()
+    taus = ", ".join(f"{g} {rec.gesture_thresholds[g]:.4g}" for g in rec.gestures)
+    click.echo(f"{len(rec.labels)} models, {len(rec.gestures)} gestures, {rec.n_trackers} trackers "
+               f"({', '.join(rec.tracker_names)}), invariance {lib.invariance}, thresholds {taus}, "
+               f"stop above {rec.stop_threshold:.3g} rad/s ({time.perf_counter() - t0:.1f} s)",
+               err=True)
     return rec
 
 

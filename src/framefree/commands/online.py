@@ -158,6 +158,7 @@ def _only(found: Any, gestures: list[str], models: str) -> Any:
 
 def _library_recognizer(path: str, method: str, overrides: dict[str, Any]):
     """A recognizer from a gesture library file (:mod:`framefree.library`): no calibration."""
+    from ..datasets.multi_models import is_multi_library
     from ..online import Recognizer
 
     if method != "segments" or overrides:
@@ -165,6 +166,10 @@ def _library_recognizer(path: str, method: str, overrides: dict[str, Any]):
                  else "--" + next(iter(overrides)).replace("_", "-"))
         raise FramefreeError(f"{given} does not apply to a gesture library file; its settings are fixed "
                              "when enrolling (framefree enroll ... --set KEY=VALUE)")
+    if is_multi_library(path):  # several trackers: framefree.commands.multi_cli
+        from .multi_cli import library_multi_recognizer
+
+        return library_multi_recognizer(path)
     click.echo(f"loading gesture library {path} ...", err=True)
     t0 = time.perf_counter()
     rec = Recognizer.load(path)
@@ -221,12 +226,19 @@ def stream_cmd(file: str, port: int, rate: float | None, speed: float, fmt: str,
 
     \b
     Message: 8 little-endian float64 t,x,y,z,qw,qx,qy,qz (or JSON); an empty message ends it.
+    A multi-tracker CSV (t,NAME.x,...) sends every tracker in one message: t, then x,y,z,qw,qx,
+    qy,qz of each tracker.
     In another terminal: framefree live --models DIR --source zmq://127.0.0.1:PORT
     """
     from ..core.trajectory import Trajectory
+    from ..io.multicsv import has_tracker_header, read_multi_csv
     from ..io.sources import CsvReplay, ZmqPublisher
 
-    traj = Trajectory.from_csv(file, quat_order=quat_order, units=units, skip_header=skip_header)
+    if has_tracker_header(file):  # several trackers: one message carries them all
+        traj = read_multi_csv(file)
+    else:
+        traj = Trajectory.from_csv(file, quat_order=quat_order, units=units,
+                                   skip_header=skip_header)
     src = CsvReplay(traj, speed=speed, rate=rate)
     pub = ZmqPublisher(f"tcp://127.0.0.1:{port}", join_wait=join_wait, fmt=fmt)
     click.echo(f"publishing {len(src.traj)} poses of {file} on tcp://127.0.0.1:{port}", err=True)
@@ -311,9 +323,6 @@ def live_cmd(models: str, model_context: str, model_quat_order: str, units: str,
     # the source and the viewer are checked (a ZeroMQ subscriber connected, a rerun viewer on
     # 127.0.0.1 started) before the slow model building
     several = holds_several_trackers(models)
-    if several and (view_kind == "rerun" or save_rrd):
-        raise FramefreeError("--view rerun and --save show one tracker; they are not available "
-                             "for models of several trackers")
     src = open_source(source, speed=speed, timeout=timeout, quat_order=quat_order, units=units,
                       several=several)
     if not several:
@@ -352,6 +361,9 @@ def _match_source(rec: Any, src: Any, spec: str) -> None:
     multi-tracker file gets its trackers in the models' order."""
     from .multi_cli import match_trackers, n_trackers
 
+    inner = getattr(src, "source", src)
+    if hasattr(inner, "expect"):  # ZeroMQ: every message must bring the models' trackers
+        inner.expect(n_trackers(rec))
     have = getattr(src, "n_trackers", 1)
     if hasattr(src, "traj"):
         src.traj = match_trackers(rec, src.traj, spec)
@@ -444,7 +456,10 @@ def _run_live(rec: Any, src: Any, view: bool, sim: Any, emit: Any = None, rview:
             sim.halt()
             click.echo("interrupted: robot stopped", err=True)
     finally:
-        deliver(_finish(rec))
+        final = _finish(rec)
+        if rview is not None:
+            rview.log_events(final)
+        deliver(final)
     if tty:
         click.echo(err=err)
     return n, t0, sim

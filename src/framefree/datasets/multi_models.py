@@ -15,14 +15,18 @@ resolve_models`.
 
 from __future__ import annotations
 
+import json
+import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..core.multitrajectory import MultiTrajectory
 from ..errors import DatasetError
-from .people_layout import _files, is_multi_tracker_file, load_labelled, load_people
+from ..io.library_file import JSON_MEMBER
+from .people_layout import _files, is_multi_tracker_file, load_people, read_recording
 
-__all__ = ["MultiModelSet", "find_multi_models", "holds_several_trackers"]
+__all__ = ["MultiModelSet", "find_multi_models", "holds_several_trackers", "is_multi_library",
+           "multi_recordings"]
 
 
 @dataclass(frozen=True)
@@ -42,6 +46,7 @@ class MultiModelSet:
     labels: list[str]
     layout: str
     description: str
+    paths: list[Path] = field(default_factory=list, repr=False)
 
 
 def _first_recording(root: Path) -> tuple[Path, int] | None:
@@ -57,10 +62,27 @@ def _first_recording(root: Path) -> tuple[Path, int] | None:
     return None
 
 
+def is_multi_library(path: str | Path) -> bool:
+    """Whether ``path`` is a gesture library file of several trackers (``framefree enroll`` of
+    multi-tracker takes): its JSON member names the trackers. Only that member is read."""
+    path = Path(path).expanduser()
+    if not path.is_file() or not zipfile.is_zipfile(path):
+        return False
+    try:
+        with zipfile.ZipFile(path) as zf:
+            meta = json.loads(zf.read(JSON_MEMBER))
+    except (OSError, KeyError, zipfile.BadZipFile, ValueError):
+        return False
+    return isinstance(meta, dict) and bool(meta.get("trackers"))
+
+
 def holds_several_trackers(root: str | Path) -> bool:
     """Whether ``root`` is a folder of multi-tracker recordings (read from its first recording
-    alone: cheap, for checking a source before the models are loaded)."""
+    alone: cheap, for checking a source before the models are loaded) or a gesture library file
+    of several trackers."""
     root = Path(root).expanduser()
+    if root.is_file():
+        return is_multi_library(root)
     if not root.is_dir():
         return False
     found = _first_recording(root)
@@ -79,17 +101,39 @@ def find_multi_models(root: str | Path) -> MultiModelSet | None:
         When a recording does not read (naming the file).
     """
     root = Path(root).expanduser()
-    if not holds_several_trackers(root):
+    if not root.is_dir() or not holds_several_trackers(root):
         return None
-    found = _first_recording(root)
-    if found is not None and found[1] == 3:
+    return multi_recordings(root)
+
+
+def multi_recordings(root: str | Path) -> MultiModelSet:
+    """Every multi-tracker recording below the folder ``root`` (people or labels, see the module
+    docstring), with its label and path.
+
+    Raises
+    ------
+    DatasetError
+        When the folder holds no multi-tracker recordings, or recordings of different numbers
+        of trackers.
+    TrajectoryError
+        When a recording does not read (naming the file).
+    """
+    root = Path(root).expanduser()
+    found = _first_recording(root) if root.is_dir() else None
+    if found is None or not is_multi_tracker_file(found[0]):
+        raise DatasetError(f"{root}: no multi-tracker recordings (expected <gesture>/<recording> "
+                           "or <person>/<gesture>/<recording>, Machete files or multi-tracker CSV)")
+    if found[1] == 3:
         people = load_people(root)
         samples = [r.sample for r in people]
         labels = [r.gesture for r in people]
+        paths = [r.path for r in people]
         layout = "people"
         what = (f"a folder of {len(people.people)} people <person>/<gesture>/<recording>")
     else:
-        samples, labels = load_labelled(root)
+        paths = [f for ldir in _files(root) if ldir.is_dir() for f in _files(ldir) if f.is_file()]
+        samples = [read_recording(f) for f in paths]
+        labels = [f.parent.name for f in paths]
         layout = "labelled"
         what = "a folder of <label>/<recording> files"
     counts = sorted({s.n_trackers for s in samples})
@@ -100,4 +144,4 @@ def find_multi_models(root: str | Path) -> MultiModelSet | None:
     names = ", ".join(samples[0].names)
     description = (f"models: {root} is {what}: {len(samples)} recordings of "
                    f"{len(set(labels))} gestures, {counts[0]} trackers ({names})")
-    return MultiModelSet(samples, labels, layout, description)
+    return MultiModelSet(samples, labels, layout, description, paths)

@@ -3,27 +3,12 @@
 Every source is an iterator of ``(t, p, q)``: time [s], position (3,) [m], quaternion (4,)
 ``(w, x, y, z)``.
 
-ZeroMQ message format (PUB/SUB, one pose per message, no topic prefix)
-------------------------------------------------------------------------
-* **binary** (default): 64 bytes, 8 little-endian IEEE-754 float64 ``t, x, y, z, qw, qx, qy, qz``
-  (``struct`` format ``"<8d"``);
-* **JSON** (accepted too, for other languages): a UTF-8 object ``{"t": 1.23, "p": [x, y, z],
-  "q": [qw, qx, qy, qz]}``;
-* **end of stream**: an empty message (0 bytes). The subscriber stops when it receives it, or when
-  no message arrives for ``timeout`` seconds.
-
-Only loopback endpoints are accepted (``tcp://127.0.0.1:PORT``, ``tcp://localhost:PORT``,
-``tcp://[::1]:PORT``, or ``ipc://`` / ``inproc://``): nothing here listens on or sends to another
-machine, and nothing broadcasts or multicasts. The publisher binds, the subscriber connects (both
-configurable). PUB/SUB drops messages sent before a subscriber has joined ("slow joiner"), so the
-publisher waits ``join_wait`` seconds after binding before its first message.
+ZeroMQ (its message format and loopback rule): :mod:`framefree.io.zeromq`.
 """
 
 from __future__ import annotations
 
-import json
 import math
-import struct
 import time
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -35,6 +20,15 @@ from ..core.multitrajectory import MultiTrajectory
 from ..core.posecsv import UNITS, warn_if_implausible
 from ..core.trajectory import Trajectory
 from ..errors import FramefreeError
+from .zeromq import (
+    MESSAGE_FORMAT,
+    Pose,
+    ZmqPublisher,
+    ZmqSource,
+    check_loopback,
+    decode_pose,
+    encode_pose,
+)
 
 __all__ = [
     "MESSAGE_FORMAT",
@@ -43,85 +37,12 @@ __all__ = [
     "UnitsAndOrder",
     "ZmqPublisher",
     "ZmqSource",
+    "carries_several",
     "check_loopback",
     "decode_pose",
     "encode_pose",
     "open_source",
 ]
-
-#: ``struct`` format of a binary pose message.
-MESSAGE_FORMAT = "<8d"
-_LOOPBACK = ("127.0.0.1", "localhost", "[::1]")
-
-Pose = tuple[float, np.ndarray, np.ndarray]
-
-
-def check_loopback(endpoint: str) -> str:
-    """Return ``endpoint`` if it stays on this machine, else raise :class:`FramefreeError`.
-
-    Accepts ``zmq://HOST:PORT`` as an alias of ``tcp://HOST:PORT``.
-    """
-    if endpoint.startswith("zmq://"):
-        endpoint = "tcp://" + endpoint[len("zmq://"):]
-    if endpoint.startswith(("ipc://", "inproc://")):
-        return endpoint
-    if not endpoint.startswith("tcp://"):
-        raise FramefreeError(f"{endpoint}: expected tcp://127.0.0.1:PORT (or ipc://, inproc://)")
-    host, sep, port = endpoint[len("tcp://"):].rpartition(":")
-    if not sep or not port.isdigit():
-        raise FramefreeError(f"{endpoint}: expected tcp://127.0.0.1:PORT")
-    if host not in _LOOPBACK:
-        raise FramefreeError(
-            f"{endpoint}: only loopback endpoints are allowed (127.0.0.1, localhost, [::1])"
-        )
-    return endpoint
-
-
-def _attach(sock: Any, endpoint: str, bind: bool) -> None:
-    """Bind or connect ``sock``; a busy port or a bad endpoint becomes a one-line error."""
-    import zmq
-
-    try:
-        if bind:
-            sock.bind(endpoint)
-        else:
-            sock.connect(endpoint)
-    except zmq.ZMQError as exc:
-        if exc.errno == zmq.EADDRINUSE:
-            raise FramefreeError(
-                f"{endpoint}: the port is already in use (another 'framefree stream'?); "
-                "choose another --port"
-            ) from None
-        raise FramefreeError(f"{endpoint}: cannot {'bind' if bind else 'connect'} ({exc})") from None
-
-
-def encode_pose(t: float, p: np.ndarray, q: np.ndarray) -> bytes:
-    """Binary pose message (64 bytes)."""
-    return struct.pack(MESSAGE_FORMAT, float(t), *map(float, p), *map(float, q))
-
-
-def decode_pose(msg: bytes) -> Pose | None:
-    """Decode a binary or JSON pose message; ``None`` for the end-of-stream message.
-
-    Raises
-    ------
-    FramefreeError
-        If the message is neither format.
-    """
-    if len(msg) == 0:
-        return None
-    if len(msg) == struct.calcsize(MESSAGE_FORMAT):
-        v = struct.unpack(MESSAGE_FORMAT, msg)
-        return v[0], np.array(v[1:4]), np.array(v[4:8])
-    if msg[:1] == b"{":
-        try:
-            d = json.loads(msg.decode("utf-8"))
-            return float(d["t"]), np.asarray(d["p"], dtype=float).reshape(3), np.asarray(
-                d["q"], dtype=float).reshape(4)
-        except (ValueError, KeyError, TypeError) as exc:
-            raise FramefreeError(f"malformed JSON pose message: {exc}") from None
-    raise FramefreeError(f"pose message of {len(msg)} bytes: expected 64 bytes '<8d' or JSON")
-
 
 class CsvReplay:
     """Replay a recording (8-column CSV or a :class:`Trajectory`).
@@ -176,118 +97,6 @@ class _Stacked:
 
     def __len__(self) -> int:
         return int(self.t.shape[0])
-
-
-class ZmqSource:
-    """Subscribe to pose messages on a loopback endpoint.
-
-    Parameters
-    ----------
-    endpoint : str
-        ``tcp://127.0.0.1:PORT`` (or ``zmq://127.0.0.1:PORT``).
-    bind : bool
-        Bind instead of connecting (when the publisher connects).
-    timeout : float or None
-        Stop after this many seconds without a message (None: wait forever).
-    """
-
-    def __init__(self, endpoint: str, bind: bool = False, timeout: float | None = 5.0) -> None:
-        import zmq
-
-        self.endpoint = check_loopback(endpoint)
-        self.timeout = timeout
-        self._ctx = zmq.Context.instance()
-        self._sock = self._ctx.socket(zmq.SUB)
-        self._sock.setsockopt(zmq.SUBSCRIBE, b"")
-        self._sock.setsockopt(zmq.LINGER, 0)
-        _attach(self._sock, self.endpoint, bind)
-        self.received = 0
-        #: whether the stream ended because no message came for ``timeout`` seconds
-        self.timed_out = False
-
-    def __iter__(self) -> Iterator[Pose]:
-        import zmq
-
-        poller = zmq.Poller()
-        poller.register(self._sock, zmq.POLLIN)
-        wait_ms = None if self.timeout is None else int(1000 * self.timeout)
-        try:
-            while True:
-                if not poller.poll(wait_ms):
-                    self.timed_out = True
-                    return
-                pose = decode_pose(self._sock.recv())
-                if pose is None:
-                    return
-                self.received += 1
-                yield pose
-        finally:
-            self.close()
-
-    def close(self) -> None:
-        """Close the socket."""
-        if not self._sock.closed:
-            self._sock.close(0)
-
-
-class ZmqPublisher:
-    """Publish pose messages on a loopback endpoint (binds by default).
-
-    Parameters
-    ----------
-    endpoint : str
-        ``tcp://127.0.0.1:PORT``.
-    bind : bool
-        Bind (default) or connect.
-    join_wait : float
-        Seconds to wait after binding/connecting before sending (slow-joiner gap).
-    fmt : {"binary", "json"}
-        Message format.
-    """
-
-    def __init__(self, endpoint: str, bind: bool = True, join_wait: float = 0.5,
-                 fmt: str = "binary") -> None:
-        import zmq
-
-        if fmt not in ("binary", "json"):
-            raise ValueError(f"fmt must be 'binary' or 'json', got {fmt!r}")
-        self.endpoint = check_loopback(endpoint)
-        self.fmt = fmt
-        self._sock = zmq.Context.instance().socket(zmq.PUB)
-        self._sock.setsockopt(zmq.LINGER, 1000)
-        try:
-            _attach(self._sock, self.endpoint, bind)
-        except FramefreeError:
-            self._sock.close(0)
-            raise
-        time.sleep(join_wait)
-        self.sent = 0
-
-    def send(self, t: float, p: np.ndarray, q: np.ndarray) -> None:
-        """Publish one pose."""
-        if self.fmt == "binary":
-            msg = encode_pose(t, p, q)
-        else:
-            msg = json.dumps({"t": float(t), "p": [float(x) for x in p],
-                              "q": [float(x) for x in q]}).encode()
-        self._sock.send(msg)
-        self.sent += 1
-
-    def end(self) -> None:
-        """Send the end-of-stream message."""
-        self._sock.send(b"")
-
-    def close(self) -> None:
-        """Close the socket (after up to 1 s to flush)."""
-        if not self._sock.closed:
-            self._sock.close()
-
-    def publish(self, source: CsvReplay) -> int:
-        """Send every pose of a source, then the end message; return the count."""
-        for t, p, q in source:
-            self.send(t, p, q)
-        self.end()
-        return self.sent
 
 
 class OpenVRSource:
@@ -400,6 +209,16 @@ class UnitsAndOrder:
             yield t, p, q
 
 
+def carries_several(spec: str) -> bool:
+    """Whether a live or bag source spec names several trackers by itself (whatever the models):
+    a ROS 2 bag with several topics (``BAG#/right,/left``) or several tf frames
+    (``BAG#/tf:world>right,world>left``), or ZeroMQ with ``?trackers=N``, N > 1. An LSL stream's
+    trackers are known once it is found (:class:`~framefree.io.lsl.LslSource`), a ZeroMQ
+    stream's from its first message (:meth:`ZmqSource.peek`)."""
+    rest = spec.partition("#")[2]
+    return "," in rest and not spec.startswith(("lsl://", "zmq://", "tcp://", "ipc://", "ros2://"))
+
+
 def open_source(
     spec: str, speed: float = 1.0, timeout: float | None = 5.0, quat_order: str = "wxyz",
     units: str = "m", several: bool = False,
@@ -414,41 +233,58 @@ def open_source(
     numbers (a CSV file's columns, or the pose messages).
 
     With ``several`` (models of several trackers), ``lsl://NAME`` yields every tracker of the
-    stream at once (positions (n, 3), quaternions (n, 4)); a multi-tracker CSV file
-    (:mod:`framefree.io.multicsv`) always does. The other sources carry one tracker, and say so.
+    stream at once (positions (n, 3), quaternions (n, 4)), ZeroMQ every tracker of each message,
+    a bag every topic or tf frame named (``BAG#/right,/left``; without a topic, all its pose
+    topics: :mod:`framefree.io.multi_bag`); a multi-tracker CSV file (:mod:`framefree.io.multicsv`)
+    always does. OpenVR and live ROS 2 topics carry one tracker, and say so.
     """
-    if several and not spec.startswith("lsl://") and (
-            spec.startswith(("zmq://", "tcp://", "ipc://", "ros2://")) or spec == "openvr"
-            or not Path(spec).is_file()):
+    zmq = spec.startswith(("zmq://", "tcp://", "ipc://"))
+    if several and not spec.startswith("lsl://") and not zmq and (
+            spec.startswith("ros2://") or spec == "openvr"
+            or not (Path(spec).exists() or Path(spec.partition("#")[0]).exists())):
         raise FramefreeError(f"{spec}: this source carries one tracker, and the models have "
-                             "several; use a multi-tracker CSV file or an LSL stream of all the "
-                             "trackers (docs/io.md)")
-    if spec.startswith(("zmq://", "tcp://", "ipc://")):
-        return UnitsAndOrder(ZmqSource(spec, timeout=timeout), spec, quat_order, units)
+                             "several; use a multi-tracker CSV file, an LSL stream or ZeroMQ "
+                             "messages of all the trackers, or a bag with a topic or tf frame "
+                             "per tracker (docs/io.md)")
+    if zmq:
+        return UnitsAndOrder(ZmqSource(spec, timeout=timeout, several=several), spec, quat_order,
+                             units)
     if spec == "openvr":
         return UnitsAndOrder(OpenVRSource(), spec, quat_order, units)
     if spec.startswith("lsl://"):
-        from .lsl import LslSource
-
-        name, _, tracker = spec[len("lsl://"):].partition("#")
-        if tracker and not tracker.isdigit():
-            raise FramefreeError(f"{spec}: expected lsl://NAME or lsl://NAME#TRACKER_INDEX")
-        if several and tracker:
-            raise FramefreeError(f"{spec}: the models have several trackers; give lsl://{name} "
-                                 "(every tracker of the stream, in its channel order)")
-        which = None if several else int(tracker or 0)
-        lsl = LslSource(name, tracker=which, quat_order=quat_order, timeout=timeout)
-        return UnitsAndOrder(lsl, spec, "wxyz", units)
+        return _lsl(spec, several, quat_order, timeout, units)
     if spec.startswith("ros2://"):
         from .ros2 import Ros2PoseSource
 
         return UnitsAndOrder(Ros2PoseSource(spec, timeout=timeout), spec, "wxyz", units)
+    return _file_or_bag(spec, speed, quat_order, units, several)
+
+
+def _lsl(spec: str, several: bool, quat_order: str, timeout: float | None, units: str) -> Any:
+    """``lsl://NAME[#TRACKER]``: one tracker, or every tracker with ``several``."""
+    from .lsl import LslSource
+
+    name, _, tracker = spec[len("lsl://"):].partition("#")
+    if tracker and not tracker.isdigit():
+        raise FramefreeError(f"{spec}: expected lsl://NAME or lsl://NAME#TRACKER_INDEX")
+    if several and tracker:
+        raise FramefreeError(f"{spec}: the models have several trackers; give lsl://{name} "
+                             "(every tracker of the stream, in its channel order)")
+    which = None if several else int(tracker or 0)
+    lsl = LslSource(name, tracker=which, quat_order=quat_order, timeout=timeout)
+    return UnitsAndOrder(lsl, spec, "wxyz", units)
+
+
+def _file_or_bag(spec: str, speed: float, quat_order: str, units: str, several: bool) -> Any:
+    """A ROS 2 bag (one topic, or several trackers: :mod:`framefree.io.multi_bag`) or a CSV file
+    (one tracker, or a multi-tracker CSV)."""
     from .rosbag import RosbagSource, is_bag
 
     if is_bag(spec.partition("#")[0]):
-        if several:
-            raise FramefreeError(f"{spec}: a bag source carries one pose topic, and the models "
-                                 "have several trackers; export a multi-tracker CSV")
+        if several or carries_several(spec):
+            from .multi_bag import multi_bag_sample
+
+            return CsvReplay(multi_bag_sample(spec, units), speed=speed)
         return UnitsAndOrder(RosbagSource.from_spec(spec, speed=speed), spec, "wxyz", units)
     path = Path(spec)
     if not path.is_file():

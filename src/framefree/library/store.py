@@ -420,6 +420,9 @@ def load_library(path: str | Path) -> GestureLibrary:
     """
     path = Path(path)
     meta, rows = read_library_file(path)
+    if meta.get("trackers"):
+        raise LibraryError(f"{path}: a gesture library of several trackers; read it with "
+                           "framefree.library.multi_library.load_multi_library")
     names, labels = meta["names"], meta["labels"]
     takes = tuple(library_takes(path, rows, names))
     config, learned = settings_from_meta(path, meta, rows)

@@ -34,7 +34,14 @@ from ..rejection import thresholds_from_models
 from .acceptance import SampleGate
 from .config import RecognizerConfig
 from .events import Event
-from .learned import GIVEN, LearnedSettings, rule_name, split_settings, takes_digest
+from .learned import (
+    GIVEN,
+    LearnedSettings,
+    restored_provenance,
+    rule_name,
+    split_settings,
+    takes_digest,
+)
 from .model_settings import LearnedDraft, stop_threshold_rule
 from .multi_spotting import MultiSegmentClassifier, MultiSpotter, path_size
 from .multi_stream import (
@@ -209,7 +216,7 @@ class MultiRecognizer(Recognizer):
     @classmethod
     def from_samples(cls, samples: Sequence[MultiTrajectory], labels: Sequence[str],
                      config: RecognizerConfig | None = None, invariance: str = "gravity",
-                     **overrides: Any) -> MultiRecognizer:
+                     learned: LearnedSettings | None = None, **overrides: Any) -> MultiRecognizer:
         """Fit the offline classifier on the model recordings and learn from them every value
         not given (:func:`resolve_multi_learned`).
 
@@ -228,6 +235,9 @@ class MultiRecognizer(Recognizer):
             0.957 with ``"full"`` (docs/online.md, Several trackers); offline, the four people
             kept apart lost less with it (issue 39). ``"full"`` for a world whose vertical is
             unknown.
+        learned : LearnedSettings, optional
+            Learned values to keep instead of deriving them (a library's); a value left None is
+            derived.
         """
         if len(samples) != len(labels):
             raise ValueError(f"{len(samples)} samples but {len(labels)} labels")
@@ -238,9 +248,15 @@ class MultiRecognizer(Recognizer):
             raise ValueError(f"model recordings with different numbers of trackers: {sorted(counts)}")
         config, given = split_settings(overrides, config)
         clf = _classifier(invariance).fit(list(samples), list(labels))
-        learned = resolve_multi_learned(samples, labels, config, clf, LearnedDraft(given))
+        draft = LearnedDraft({**(learned.values() if learned is not None else {}), **given})
+        if learned is not None:  # what a library learned keeps its rules
+            draft.rules.update({n: r for n, r in learned.provenance.rules.items()
+                                if n not in given and n in draft.rules})
+        resolved = resolve_multi_learned(samples, labels, config, clf, draft)
+        if learned is not None:
+            resolved = resolved.replace(provenance=restored_provenance(resolved, learned))
         wrapped = MultiSegmentClassifier(clf, samples[0].names, samples[0].up)
-        return cls(wrapped, labels, config, learned, invariance, gate_limits(samples))
+        return cls(wrapped, labels, config, resolved, invariance, gate_limits(samples))
 
     # ---------------------------------------------------------------------------------- running
     @property

@@ -30,7 +30,7 @@ import numpy as np
 
 from ..core import se3
 from ..core.trajectory import Trajectory
-from ..io.library_file import library_takes, read_library_file
+from ..io.library_file import LibraryError, library_takes, read_library_file
 from .acceptance import SampleGate
 from .background import SerialWorker
 from .config import RecognizerConfig
@@ -228,6 +228,10 @@ class Recognizer(StreamingRecognizer):
         """
         path = Path(path)
         meta, rows = read_library_file(path)
+        if meta.get("trackers"):
+            raise LibraryError(f"{path}: a gesture library of several trackers; load it with "
+                               "framefree.library.multi_library.load_multi_library(path)"
+                               ".recognizer()")
         config, learned = settings_from_meta(path, meta, rows)
         takes = library_takes(path, rows, meta["names"])
         return cls.restore(takes, meta["labels"], config, learned)

@@ -3,7 +3,9 @@
 The view only reads what the recognizer exposes after each pose; it never changes it. Logged on
 the timeline ``source_time`` (the pose source's clock, seconds):
 
-* ``world/tracker`` — the tracker as a moving frame (axes) in 3-D, its path as points;
+* ``world/tracker`` — the tracker as a moving frame (axes) in 3-D, its path as points
+  (``world/path``); with several trackers, ``world/<name>`` and ``world/<name>/path`` for each
+  (the recognizer's ``tracker_names``);
 * ``speed/motion`` — the frame-free motion speed the recognizer cuts movement units on, and
   ``speed/cut`` — a mark where a unit ended and candidates were classified;
 * ``distance/<gesture>`` — the nearest model's distance of each classified candidate, beside
@@ -65,6 +67,10 @@ class RerunView:
         self.gestures = list(recognizer.gestures)
         self._gidx = np.array([self.gestures.index(s) for s in recognizer.labels])
         self.thresholds = {g: float(v) for g, v in recognizer.gesture_thresholds.items()}
+        names = tuple(getattr(recognizer, "tracker_names", ()))
+        #: entity paths of each tracker's frame and path
+        self.entities = ([(f"world/{n}", f"world/{n}/path") for n in names] if len(names) > 1
+                         else [("world/tracker", "world/path")])
         if save is not None or not spawn:
             url = None
         elif url is None:
@@ -86,12 +92,17 @@ class RerunView:
                   static=True)
 
     def update(self, t: float, p: np.ndarray, q: np.ndarray, events: list[Any]) -> None:
-        """Log one pose (position [m], quaternion ``(w, x, y, z)``) and its events."""
+        """Log one pose (position (3,) [m], quaternion (4,) ``(w, x, y, z)``; several trackers:
+        (n, 3) and (n, 4), a lost tracker's row NaN) and its events."""
         rr, s, rec = self.rr, self.stream, self.rec_
         s.set_time(TIMELINE, duration=float(t))
-        s.log("world/tracker", rr.Transform3D(translation=p, quaternion=rr.Quaternion(
-            xyzw=[q[1], q[2], q[3], q[0]])), rr.TransformAxes3D(0.1))
-        s.log("world/path", rr.Points3D([p], radii=0.003))
+        P, Q = np.asarray(p, dtype=float).reshape(-1, 3), np.asarray(q, dtype=float).reshape(-1, 4)
+        for (frame, path), pj, qj in zip(self.entities, P, Q, strict=True):
+            if not (np.isfinite(pj).all() and np.isfinite(qj).all()):
+                continue
+            s.log(frame, rr.Transform3D(translation=pj, quaternion=rr.Quaternion(
+                xyzw=[qj[1], qj[2], qj[3], qj[0]])), rr.TransformAxes3D(0.1))
+            s.log(path, rr.Points3D([pj], radii=0.003))
         speed = getattr(getattr(rec, "segmenter", None), "speed", math.nan)
         if math.isfinite(speed):
             s.log("speed/motion", rr.Scalars(speed))
@@ -102,6 +113,12 @@ class RerunView:
         for g, th in self.thresholds.items():
             s.log(f"threshold/{g}", rr.Scalars(th))
         self._observations(getattr(rec, "observations", ()))
+        self.log_events(events)
+
+    def log_events(self, events: list[Any]) -> None:
+        """Log events as text lines at their times (also those a background classifier hands
+        over only when the stream has ended)."""
+        rr, s = self.rr, self.stream
         for ev in events:
             s.set_time(TIMELINE, duration=float(ev.time))
             d = ev.dissimilarity
