@@ -90,6 +90,7 @@ _CASTS: dict[str, Callable[[Any], Any]] = {
     "max_duration": float, "max_pause": float, "pause_ratio": float,
     "one_go": lambda v: [str(g) for g in v], "closure_limits": _per_gesture(float),
     "opening_limits": _per_gesture(float), "size_limits": _per_gesture(tuple),
+    "travel_limits": _per_gesture(float),
     "corner_limits": _per_gesture(int), "forbidden_turns": _per_gesture(int),
     "vertical_limits": _per_gesture(tuple), "gesture_thresholds": _per_gesture(float),
     "stop_threshold": float,
@@ -120,6 +121,14 @@ class LearnedSettings:
         Largest and smallest closure (end-to-start distance over path) accepted per gesture.
     size_limits : dict of str to (float, float)
         Smallest and largest size [m of screw path] accepted per gesture.
+    travel_limits : dict of str to float
+        Shortest travel [m] of the hand's position accepted per gesture (used with
+        ``RecognizerConfig.size``): the 10th percentile of the takes' travel over the factor the
+        size limit allows (:func:`~framefree.online.limits.travel_limit`). The size limit
+        measures the screw path, to which a turn of the wrist adds as much as a move of the
+        hand; in real continuous motion (SFINGE3D) small reaches whose palm turns as it stops
+        passed a swipe's size limit on their turn alone. A library saved before v18 gets them
+        from its takes when it is loaded.
     corner_limits : dict of str to int
         Most corners accepted, for each gesture whose takes agree on their number.
     forbidden_turns : dict of str to int
@@ -146,6 +155,7 @@ class LearnedSettings:
     closure_limits: dict[str, float] | None = None
     opening_limits: dict[str, float] | None = None
     size_limits: dict[str, tuple[float, float]] | None = None
+    travel_limits: dict[str, float] | None = None
     corner_limits: dict[str, int] | None = None
     forbidden_turns: dict[str, int] | None = None
     vertical_limits: dict[str, tuple[float, float]] | None = None

@@ -26,7 +26,15 @@ import numpy as np
 
 from ..core.trajectory import Trajectory
 from .segmentation import MotionSegmenter, SpeedLevels, Unit
-from .span_shape import ALTERNATING, SAME_SENSE, closure, corner_count, corner_rest, turn_kinds
+from .span_shape import (
+    ALTERNATING,
+    SAME_SENSE,
+    closure,
+    corner_count,
+    corner_rest,
+    travel,
+    turn_kinds,
+)
 from .spotting import SegmentClassifier
 from .vertical import verticality
 
@@ -36,6 +44,7 @@ __all__ = [
     "corner_limit",
     "forbidden_turns",
     "gesture_geometry",
+    "gesture_travels",
     "gesture_verticality",
     "limits_of_units",
     "longest_corner_rest",
@@ -45,6 +54,7 @@ __all__ = [
     "recording_geometry",
     "recording_units",
     "size_limits",
+    "travel_limit",
 ]
 
 
@@ -125,6 +135,33 @@ def gesture_verticality(
             _, P = seg.buffer.slice(units[0].start, units[-1].end)
             out.setdefault(g, []).append(verticality(P, up))
     return out
+
+
+def gesture_travels(
+    trajectories: Sequence[Trajectory], labels: Sequence[str], levels: SpeedLevels, L: float,
+    dt: float = 0.02, presmooth: int = 5,
+) -> dict[str, list[float]]:
+    """How far the hand travels [m] in each gesture's recordings
+    (:func:`~framefree.online.span_shape.travel`), measured on the whole gesture (first unit's
+    start to last unit's end) as :func:`recording_geometry` measures the rest: ``{g: [travel of
+    each recording]}`` (a recording without a movement unit is left out)."""
+    out: dict[str, list[float]] = {}
+    for tr, g in zip(trajectories, labels, strict=True):
+        seg, units = recording_units(tr, levels, L, dt)
+        if units:
+            _, P = seg.buffer.slice(units[0].start, units[-1].end)
+            out.setdefault(g, []).append(travel(P, presmooth))
+    return out
+
+
+def travel_limit(travels: Sequence[float], factor: float) -> float:
+    """The shortest travel [m] accepted for a gesture whose recordings travel ``travels``: the
+    10th percentile of them (a small performance, robust to one take far smaller than the
+    others) over ``factor``, how much smaller people make a gesture (``size_factor``). 0 (no
+    limit) without recordings."""
+    if len(travels) == 0:
+        return 0.0
+    return float(np.percentile(np.asarray(travels, dtype=float), 10.0)) / factor
 
 
 def size_limits(smallest: float, largest: float, factor: float, growth: float | None = None

@@ -33,11 +33,13 @@ from .limits import (
     corner_limit,
     forbidden_turns,
     gesture_geometry,
+    gesture_travels,
     gesture_verticality,
     one_go_gestures,
     opening_limit,
     pooled_closures,
     size_limits,
+    travel_limit,
 )
 from .segmentation import SpeedLevels, speed_levels
 from .spotting import SegmentClassifier, Spotter
@@ -136,6 +138,8 @@ def resolve_learned(
         limits = {g: vertical_limits(values.get(g, []), k.vertical_margin) for g in gestures}
         draft.fill(vertical_limits, vertical_limits={g: x for g, x in limits.items() if x is not None})
     calibration = _thresholds(trajectories, labels, config, levels, classifier, draft, sizes_derived)
+    if draft.missing("travel_limits"):
+        _travel_limits(trajectories, labels, config, levels, classifier, draft)
     if config.stop_threshold is not None:
         draft.fill(f"{GIVEN}: stop_threshold", stop_threshold=config.stop_threshold)
     if draft.missing("stop_threshold"):
@@ -184,6 +188,26 @@ def _geometry_limits(trajectories: Sequence[Trajectory], labels: Sequence[str],
                                          for g in gestures})
 
 
+def _travel_limits(trajectories: Sequence[Trajectory], labels: Sequence[str],
+                   config: RecognizerConfig, levels: SpeedLevels, classifier: SegmentClassifier,
+                   draft: LearnedDraft) -> None:
+    """Derive the travel limits: each gesture's travel may shrink by as much as its size limit
+    lets its screw path shrink (``size_factor``, or down to ``size_reach`` where the calibration
+    found that safe), so that the two limits agree on how small a person may be
+    (:func:`~framefree.online.limits.travel_limit`)."""
+    k, L = config.constants, config.descriptor.L
+    travels = gesture_travels(trajectories, labels, levels, L, k.dt, config.descriptor.presmooth)
+    _, sizes, _, _ = gesture_geometry(trajectories, labels, classifier, levels, L, k.margin, k.dt,
+                                      k.corner_angle)
+    limits = {}
+    for g in dict.fromkeys(labels):
+        smallest = sizes.get(g, (0.0, 0.0))[0]
+        lowest = (draft.values["size_limits"] or {}).get(g, (0.0, np.inf))[0]
+        factor = smallest / lowest if smallest > 0 and lowest > 0 else k.size_factor
+        limits[g] = travel_limit(travels.get(g, []), factor)
+    draft.fill(travel_limit, travel_limits=limits)
+
+
 def _thresholds(trajectories: Sequence[Trajectory], labels: Sequence[str],
                 config: RecognizerConfig, levels: SpeedLevels, classifier: SegmentClassifier,
                 draft: LearnedDraft, sizes_derived: bool) -> SegmentThresholds | None:
@@ -223,13 +247,15 @@ def make_spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray,
     """The spotter of the given settings, with one threshold per model (M,): every limit the
     configuration switches on, per model in the order of ``labels``."""
     c, s, k = config, learned, config.constants
-    closures = openings = sizes = corners = turns = one_go = None  # None: no limit
+    closures = openings = sizes = corners = turns = one_go = travels = None  # None: no limit
     if c.closure and s.closure_limits is not None:
         closures = np.array([s.closure_limits.get(g, 1.0) for g in labels])
     if c.closure and s.opening_limits is not None:
         openings = np.array([s.opening_limits.get(g, 0.0) for g in labels])
     if c.size and s.size_limits is not None:
         sizes = np.array([s.size_limits.get(g, (0.0, np.inf)) for g in labels])
+    if c.size and s.travel_limits is not None:
+        travels = np.array([s.travel_limits.get(g, 0.0) for g in labels])
     if c.corners and s.corner_limits is not None:
         corners = np.array([s.corner_limits.get(g, np.inf) for g in labels], dtype=float)
     if c.turns and s.forbidden_turns is not None:
@@ -244,4 +270,5 @@ def make_spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray,
                    k.margin, c.confirm, c.max_wait, closures, c.descriptor.L, sizes,
                    math.inf if s.pause_ratio is None else s.pause_ratio, k.min_pause,
                    k.return_error if c.closure else 0.0, openings, k.fire_on_motion,
-                   k.rest_before, corners, k.corner_angle, turns, up, vertical, one_go)
+                   k.rest_before, corners, k.corner_angle, turns, up, vertical, one_go,
+                   travels, c.descriptor.presmooth)

@@ -1,11 +1,11 @@
 """The shape of a span of movement units: its corners, which way they turn, how long the hand
-rests at them, and whether the span comes back to where it started.
+rests at them, whether the span comes back to where it started, and how far the hand travels.
 
 Every quantity here is computed from the units' headings and chords
 (:attr:`~framefree.online.segmentation.Unit.heading_in`, ``heading_out``, ``chord``: screw-like
 vectors that a change of world frame turns alike) or from screw paths, so none depends on the
 world frame: a turn angle is the angle between two headings, a turn's sense the cosine between
-two oriented planes, a closure a ratio of screw paths. The spotter measures them on every
+two oriented planes, a closure a ratio of screw paths, a travel a length. The spotter measures them on every
 candidate (:mod:`framefree.online.spotting`) and the recognizer on the model recordings, to set
 the limits a candidate must keep (:mod:`framefree.online.limits`).
 
@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..core.progress import progress_increments, screw_path_increment
+from ..core.smoothing import gaussian_smooth
 
 if TYPE_CHECKING:
     from .segmentation import Unit
@@ -35,6 +36,7 @@ __all__ = [
     "corner_rest",
     "is_corner",
     "plane_cosine",
+    "travel",
     "turn_angle",
     "turn_kinds",
 ]
@@ -148,3 +150,26 @@ def closure(poses: np.ndarray, L: float) -> float:
     if not total > 0:
         return 1.0
     return min(1.0, screw_path_increment(P[0], P[-1], L) / total)
+
+
+def travel(poses: np.ndarray, presmooth: int = 5) -> float:
+    """How far the hand travels [m]: the length of the path of its positions, pre-smoothed as the
+    classifier smooths poses (a Gaussian of ``presmooth`` samples), so that sensor jitter adds
+    little.
+
+    Unlike the screw path, a turn of the hand adds nothing: a wrist that turns while the hand
+    stays where it is travels no distance. A world frame change moves every position rigidly, so
+    the travel does not depend on it.
+
+    Parameters
+    ----------
+    poses : ndarray, shape (n, 4, 4)
+    presmooth : int
+        Gaussian window [samples] (1: no smoothing).
+    """
+    p = np.asarray(poses, dtype=np.float64)[:, :3, 3]
+    if p.shape[0] < 2:
+        return 0.0
+    if presmooth > 1 and p.shape[0] >= presmooth:
+        p = gaussian_smooth(p, presmooth)
+    return float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())

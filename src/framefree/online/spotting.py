@@ -32,7 +32,7 @@ from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor
 from ..errors import DegenerateMotionError
 from .segmentation import PoseBuffer, Unit
-from .span_shape import closure, corner_count, corner_rest, turn_kinds
+from .span_shape import closure, corner_count, corner_rest, travel, turn_kinds
 from .vertical import verticality
 
 __all__ = ["Candidate", "SegmentClassifier", "Spotter", "candidate_spans"]
@@ -144,6 +144,9 @@ class Candidate:
     pause : float
         Its longest rest [s] between two units that meet at a corner
         (:func:`~framefree.online.span_shape.corner_rest`).
+    travel : float
+        How far the hand's position travels in it [m]
+        (:func:`~framefree.online.span_shape.travel`).
     """
 
     start: int
@@ -161,6 +164,7 @@ class Candidate:
     turns: int = 0
     vertical: float = math.nan
     pause: float = 0.0
+    travel: float = math.inf
 
 
 def candidate_spans(
@@ -263,6 +267,12 @@ class Spotter:
         gesture only if its longest rest at a corner
         (:func:`~framefree.online.span_shape.corner_rest`) lasts at most ``min_pause``
         (default: none is; only the limits above, common to all rests).
+    travel_limits : ndarray, shape (M,), optional
+        Shortest travel [m] of the hand's position
+        (:func:`~framefree.online.span_shape.travel`) a candidate may have to be accepted as each
+        model's gesture (default: no limit).
+    presmooth : int
+        Gaussian window [samples] of the positions before their travel is measured.
     """
 
     def __init__(
@@ -290,9 +300,14 @@ class Spotter:
         up: np.ndarray | None = None,
         vertical_limits: np.ndarray | None = None,
         one_go: np.ndarray | None = None,
+        travel_limits: np.ndarray | None = None,
+        presmooth: int = 5,
     ) -> None:
         self.classifier = classifier
         n_models = len(classifier.models)
+        self.travel_limits = (np.zeros(n_models) if travel_limits is None
+                              else np.asarray(travel_limits, dtype=np.float64).reshape(n_models))
+        self.presmooth = int(presmooth)
         self.one_go = (np.zeros(n_models, dtype=bool) if one_go is None
                        else np.asarray(one_go, dtype=bool).reshape(n_models))
         self.up = None if up is None else np.asarray(up, dtype=np.float64).reshape(3)
@@ -374,17 +389,18 @@ class Spotter:
             corners, turns = self.corners_and_turns(n)
             v = math.nan if self.up is None else verticality(inside, self.up)
             pause = corner_rest(list(self.units)[len(self.units) - n:], self.corner_angle)
-            d, size = self._classify(times, poses, c, bar, corners, turns, v, pause)
+            moved = travel(inside, self.presmooth)
+            d, size = self._classify(times, poses, c, bar, corners, turns, v, pause, moved)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
             ratio = float(d[j] / self.model_thresholds[j])
             ok = ratio < bar and bool(self.admissible(j, np.array([c]), np.array([size]),
-                                                      corners, turns, v, pause)[0])
+                                                      corners, turns, v, pause, moved)[0])
             if ok and self.tighten and not self.fire_on_motion:
                 bar = ratio
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
-                                 ratio, n, c, size, ok, corners, turns, v, pause))
+                                 ratio, n, c, size, ok, corners, turns, v, pause, moved))
         return out
 
     def corners_and_turns(self, n: int) -> tuple[int, int]:
@@ -395,7 +411,7 @@ class Spotter:
 
     def _classify(self, times: np.ndarray, poses: np.ndarray, closure_: float, bar: float = 1.0,
                   corners: int = 0, turns: int = 0, vertical: float = math.nan,
-                  pause: float = 0.0) -> tuple[np.ndarray, float]:
+                  pause: float = 0.0, moved: float = math.inf) -> tuple[np.ndarray, float]:
         """Distances (M,) of a candidate to the models and its size [m]. Pruned, only models
         whose gesture admits the candidate's closure, size and corners can accept it, so the others get
         threshold 0, the others ``bar`` times theirs, and a candidate that no gesture admits is
@@ -407,35 +423,40 @@ class Spotter:
         if out is None:
             return np.full(len(clf.models), math.inf), 0.0
         descriptor, size = out
-        admits = self.admitting_models(closure_, size, corners, turns, vertical, pause)
+        admits = self.admitting_models(closure_, size, corners, turns, vertical, pause, moved)
         accept_below = np.where(admits, bar * self.model_thresholds, 0.0)
         return clf.search_described(descriptor, accept_below), size
 
     def admitting_models(self, closure_: float, size: float, corners: int = 0, turns: int = 0,
-                         vertical: float = math.nan, pause: float = 0.0) -> np.ndarray:
+                         vertical: float = math.nan, pause: float = 0.0, moved: float = math.inf
+                         ) -> np.ndarray:
         """Which models' gestures admit a segment of this closure, size [m], number of corners,
-        turn kinds, verticality and longest rest at a corner [s] (M,) bool: the rule of
-        :meth:`admissible`, for every model at once."""
-        return self._admits(slice(None), closure_, size, corners, turns, vertical, pause)
+        turn kinds, verticality, longest rest at a corner [s] and travel [m] (M,) bool: the rule
+        of :meth:`admissible`, for every model at once."""
+        return self._admits(slice(None), closure_, size, corners, turns, vertical, pause, moved)
 
     def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray,
                    corners: np.ndarray | int = 0, turns: np.ndarray | int = 0,
                    vertical: np.ndarray | float = math.nan,
-                   pauses: np.ndarray | float = 0.0) -> np.ndarray:
+                   pauses: np.ndarray | float = 0.0,
+                   travels: np.ndarray | float = math.inf) -> np.ndarray:
         """Which segments (closures (n,), sizes (n,) [m], corners (n,), turn kinds (n,),
         verticality (n,) and longest rests at a corner (n,) [s], :attr:`Candidate.pause`) may be
         model ``j``'s gesture:
         within its size range, no more closed than its opening limit, within its closure limit
         or ending within :attr:`return_error` of their start (closure × size), with no more
         corners than its corner limit, no turn its gesture never makes, a rest at a corner of
-        at most ``min_pause`` if it is drawn in one go (:attr:`one_go`) and, where a vertical is
+        at most ``min_pause`` if it is drawn in one go (:attr:`one_go`), travelling at least its
+        travel limit (travels (n,) [m]; ``inf``: not measured, passes) and, where a vertical is
         known, within its verticality range (NaN: unknown, passes)."""
         return self._admits(j, np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float),
                             np.asarray(corners, dtype=float), np.asarray(turns, dtype=np.int64),
-                            np.asarray(vertical, dtype=float), np.asarray(pauses, dtype=float))
+                            np.asarray(vertical, dtype=float), np.asarray(pauses, dtype=float),
+                            np.asarray(travels, dtype=float))
 
     def _admits(self, j: int | slice, closures: Any, sizes: Any, corners: Any, turns: Any = 0,
-                vertical: Any = math.nan, pauses: Any = 0.0) -> np.ndarray:
+                vertical: Any = math.nan, pauses: Any = 0.0, travels: Any = math.inf
+                ) -> np.ndarray:
         """The admissibility rule for model(s) ``j`` (broadcast against the segments)."""
         lo, hi = self.size_limits[j, 0], self.size_limits[j, 1]
         closes = (closures <= self.closure_limits[j]) | (closures * sizes <= self.return_error)
@@ -445,7 +466,8 @@ class Spotter:
         v_lo, v_hi = self.vertical_limits[j, 0], self.vertical_limits[j, 1]
         upright = ~((vertical < v_lo) | (vertical > v_hi))  # NaN: no vertical known
         rested = ~(self.one_go[j] & (pauses > self.min_pause))
-        return (closes & opens & cornered & turning & upright & rested & (sizes >= lo)
+        travelled = travels >= self.travel_limits[j]
+        return (closes & opens & cornered & turning & upright & rested & travelled & (sizes >= lo)
                 & (sizes <= hi))
 
     def add_unit(self, unit: Unit) -> None:
