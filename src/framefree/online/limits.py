@@ -20,7 +20,7 @@ be) were chosen on development people and, where they exist, real people
 from __future__ import annotations
 
 import itertools
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -48,6 +48,7 @@ __all__ = [
     "gesture_verticality",
     "limits_of_units",
     "longest_corner_rest",
+    "measure_gestures",
     "one_go_gestures",
     "opening_limit",
     "pooled_closures",
@@ -124,16 +125,24 @@ def gesture_verticality(
     trajectories: Sequence[Trajectory], labels: Sequence[str], levels: SpeedLevels, L: float,
     up: np.ndarray, dt: float = 0.02,
 ) -> dict[str, list[float]]:
-    """:func:`~framefree.online.vertical.verticality` of each gesture's recordings, measured on
-    the whole gesture (first unit's start to last unit's end) as :func:`recording_geometry`
-    measures the rest: ``{g: [verticality of each recording]}`` (a recording without a movement
-    unit is left out)."""
+    """:func:`~framefree.online.vertical.verticality` of each gesture's recordings
+    (:func:`measure_gestures`): ``{g: [verticality of each recording]}``."""
+    return measure_gestures(trajectories, labels, levels, L, dt, lambda P: verticality(P, up))
+
+
+def measure_gestures(
+    trajectories: Sequence[Trajectory], labels: Sequence[str], levels: SpeedLevels, L: float,
+    dt: float, measure: Callable[[np.ndarray], float],
+) -> dict[str, list[float]]:
+    """``measure`` of each recording's grid poses (n, 4, 4), taken on the whole gesture (first
+    unit's start to last unit's end) as :func:`recording_geometry` measures the rest: ``{g:
+    [value of each recording]}`` (a recording without a movement unit is left out)."""
     out: dict[str, list[float]] = {}
     for tr, g in zip(trajectories, labels, strict=True):
         seg, units = recording_units(tr, levels, L, dt)
         if units:
             _, P = seg.buffer.slice(units[0].start, units[-1].end)
-            out.setdefault(g, []).append(verticality(P, up))
+            out.setdefault(g, []).append(float(measure(P)))
     return out
 
 
@@ -142,16 +151,9 @@ def gesture_travels(
     dt: float = 0.02, presmooth: int = 5,
 ) -> dict[str, list[float]]:
     """How far the hand travels [m] in each gesture's recordings
-    (:func:`~framefree.online.span_shape.travel`), measured on the whole gesture (first unit's
-    start to last unit's end) as :func:`recording_geometry` measures the rest: ``{g: [travel of
-    each recording]}`` (a recording without a movement unit is left out)."""
-    out: dict[str, list[float]] = {}
-    for tr, g in zip(trajectories, labels, strict=True):
-        seg, units = recording_units(tr, levels, L, dt)
-        if units:
-            _, P = seg.buffer.slice(units[0].start, units[-1].end)
-            out.setdefault(g, []).append(travel(P, presmooth))
-    return out
+    (:func:`~framefree.online.span_shape.travel`, :func:`measure_gestures`): ``{g: [travel of
+    each recording]}``."""
+    return measure_gestures(trajectories, labels, levels, L, dt, lambda P: travel(P, presmooth))
 
 
 def travel_limit(travels: Sequence[float], factor: float) -> float:
