@@ -49,7 +49,7 @@ def _gather(sources: tuple[str, ...], merge: tuple[str, ...]) -> tuple[Any, dict
         lib = load_multi_library(src)
         parts.append((str(src), lib.takes))
         if settings is None:
-            settings, invariance = dict(lib.settings), lib.invariance
+            settings, invariance = dict(lib.config), lib.invariance
     return combine_takes(parts, merge), settings, invariance
 
 

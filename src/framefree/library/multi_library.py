@@ -39,8 +39,8 @@ from ..io.library_file import (
     write_library_file,
 )
 from ..online.config import RecognizerConfig
-from ..online.learned import LearnedSettings
 from ..online.multi import MultiRecognizer
+from .store import StoredSettings
 
 __all__ = [
     "MultiGestureLibrary",
@@ -206,7 +206,7 @@ def multi_fingerprint(takes: MultiTakeSet, config: RecognizerConfig, invariance:
 
 
 @dataclass(frozen=True)
-class MultiGestureLibrary:
+class MultiGestureLibrary(StoredSettings):
     """A vocabulary of several trackers ready to go live (:func:`enroll_multi`,
     :func:`load_multi_library`, :meth:`recognizer`).
 
@@ -215,10 +215,8 @@ class MultiGestureLibrary:
     takes : MultiTakeSet
     invariance : {"gravity", "full"}
         Of the offline classifier that compares candidates with the takes.
-    settings : dict
-        The :class:`~framefree.online.RecognizerConfig` fields asked for at enrolment.
     config : dict
-        The configuration in use (:meth:`RecognizerConfig.to_dict`).
+        The user's settings (:meth:`RecognizerConfig.to_dict`).
     learned : dict
         Every value derived from the takes, with its provenance
         (:meth:`~framefree.online.learned.LearnedSettings.to_dict`: levels, candidate limits,
@@ -231,7 +229,6 @@ class MultiGestureLibrary:
 
     takes: MultiTakeSet
     invariance: str
-    settings: dict[str, Any]
     config: dict[str, Any]
     learned: dict[str, Any]
     gate_speeds: tuple[float, float]
@@ -241,31 +238,9 @@ class MultiGestureLibrary:
     created: str = field(default_factory=_now)
 
     @property
-    def gestures(self) -> list[str]:
-        return self.takes.gestures
-
-    @property
-    def gesture_thresholds(self) -> dict[str, float]:
-        """Decision threshold τ_g of each gesture."""
-        return {str(g): float(v) for g, v in self.learned["gesture_thresholds"].items()}
-
-    @property
-    def stop_threshold(self) -> float:
-        """Stop threshold on any tracker's angular speed [rad/s]."""
-        return float(self.learned["stop_threshold"])
-
-    @property
     def fingerprint(self) -> str:
         """SHA-256 of the takes, trackers, settings and invariance (equal: nothing to recalibrate)."""
         return _fingerprint(self.takes, self.settings, self.invariance)
-
-    def recognizer_config(self) -> RecognizerConfig:
-        """The stored configuration."""
-        return RecognizerConfig.from_dict(self.config)
-
-    def learned_settings(self) -> LearnedSettings:
-        """The stored learned values (every threshold and limit: nothing is calibrated again)."""
-        return LearnedSettings.from_dict(self.learned)
 
     def recognizer(self) -> MultiRecognizer:
         """A live :class:`~framefree.online.multi.MultiRecognizer`: the offline classifier fitted
@@ -282,7 +257,7 @@ class MultiGestureLibrary:
             "names": list(self.takes.names), "labels": list(self.takes.labels),
             "trackers": list(self.takes.trackers),
             "up": [float(x) for x in self.takes.takes[0].up],
-            "invariance": self.invariance, "settings": self.settings, "config": self.config,
+            "invariance": self.invariance, "config": self.config,
             "learned": self.learned, "gate_speeds": list(self.gate_speeds), "calibration": None,
             "fingerprint": self.fingerprint,
         }
@@ -334,8 +309,8 @@ def enroll_multi(takes: MultiTakeSet, config: RecognizerConfig | None = None,
     config = config or RecognizerConfig()
     stored = takes.as_stored()
     rec = MultiRecognizer.from_samples(list(stored.takes), list(stored.labels), config, invariance)
-    return MultiGestureLibrary(stored, invariance, _as_json(config.to_dict()),
-                               _as_json(rec.config.to_dict()), _as_json(rec.learned_.to_dict()),
+    return MultiGestureLibrary(stored, invariance, _as_json(rec.config.to_dict()),
+                               _as_json(rec.learned_.to_dict()),
                                rec.gate_speeds,
                                tuple(str(s) for s in built_from))
 
@@ -380,7 +355,7 @@ def load_multi_library(path: str | Path) -> MultiGestureLibrary:
                       for r, n in zip(rows, meta["names"], strict=True))
         lib = MultiGestureLibrary(
             MultiTakeSet(takes, tuple(meta["labels"]), tuple(meta["names"]), tuple(rows)),
-            str(meta["invariance"]), meta["settings"], meta["config"], meta["learned"],
+            str(meta["invariance"]), meta["config"], meta["learned"],
             (float(meta["gate_speeds"][0]), float(meta["gate_speeds"][1])),
             tuple(meta.get("built_from") or ()), meta.get("framefree_version", "?"),
             int(meta["format_version"]), meta.get("created", ""))

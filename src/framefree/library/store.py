@@ -290,8 +290,49 @@ def build_recognizer(
     return Recognizer.restore(takes, labels, config, learned)
 
 
+class StoredSettings:
+    """What every gesture library holds beside its takes, read the same way whatever the
+    trackers: ``takes``, ``config`` (the user's settings, ``RecognizerConfig.to_dict``) and
+    ``learned`` (``LearnedSettings.to_dict``, with provenance), as attributes of the subclass."""
+
+    takes: Any
+    config: dict[str, Any]
+    learned: dict[str, Any]
+
+    @property
+    def gestures(self) -> list[str]:
+        """Gesture labels in first-appearance order."""
+        return self.takes.gestures
+
+    @property
+    def gesture_thresholds(self) -> dict[str, float]:
+        """Decision threshold τ_g of each gesture."""
+        return {str(g): float(v) for g, v in self.learned["gesture_thresholds"].items()}
+
+    @property
+    def stop_threshold(self) -> float:
+        """Stop-detector threshold on the windowed angular speed [rad/s]."""
+        return float(self.learned["stop_threshold"])
+
+    @property
+    def settings(self) -> dict[str, Any]:
+        """What was asked for at enrolment: the user's settings and any learned value fixed
+        instead of learned (``--set max_units=3``); enrolling again starts from these."""
+        rules = self.learned.get("provenance", {}).get("rules", {})
+        given = {k: self.learned[k] for k, r in rules.items() if r == GIVEN}
+        return {**self.config, **given}
+
+    def recognizer_config(self) -> RecognizerConfig:
+        """The user's settings as a :class:`~framefree.online.RecognizerConfig`."""
+        return RecognizerConfig.from_dict(self.config)
+
+    def learned_settings(self) -> LearnedSettings:
+        """The learned values as :class:`~framefree.online.learned.LearnedSettings`."""
+        return LearnedSettings.from_dict(self.learned)
+
+
 @dataclass(frozen=True)
-class GestureLibrary:
+class GestureLibrary(StoredSettings):
     """A vocabulary ready to go live: takes, the user's settings and what was learned from them.
 
     Build one with :func:`enroll`, write it with :meth:`save`, read it with :func:`load_library`,
@@ -327,40 +368,9 @@ class GestureLibrary:
     created: str = field(default_factory=lambda: _now())
 
     @property
-    def gestures(self) -> list[str]:
-        """Gesture labels in first-appearance order."""
-        return self.takes.gestures
-
-    @property
-    def gesture_thresholds(self) -> dict[str, float]:
-        """Decision threshold τ_g of each gesture."""
-        return {str(g): float(v) for g, v in self.learned["gesture_thresholds"].items()}
-
-    @property
-    def stop_threshold(self) -> float:
-        """Stop-detector threshold on the windowed angular speed [rad/s]."""
-        return float(self.learned["stop_threshold"])
-
-    @property
-    def settings(self) -> dict[str, Any]:
-        """What was asked for at enrolment: the user's settings and any learned value fixed
-        instead of learned (``--set max_units=3``); enrolling again starts from these."""
-        rules = self.learned.get("provenance", {}).get("rules", {})
-        given = {k: self.learned[k] for k, r in rules.items() if r == GIVEN}
-        return {**self.config, **given}
-
-    @property
     def fingerprint(self) -> str:
         """SHA-256 of the takes and settings (equal fingerprints need no new calibration)."""
         return fingerprint(self.takes, self.settings)
-
-    def recognizer_config(self) -> RecognizerConfig:
-        """The user's settings as a :class:`~framefree.online.RecognizerConfig`."""
-        return RecognizerConfig.from_dict(self.config)
-
-    def learned_settings(self) -> LearnedSettings:
-        """The learned values as :class:`~framefree.online.learned.LearnedSettings`."""
-        return LearnedSettings.from_dict(self.learned)
 
     def recognizer(self) -> Recognizer:
         """A live recognizer: models rebuilt from the takes, learned values restored (no

@@ -332,7 +332,7 @@ class Spotter:
             corners, turns = self.corners_and_turns(n)
             v = math.nan if self.up is None else verticality(inside, self.up)
             pause = corner_rest(list(self.units)[len(self.units) - n:], self.corner_angle)
-            moved = travel(inside, self.presmooth)
+            moved = travel(inside, self.presmooth) if self.travel_limits.any() else math.inf
             d, size = self._classify(times, poses, c, bar, corners, turns, v, pause, moved)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
