@@ -207,7 +207,8 @@ class MultiRecognizer(Recognizer):
             classifier, self.model_thresholds, sizes, max_units=s.max_units,
             max_duration=s.max_duration, max_pause=s.max_pause, margin=k.margin,
             confirm=c.confirm, max_wait=c.max_wait, L=c.descriptor.L, pause_ratio=s.pause_ratio,
-            min_pause=k.min_pause, fire_on_motion=k.fire_on_motion, rest_before=k.rest_before)
+            min_pause=k.min_pause, fire_on_motion=k.fire_on_motion, rest_before=k.rest_before,
+            model_gestures=self.labels)
         self._counts = dict.fromkeys(STAT_KEYS, 0)
         self.observations: list[tuple[float, np.ndarray]] = []
         self._worker = None

@@ -216,6 +216,11 @@ class Spotter:
         model's gesture (default: no limit).
     presmooth : int
         Gaussian window [samples] of the positions before their travel is measured.
+    model_gestures : sequence of str, shape (M,), optional
+        The gesture of each model. When given, a pending candidate is kept when the motion goes
+        on into a longer candidate of the same gesture that contains it and fits worse: the
+        gesture ended where the pending candidate ends (default: each longer candidate replaces
+        it, see :meth:`on_unit`).
     """
 
     def __init__(
@@ -245,9 +250,14 @@ class Spotter:
         one_go: np.ndarray | None = None,
         travel_limits: np.ndarray | None = None,
         presmooth: int = 5,
+        model_gestures: Sequence[str] | None = None,
     ) -> None:
         self.classifier = classifier
         n_models = len(classifier.models)
+        #: index of each model's gesture (M,), or None (every model a gesture of its own)
+        self.model_gestures = (None if model_gestures is None else
+                               np.unique(np.asarray(model_gestures), return_inverse=True)[1]
+                               .reshape(n_models))
         self.travel_limits = (np.zeros(n_models) if travel_limits is None
                               else np.asarray(travel_limits, dtype=np.float64).reshape(n_models))
         self.presmooth = int(presmooth)
@@ -433,12 +443,24 @@ class Spotter:
             return None
         # the motion went on without a better candidate
         if not self.fire_on_motion:  # a gesture ends in rest: the pending one was part of more
-            self.pending = best
+            if not self.continues(pend, best):  # unless the same gesture only went on
+                self.pending = best
             return None
         self.pending = None  # the pending one was complete
         later = [c for c in accepted if c.start > pend.end]
         self.pending = min(later, key=lambda c: c.ratio, default=None)
         return pend
+
+    def continues(self, pending: Candidate, longer: Candidate | None) -> bool:
+        """Whether ``longer``, accepted after ``pending`` without fitting better, is the same
+        gesture carried on: it contains ``pending`` and its model is of the same gesture (needs
+        :attr:`model_gestures`). Then the hand only moved on after the gesture, and the pending
+        candidate stays; another gesture, or none, replaces it as before."""
+        if self.model_gestures is None or longer is None:
+            return False
+        G = self.model_gestures
+        return bool(G[longer.model] == G[pending.model] and longer.start <= pending.start
+                    and longer.end >= pending.end)
 
     def step(self, t: float, resting: bool, unit: Unit | None, buffer: PoseBuffer
              ) -> Candidate | None:
