@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import time
 from pathlib import Path
@@ -51,6 +52,9 @@ __all__ = ["evaluate_stream_cmd", "register"]
 @click.option("--gestures", "gesture_list", default=None, metavar="G1,G2,...",
               help="Evaluate these gestures only: only their models are used, and the streams' "
               "other labels count as non-gesture motion.")
+@click.option("--explain", is_flag=True, default=False,
+              help="Say why each gesture was missed (the first stage of the spotter it did not "
+              "pass, and the candidate that came closest) and what fired each false positive.")
 @_emit_option
 @_save_option
 def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_context: str,
@@ -58,7 +62,7 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
                         quat_order: str, tolerance: float, json_path: str | None,
                         figures: str | None, compare: bool, method: str,
                         emit: tuple[str, ...] = (), save_rrd: str | None = None,
-                        gesture_list: str | None = None, **kw: Any):
+                        gesture_list: str | None = None, explain: bool = False, **kw: Any):
     """Event-level precision, recall, F1, false positives per minute and latency on labelled streams
     (--stream FILE, repeatable, and/or STREAM arguments)."""
     from ..datasets.multi_models import holds_several_trackers
@@ -80,6 +84,9 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
     gestures = [g.strip() for g in gesture_list.split(",") if g.strip()] if gesture_list else None
     loaded = [(path, *load_stream(path, quat_order=quat_order)) for path in streams]
     several = holds_several_trackers(models)
+    if explain and method != "segments":
+        raise click.BadParameter("only --method segments can explain its misses: the other "
+                                 "recognizers form no candidates", param_hint="--explain")
     if several and (compare or method != "segments"):
         raise FramefreeError("--compare and --method paper: the paper's recognizer takes one "
                              "tracker, and these models have several")
@@ -92,7 +99,8 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
     out = _emitters(emit, rec)
     rview = _rerun_view(rec, False, save_rrd)
     try:
-        total, per_stream = _evaluate(rec, loaded, tolerance, figures, out, rview, err=err)
+        total, per_stream = _evaluate(rec, loaded, tolerance, figures, out, rview, err=err,
+                                      explain=explain)
     finally:
         if out is not None:
             out.close()
@@ -119,16 +127,21 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
 
 
 def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None, emit: Any = None,
-              rview: Any = None, err: bool = False) -> tuple[dict, dict]:
+              rview: Any = None, err: bool = False, explain: bool = False) -> tuple[dict, dict]:
     """Run ``rec`` over every loaded ``(path, traj, segments)``; print (on stderr when ``err``)
-    and return the pooled and per-stream metrics."""
+    and return the pooled and per-stream metrics (with ``explain``, why each miss and false
+    positive happened: :mod:`framefree.online.diagnosis`)."""
+    from ..online.diagnosis import explain as explain_misses
+    from ..online.diagnosis import logging_candidates
     from ..online.evaluation import combine, match_events, per_gesture, plot_timeline, run_stream
 
     per_stream = {}
     results = []
+    reasons: dict[str, int] = {}
     for path, traj, segs in loaded:
         t0 = time.perf_counter()
-        events, trace = run_stream(rec, traj, rview)
+        with logging_candidates(rec) if explain else contextlib.nullcontext() as log:
+            events, trace = run_stream(rec, traj, rview)
         wall = time.perf_counter() - t0
         for ev in events if emit is not None else ():
             emit(ev)
@@ -139,6 +152,12 @@ def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None, emi
                    err=err)
         per_stream[str(path)] = {**res.summary(), "events": res.details, "missed": res.missed,
                                  "stats": dict(rec.stats), "wall_s": wall}
+        if explain:
+            why = explain_misses(res, segs, log, rec.labels, rec.spotter)
+            per_stream[str(path)]["explain"] = why
+            for miss in why["missed"]:
+                reasons[miss["reason"]] = reasons.get(miss["reason"], 0) + 1
+            _print_explanation(why, err)
         if figures:
             fig = plot_timeline(Path(figures) / f"{Path(path).stem}_timeline.png", segs, events,
                                 trace, rec.gesture_thresholds, title=Path(path).name)
@@ -151,7 +170,31 @@ def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None, emi
         f"recall {total['recall']:.3f} F1 {total['f1']:.3f}  FP/min {total['fp_per_minute']:.3f}  "
         f"latency after end: median {_seconds(total['latency_median_s'])}", err=err
     )
+    if explain:
+        total["miss_reasons"] = reasons
+        click.echo("misses by reason: " + (", ".join(f"{k} {v}" for k, v in reasons.items())
+                                           or "none"), err=err)
     return total, per_stream
+
+
+def _candidate_text(c: dict | None, label: str = "") -> str:
+    if c is None:
+        return "the stop detector" if label == "stop" else ""
+    travel = "" if c["travel_m"] is None else f" travel {c['travel_m']:.2f} m"
+    return (f"{c['start_t']:.2f}-{c['end_t']:.2f} s nearest {c['gesture']} at {c['ratio']:.2f} τ, "
+            f"size {c['size_m']:.2f} m{travel}")
+
+
+def _print_explanation(why: dict, err: bool = False) -> None:
+    """One line per miss and per false positive of a stream (:func:`~framefree.online.diagnosis.explain`)."""
+    for m in why["missed"]:
+        limits = f" ({', '.join(m['limits'])})" if m.get("limits") else ""
+        click.echo(f"  missed {m['label']} {m['start_t']:.2f}-{m['end_t']:.2f} s: {m['reason']}"
+                   f"{limits}  {_candidate_text(m['candidate'])}", err=err)
+    for f in why["false_positives"]:
+        during = f" during {', '.join(f['overlaps'])}" if f["overlaps"] else ""
+        click.echo(f"  false {f['label']} at {f['time']:.2f} s{during}  "
+                   f"{_candidate_text(f['candidate'], f['label'])}", err=err)
 
 
 def _print_gestures(table: dict[str, dict], err: bool = False) -> None:

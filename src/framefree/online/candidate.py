@@ -1,12 +1,16 @@
 """A candidate gesture as the spotter classified it (:mod:`framefree.online.spotting`): its span,
-its nearest model and distance, and the shape measures its gesture's limits were checked on."""
+its nearest model and distance, and the shape measures its gesture's limits were checked on; and
+which spans of the latest movement units may be one (:func:`candidate_spans`)."""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
-__all__ = ["Candidate"]
+from .segmentation import Unit
+
+__all__ = ["Candidate", "candidate_spans"]
 
 
 @dataclass(frozen=True)
@@ -64,3 +68,43 @@ class Candidate:
     vertical: float = math.nan
     pause: float = 0.0
     travel: float = math.inf
+
+
+def candidate_spans(
+    units: Sequence[Unit],
+    max_units: int,
+    max_duration: float,
+    max_pause: float,
+    after: int = -1,
+    pause_ratio: float = math.inf,
+    min_pause: float = 0.0,
+) -> list[tuple[Unit, int]]:
+    """The candidates ending with the last unit: ``(first unit, number of units)`` pairs.
+
+    A candidate has at most ``max_units`` units, lasts at most ``max_duration`` seconds and starts
+    after running index ``after``. Its longest rest may last at most ``pause_ratio`` × the
+    duration of a stroke (a slow person pauses longer, in proportion), but never less than
+    ``min_pause`` nor more than ``max_pause`` seconds. A stroke's duration is the candidate's
+    span without that rest, shared by at most two strokes (out and back): for two units, the mean
+    of the two. A hesitation cuts a stroke into pieces with short rests between them; measured
+    on the pieces, a stroke would look short and leave room for no reversal pause at all.
+    """
+    out: list[tuple[Unit, int]] = []
+    if not units:
+        return out
+    last = units[-1]
+    longest_rest = 0.0
+    for n in range(1, min(max_units, len(units)) + 1):
+        first = units[-n]
+        span = last.end_t - first.start_t
+        if first.start <= after or span > max_duration:
+            break
+        if n > 1:
+            longest_rest = max(longest_rest, units[-n + 1].start_t - first.end_t)
+            stroke = (span - longest_rest) / min(n, 2)
+            if longest_rest > max_pause:
+                break
+            if longest_rest > max(min_pause, pause_ratio * stroke):
+                continue  # a longer candidate, with more of the strokes, may allow this rest
+        out.append((first, n))
+    return out

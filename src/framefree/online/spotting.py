@@ -18,7 +18,9 @@ candidate, or at the latest ``max_wait`` seconds after its end.
 
 from __future__ import annotations
 
+import functools
 import math
+import operator
 from collections import deque
 from collections.abc import Sequence
 from typing import Any
@@ -30,7 +32,7 @@ from ..core.pruning import ModelBank, pruned_nearest
 from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor
 from ..errors import DegenerateMotionError
-from .candidate import Candidate
+from .candidate import Candidate, candidate_spans
 from .segmentation import PoseBuffer, Unit
 from .span_shape import closure, corner_count, corner_rest, travel, turn_kinds
 from .vertical import verticality
@@ -108,46 +110,6 @@ class SegmentClassifier:
         self.cells[0] += found.cells
         self.cells[1] += found.full_cells
         return found.values
-
-
-def candidate_spans(
-    units: Sequence[Unit],
-    max_units: int,
-    max_duration: float,
-    max_pause: float,
-    after: int = -1,
-    pause_ratio: float = math.inf,
-    min_pause: float = 0.0,
-) -> list[tuple[Unit, int]]:
-    """The candidates ending with the last unit: ``(first unit, number of units)`` pairs.
-
-    A candidate has at most ``max_units`` units, lasts at most ``max_duration`` seconds and starts
-    after running index ``after``. Its longest rest may last at most ``pause_ratio`` × the
-    duration of a stroke (a slow person pauses longer, in proportion), but never less than
-    ``min_pause`` nor more than ``max_pause`` seconds. A stroke's duration is the candidate's
-    span without that rest, shared by at most two strokes (out and back): for two units, the mean
-    of the two. A hesitation cuts a stroke into pieces with short rests between them; measured
-    on the pieces, a stroke would look short and leave room for no reversal pause at all.
-    """
-    out: list[tuple[Unit, int]] = []
-    if not units:
-        return out
-    last = units[-1]
-    longest_rest = 0.0
-    for n in range(1, min(max_units, len(units)) + 1):
-        first = units[-n]
-        span = last.end_t - first.start_t
-        if first.start <= after or span > max_duration:
-            break
-        if n > 1:
-            longest_rest = max(longest_rest, units[-n + 1].start_t - first.end_t)
-            stroke = (span - longest_rest) / min(n, 2)
-            if longest_rest > max_pause:
-                break
-            if longest_rest > max(min_pause, pause_ratio * stroke):
-                continue  # a longer candidate, with more of the strokes, may allow this rest
-        out.append((first, n))
-    return out
 
 
 class Spotter:
@@ -293,6 +255,8 @@ class Spotter:
         self.L = float(L)
         self.size_limits = (np.tile([0.0, np.inf], (n_models, 1)) if size_limits is None
                             else np.asarray(size_limits, dtype=np.float64).reshape(n_models, 2))
+        #: every candidate classified, in order, when a list is set here (a diagnosis: unbounded)
+        self.log: list[Candidate] | None = None
         self.units: deque[Unit] = deque(maxlen=max(1, self.max_units))
         self.rests: deque[float] = deque(maxlen=max(1, self.max_units))  # rest [s] before each unit
         self.reset()
@@ -411,17 +375,33 @@ class Spotter:
                 vertical: Any = math.nan, pauses: Any = 0.0, travels: Any = math.inf
                 ) -> np.ndarray:
         """The admissibility rule for model(s) ``j`` (broadcast against the segments)."""
-        lo, hi = self.size_limits[j, 0], self.size_limits[j, 1]
+        passes = self._limits(j, closures, sizes, corners, turns, vertical, pauses, travels)
+        return functools.reduce(operator.and_, passes.values())
+
+    def _limits(self, j: int | slice, closures: Any, sizes: Any, corners: Any, turns: Any = 0,
+                vertical: Any = math.nan, pauses: Any = 0.0, travels: Any = math.inf
+                ) -> dict[str, np.ndarray]:
+        """Each limit of model(s) ``j`` on its own: ``{limit: passes}``."""
         closes = (closures <= self.closure_limits[j]) | (closures * sizes <= self.return_error)
-        opens = closures >= self.opening_limits[j]
-        cornered = corners <= self.corner_limits[j]
-        turning = (np.asarray(turns, dtype=np.int64) & self.forbidden_turns[j]) == 0
         v_lo, v_hi = self.vertical_limits[j, 0], self.vertical_limits[j, 1]
-        upright = ~((vertical < v_lo) | (vertical > v_hi))  # NaN: no vertical known
-        rested = ~(self.one_go[j] & (pauses > self.min_pause))
-        travelled = travels >= self.travel_limits[j]
-        return (closes & opens & cornered & turning & upright & rested & travelled & (sizes >= lo)
-                & (sizes <= hi))
+        return {
+            "closure": closes,
+            "opening": closures >= self.opening_limits[j],
+            "size": (sizes >= self.size_limits[j, 0]) & (sizes <= self.size_limits[j, 1]),
+            "travel": travels >= self.travel_limits[j],
+            "corners": corners <= self.corner_limits[j],
+            "turns": (np.asarray(turns, dtype=np.int64) & self.forbidden_turns[j]) == 0,
+            "vertical": ~((vertical < v_lo) | (vertical > v_hi)),  # NaN: no vertical known
+            "one go": ~(self.one_go[j] & (pauses > self.min_pause)),
+        }
+
+    def refusals(self, candidate: Candidate) -> list[str]:
+        """The limits of its nearest model's gesture that refuse ``candidate`` (empty: none
+        does; :mod:`framefree.online.diagnosis` says so for a missed gesture)."""
+        passes = self._limits(candidate.model, candidate.closure, candidate.size,
+                              candidate.corners, candidate.turns, candidate.vertical,
+                              candidate.pause, candidate.travel)
+        return [name for name, ok in passes.items() if not bool(ok)]
 
     def add_unit(self, unit: Unit) -> None:
         """Keep a unit that ended, with the rest [s] the hand held before it."""
@@ -432,7 +412,10 @@ class Spotter:
     def on_unit(self, unit: Unit, buffer: PoseBuffer) -> Candidate | None:
         """A unit ended: update the pending candidate; return a candidate to fire now, if any."""
         self.add_unit(unit)
-        accepted = [c for c in self.candidates(buffer) if c.accepted]
+        classified = self.candidates(buffer)
+        if self.log is not None:
+            self.log.extend(classified)
+        accepted = [c for c in classified if c.accepted]
         best = min(accepted, key=lambda c: c.ratio, default=None)
         pend = self.pending
         if pend is None:
