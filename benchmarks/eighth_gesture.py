@@ -37,6 +37,7 @@ from typing import Any
 from framefree.core.trajectory import Trajectory
 from framefree.datasets import GESTURES
 from framefree.library import TakeRecorder, TakeSet, enroll, load_recognizer, read_takes
+from framefree.online.diagnosis import explain, logging_candidates
 from framefree.online.evaluation import match_events, run_stream
 from framefree.replica import (
     DEFAULT_PERSON,
@@ -121,9 +122,14 @@ def evaluate(library: Path, streams: Sequence[Any], labels: Sequence[str],
     rec = load_recognizer(library)
     rec.warmup()
     results = []
+    reasons: dict[str, dict[str, int]] = {}  # why each gesture was missed (diagnosis.explain)
     for s in _unlabelled(streams, distractors):
-        events, _ = run_stream(rec, s.traj)
+        with logging_candidates(rec) as log:
+            events, _ = run_stream(rec, s.traj)
         results.append(match_events(events, s.segments, s.traj.duration))
+        for miss in explain(results[-1], s.segments, log, rec.labels, rec.spotter)["missed"]:
+            by = reasons.setdefault(miss["label"], {})
+            by[miss["reason"]] = by.get(miss["reason"], 0) + 1
     pooled = per_gesture(results, labels)
     extra = {}
     if new_gesture is not None:
@@ -135,6 +141,7 @@ def evaluate(library: Path, streams: Sequence[Any], labels: Sequence[str],
     fn = sum(v["fn"] for v in pooled.values())
     p, r = tp / max(tp + fp, 1), tp / max(tp + fn, 1)
     extra["false_positives_during"] = _during(streams, results, distractors)
+    extra["miss_reasons"] = reasons
     return {"per_gesture": pooled, **extra,
             "total": {"tp": tp, "fp": fp, "fn": fn, "precision": p, "recall": r,
                       "f1": 2 * p * r / (p + r) if p + r else 0.0}}
@@ -218,6 +225,7 @@ def _print(out: dict[str, Any]) -> None:
     base = f"{100 * out['seven_only']['total']['f1']:15.1f}%" if both else ""
     print(f"{'all':<16}{100 * tot['f1']:15.1f}%{base}")
     print("false positives:", out["with_new_gesture"]["false_positives_during"])
+    print("misses by reason:", out["with_new_gesture"]["miss_reasons"])
 
 
 if __name__ == "__main__":
