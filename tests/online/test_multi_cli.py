@@ -149,3 +149,19 @@ def test_the_command_line_offers_every_invariance():
     from framefree.descriptors.canonical import INVARIANCES
 
     assert OFFERED == INVARIANCES
+
+
+def test_evaluate_stream_explains_the_misses_of_a_two_tracker_session(files, tmp_path):
+    """--explain with two trackers: a threshold no gesture meets, and every miss says why."""
+    from framefree.online.diagnosis import MISS_REASONS
+
+    out = tmp_path / "eval.json"
+    res = run("evaluate-stream", "--models", PEOPLE, files["session"], "--json", out,
+              "--gestures", "hook_left,hook_right", "--threshold", "1e-9", "--explain")
+    assert res.exit_code == 0, res.output
+    data = json.loads(out.read_text())
+    why = next(iter(data["streams"].values()))["explain"]
+    assert data["total"]["tp"] == 0 and len(why["missed"]) == data["total"]["fn"] == 4
+    assert {m["reason"] for m in why["missed"]} <= set(MISS_REASONS)
+    assert any(m["reason"] == "beyond its threshold" for m in why["missed"]), why["missed"]
+    assert "misses by reason:" in res.output
