@@ -77,7 +77,7 @@ def test_live_from_a_two_tracker_csv_with_single_tracker_models_is_one_line(file
 
 
 def test_a_one_tracker_source_with_two_tracker_models_is_refused_before_building(files):
-    res = run("live", "--models", PEOPLE, "--source", "openvr", "--no-view")
+    res = run("live", "--models", PEOPLE, "--source", "ros2:///hand_pose", "--no-view")
     one_line_error(res, "this source carries one tracker, and the models have several")
     assert "building" not in res.output
 

@@ -265,8 +265,9 @@ _emit_option = click.option(
 @_model_options
 @click.option("--source", required=True,
               help="zmq://127.0.0.1:PORT, lsl://NAME[#TRACKER], a ROS 2 bag BAG[#TOPIC], a CSV "
-              "file (replayed in real time), or 'openvr'. With models of several trackers: a "
-              "multi-tracker CSV file, or lsl://NAME (all its trackers).")
+              "file (replayed in real time), or 'openvr[#DEVICE,...]'. With models of several "
+              "trackers: a multi-tracker CSV file, lsl://NAME (all its trackers), or openvr "
+              "(every controller and tracker, or the devices named).")
 @click.option("--quat-order", default="wxyz", show_default=True, type=click.Choice(QUAT_ORDERS),
               help="Quaternion order of the source (a CSV file's columns or the messages).")
 @click.option("--speed", type=float, default=1.0, show_default=True,

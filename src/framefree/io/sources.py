@@ -8,7 +8,6 @@ ZeroMQ (its message format and loopback rule): :mod:`framefree.io.zeromq`.
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -20,6 +19,7 @@ from ..core.multitrajectory import MultiTrajectory
 from ..core.posecsv import UNITS, warn_if_implausible
 from ..core.trajectory import Trajectory
 from ..errors import FramefreeError
+from .openvr_source import OpenVRSource
 from .zeromq import (
     MESSAGE_FORMAT,
     Pose,
@@ -99,68 +99,6 @@ class _Stacked:
         return int(self.t.shape[0])
 
 
-class OpenVRSource:
-    """Poses of an HTC Vive tracker through OpenVR/SteamVR (optional dependency ``openvr``).
-
-    Parameters
-    ----------
-    rate : float
-        Polling rate [Hz].
-    device : int, optional
-        Tracked-device index; default: the first generic tracker (else the first controller).
-
-    Raises
-    ------
-    FramefreeError
-        When the ``openvr`` package or a running SteamVR is not available.
-    """
-
-    def __init__(self, rate: float = 50.0, device: int | None = None) -> None:
-        try:
-            import openvr  # type: ignore[import-not-found]
-        except ImportError:
-            raise FramefreeError(
-                "the OpenVR adapter needs the 'openvr' package (pip install openvr) and a running "
-                "SteamVR with the tracker paired; use --source zmq://127.0.0.1:PORT or a CSV file "
-                "otherwise"
-            ) from None
-        self._openvr = openvr
-        try:
-            self._vr = openvr.init(openvr.VRApplication_Other)
-        except Exception as exc:  # openvr raises its own error types
-            raise FramefreeError(f"SteamVR is not running or no headset/tracker is present ({exc})") from None
-        self.rate = float(rate)
-        self.device = device if device is not None else self._find_device()
-
-    def _find_device(self) -> int:
-        ovr = self._openvr
-        classes = [self._vr.getTrackedDeviceClass(i) for i in range(ovr.k_unMaxTrackedDeviceCount)]
-        for wanted in (ovr.TrackedDeviceClass_GenericTracker, ovr.TrackedDeviceClass_Controller):
-            if wanted in classes:
-                return classes.index(wanted)
-        raise FramefreeError("SteamVR reports no tracker or controller")
-
-    def __iter__(self) -> Iterator[Pose]:
-        ovr = self._openvr
-        t0 = time.perf_counter()
-        period = 1.0 / self.rate
-        try:
-            while True:
-                poses = self._vr.getDeviceToAbsoluteTrackingPose(
-                    ovr.TrackingUniverseStanding, 0, ovr.k_unMaxTrackedDeviceCount)
-                pose = poses[self.device]
-                t = time.perf_counter() - t0
-                if pose.bPoseIsValid:
-                    m = np.array([[pose.mDeviceToAbsoluteTracking[r][c] for c in range(4)]
-                                  for r in range(3)])
-                    from ..core.se3 import quaternion_from_matrix
-
-                    yield t, m[:, 3].copy(), quaternion_from_matrix(m[:, :3], continuous=False)
-                time.sleep(max(0.0, period - math.fmod(time.perf_counter() - t0, period)))
-        finally:
-            ovr.shutdown()
-
-
 class UnitsAndOrder:
     """Convert a pose source's positions to metres and quaternions to scalar first, and warn once
     when its first samples look implausible for a hand (see :mod:`framefree.core.posecsv`).
@@ -223,7 +161,8 @@ def open_source(
     spec: str, speed: float = 1.0, timeout: float | None = 5.0, quat_order: str = "wxyz",
     units: str = "m", several: bool = False,
 ):
-    """Source from a command-line spec: ``zmq://127.0.0.1:PORT``, ``tcp://...``, ``openvr``,
+    """Source from a command-line spec: ``zmq://127.0.0.1:PORT``, ``tcp://...``,
+    ``openvr[#DEVICE,...]`` (:mod:`framefree.io.openvr_source`),
     ``lsl://NAME[#TRACKER]`` (:mod:`framefree.io.lsl`), a live ROS 2 topic ``ros2:///TOPIC``
     (:mod:`framefree.io.ros2`, where rclpy can be imported), a ROS 2 bag
     ``BAG[#TOPIC[:PARENT>CHILD]]`` (:mod:`framefree.io.rosbag`) or a CSV.
@@ -236,21 +175,23 @@ def open_source(
     stream at once (positions (n, 3), quaternions (n, 4)), ZeroMQ every tracker of each message,
     a bag every topic or tf frame named (``BAG#/right,/left``; without a topic, all its pose
     topics: :mod:`framefree.io.multi_bag`); a multi-tracker CSV file (:mod:`framefree.io.multicsv`)
-    always does. OpenVR and live ROS 2 topics carry one tracker, and say so.
+    always does, and ``openvr`` every controller and generic tracker SteamVR reports (or the
+    devices named). Live ROS 2 topics carry one tracker, and say so.
     """
     zmq = spec.startswith(("zmq://", "tcp://", "ipc://"))
-    if several and not spec.startswith("lsl://") and not zmq and (
-            spec.startswith("ros2://") or spec == "openvr"
+    openvr = spec == "openvr" or spec.startswith("openvr#")
+    if several and not spec.startswith("lsl://") and not zmq and not openvr and (
+            spec.startswith("ros2://")
             or not (Path(spec).exists() or Path(spec.partition("#")[0]).exists())):
         raise FramefreeError(f"{spec}: this source carries one tracker, and the models have "
                              "several; use a multi-tracker CSV file, an LSL stream or ZeroMQ "
-                             "messages of all the trackers, or a bag with a topic or tf frame "
-                             "per tracker (docs/io.md)")
+                             "messages of all the trackers, openvr, or a bag with a topic or tf "
+                             "frame per tracker (docs/io.md)")
     if zmq:
         return UnitsAndOrder(ZmqSource(spec, timeout=timeout, several=several), spec, quat_order,
                              units)
-    if spec == "openvr":
-        return UnitsAndOrder(OpenVRSource(), spec, quat_order, units)
+    if openvr:
+        return UnitsAndOrder(OpenVRSource.from_spec(spec, several), spec, quat_order, units)
     if spec.startswith("lsl://"):
         return _lsl(spec, several, quat_order, timeout, units)
     if spec.startswith("ros2://"):
