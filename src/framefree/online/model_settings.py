@@ -132,14 +132,14 @@ def resolve_learned(
         draft.fill(one_go_gestures, one_go=one_go_gestures(trajectories, labels, levels, L,
                                                            config.confirm, k.dt, k.corner_angle))
     sizes_derived = draft.missing("size_limits")
-    _geometry_limits(trajectories, labels, config, levels, classifier, draft)
+    sizes = _geometry_limits(trajectories, labels, config, levels, classifier, draft)
     if config.up is not None and draft.missing("vertical_limits"):
         values = gesture_verticality(trajectories, labels, levels, L, up_vector(config.up), k.dt)
         limits = {g: vertical_limits(values.get(g, []), k.vertical_margin) for g in gestures}
         draft.fill(vertical_limits, vertical_limits={g: x for g, x in limits.items() if x is not None})
     calibration = _thresholds(trajectories, labels, config, levels, classifier, draft, sizes_derived)
     if draft.missing("travel_limits"):
-        _travel_limits(trajectories, labels, config, levels, classifier, draft)
+        _travel_limits(trajectories, labels, config, levels, classifier, draft, sizes)
     if config.stop_threshold is not None:
         draft.fill(f"{GIVEN}: stop_threshold", stop_threshold=config.stop_threshold)
     if draft.missing("stop_threshold"):
@@ -159,12 +159,14 @@ def stop_threshold_rule() -> str:
 
 def _geometry_limits(trajectories: Sequence[Trajectory], labels: Sequence[str],
                      config: RecognizerConfig, levels: SpeedLevels,
-                     classifier: SegmentClassifier, draft: LearnedDraft) -> None:
+                     classifier: SegmentClassifier, draft: LearnedDraft
+                     ) -> dict[str, tuple[float, float]] | None:
     """Derive the closure, opening, size, corner and turn limits ``draft`` lacks from the
-    geometry of the takes (:func:`~framefree.online.limits.gesture_geometry`)."""
+    geometry of the takes (:func:`~framefree.online.limits.gesture_geometry`); return each
+    gesture's (smallest, largest) take size [m] it measured (``None``: nothing was missing)."""
     names = ("closure_limits", "size_limits", "opening_limits", "corner_limits", "forbidden_turns")
     if not draft.missing(*names):
-        return
+        return None
     k = config.constants
     gestures = list(dict.fromkeys(labels))
     closed, sizes, corners, turns = gesture_geometry(trajectories, labels, classifier, levels,
@@ -186,19 +188,23 @@ def _geometry_limits(trajectories: Sequence[Trajectory], labels: Sequence[str],
     draft.fill(size_limits, size_limits={g: size_limits(*sizes.get(g, (0.0, np.inf)),
                                                         k.size_factor, k.size_growth)
                                          for g in gestures})
+    return sizes
 
 
 def _travel_limits(trajectories: Sequence[Trajectory], labels: Sequence[str],
                    config: RecognizerConfig, levels: SpeedLevels, classifier: SegmentClassifier,
-                   draft: LearnedDraft) -> None:
+                   draft: LearnedDraft, sizes: dict[str, tuple[float, float]] | None = None
+                   ) -> None:
     """Derive the travel limits: each gesture's travel may shrink by as much as its size limit
     lets its screw path shrink (``size_factor``, or down to ``size_reach`` where the calibration
     found that safe), so that the two limits agree on how small a person may be
-    (:func:`~framefree.online.limits.travel_limit`)."""
+    (:func:`~framefree.online.limits.travel_limit`). ``sizes``: the takes' size range per
+    gesture, when :func:`_geometry_limits` measured it (else measured here)."""
     k, L = config.constants, config.descriptor.L
     travels = gesture_travels(trajectories, labels, levels, L, k.dt, config.descriptor.presmooth)
-    _, sizes, _, _ = gesture_geometry(trajectories, labels, classifier, levels, L, k.margin, k.dt,
-                                      k.corner_angle)
+    if sizes is None:
+        _, sizes, _, _ = gesture_geometry(trajectories, labels, classifier, levels, L, k.margin,
+                                          k.dt, k.corner_angle)
     limits = {}
     for g in dict.fromkeys(labels):
         smallest = sizes.get(g, (0.0, 0.0))[0]
