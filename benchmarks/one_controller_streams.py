@@ -1,0 +1,102 @@
+"""One controller of the real Machete sessions, with models of the other people: the single-tracker
+recognizer on real continuous motion.
+
+For each person of ``--people``, the models are one controller's recordings (``--tracker``: 0 the
+right, 1 the left) of the other people of ``../shared/data/machete_vive``, and the streams are the
+same controller in that person's sessions of ``../shared/data/machete_streams``. A gesture the
+other hand performs is labelled in the sessions as well, so a controller cannot find all of them
+(docs/online-history.md, v19: the right controller's misses by gesture).
+
+``--trim F`` cuts every model recording to where its hand first and last moves faster than ``F``
+times its peak speed: models cut as a benchmark's segmented examples are, without the rests
+before and after the gesture that ``framefree record`` keeps (docs/online-history.md, *Models
+cut without rests*).
+
+    python benchmarks/one_controller_streams.py --out benchmarks/results/one_controller_streams.json
+    python benchmarks/one_controller_streams.py --trim 0.05
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from framefree.core.trajectory import Trajectory
+from framefree.datasets.people_layout import load_people
+from framefree.datasets.stream_files import load_stream
+from framefree.online import Recognizer
+from framefree.online.evaluation import combine, match_events, run_stream
+
+REPO = Path(__file__).resolve().parent.parent
+DATA = REPO.parent / "shared" / "data"
+
+
+def trimmed(traj: Trajectory, fraction: float) -> Trajectory:
+    """``traj`` from where its position speed first exceeds ``fraction`` × its peak to where it
+    last does (``fraction`` 0: unchanged)."""
+    if fraction <= 0:
+        return traj
+    speed = np.linalg.norm(np.gradient(traj.p, traj.t, axis=0), axis=1)
+    fast = np.flatnonzero(speed > fraction * speed.max())
+    a, b = int(fast[0]), int(fast[-1]) + 1
+    return Trajectory(traj.t[a:b], traj.p[a:b], traj.q[a:b], source=traj.source)
+
+
+def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim: float) -> dict:
+    """Counts for one held-out person: models from everyone else, that person's sessions."""
+    others = [r for r in recordings if r.person != person]
+    rec = Recognizer.from_trajectories([trimmed(r.sample.trackers[tracker], trim) for r in others],
+                                       [r.gesture for r in others])
+    rec.warmup()
+    rec.background = False
+    results = []
+    for path in sorted(streams.glob(f"{person}_s*.csv")):
+        if path.name.endswith("_labels.csv"):
+            continue
+        multi, segments = load_stream(path)
+        traj = multi.trackers[tracker]
+        rec.reset()
+        events, _ = run_stream(rec, traj)
+        results.append(match_events(events, segments, traj.t[-1] - traj.t[0]))
+    out = combine(results).summary()
+    out["rest_speed"] = rec.learned_.rest_speed
+    return out
+
+
+def main(argv: list[str] | None = None) -> dict:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--models", type=Path, default=DATA / "machete_vive")
+    ap.add_argument("--streams", type=Path, default=DATA / "machete_streams")
+    ap.add_argument("--people", default="Sub_U001,Sub_U002,Sub_U004",
+                    help="comma-separated people held out one at a time ('all': every person)")
+    ap.add_argument("--tracker", type=int, default=0, help="0: right controller, 1: left")
+    ap.add_argument("--trim", type=float, default=0.0,
+                    help="cut each model recording where its speed stays below this share of its peak")
+    ap.add_argument("--out", type=Path, default=None, help="write the results as JSON here")
+    args = ap.parse_args(argv)
+
+    recordings = load_people(args.models)
+    people = (sorted({r.person for r in recordings}) if args.people == "all"
+              else args.people.split(","))
+    folds = {p: person_fold(p, recordings, args.streams, args.tracker, args.trim)
+             for p in tqdm(people, desc="people")}
+    for p, f in folds.items():
+        print(f"{p}: TP {f['tp']} FP {f['fp']} FN {f['fn']}  F1 {f['f1']:.3f}  "
+              f"FP/min {f['fp_per_minute']:.2f}  rest level {f['rest_speed']:.3f} m/s")
+    tp, fp, fn = (sum(f[k] for f in folds.values()) for k in ("tp", "fp", "fn"))
+    minutes = sum(f["nongesture_minutes"] for f in folds.values())
+    f1 = 2 * tp / (2 * tp + fp + fn) if tp + fp + fn else 0.0
+    print(f"all: TP {tp} FP {fp} FN {fn}  F1 {f1:.3f}  FP/min {fp / minutes:.2f}")
+    out = {"tracker": args.tracker, "trim": args.trim, "people": folds,
+           "all": {"tp": tp, "fp": fp, "fn": fn, "f1": f1, "fp_per_minute": fp / minutes}}
+    if args.out:
+        args.out.write_text(json.dumps(out, indent=1))
+    return out
+
+
+if __name__ == "__main__":
+    main()
