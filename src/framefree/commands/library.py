@@ -218,6 +218,7 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
     """
     from ..library.store import enroll, load_library
     from ..online.learned import split_settings
+    from ..online.model_settings import rest_advice
 
     if out is None:
         if len(sources) != 1 or not Path(sources[0]).is_dir():
@@ -253,6 +254,9 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
     lib = enroll(takes, config, built_from=[str(Path(s).resolve()) for s in sources], **given)
     path = lib.save(out)
     click.echo(lib.summary())
+    advice = None if "rest_speed" in given else rest_advice(takes.takes, config)
+    if advice is not None:
+        click.echo(f"note: {advice}", err=True)
     click.echo(f"wrote {path} ({time.perf_counter() - t0:.1f} s). Next: framefree check {path}; "
                f"framefree live --models {path} --source zmq://127.0.0.1:5556", err=True)
 

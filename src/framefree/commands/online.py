@@ -142,6 +142,12 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
         f"{_stop_and_resolution(rec)} ({time.perf_counter() - t0:.1f} s)",
         err=True,
     )
+    if method == "segments":
+        from ..online.model_settings import rest_advice
+
+        advice = rest_advice(found.trajectories, rec.config)
+        if advice is not None:
+            click.echo(f"note: {advice}", err=True)
     return rec
 
 

@@ -41,14 +41,14 @@ from .limits import (
     size_limits,
     travel_limit,
 )
-from .segmentation import SpeedLevels, speed_levels
+from .segmentation import SpeedLevels, restless_takes, speed_levels
 from .spotting import SegmentClassifier, Spotter
 from .stop import sustained_peak_speed
 from .thresholds import SegmentThresholds, calibrate_segment_thresholds, reach_down
 from .vertical import up_vector, vertical_limits
 
 __all__ = ["LearnedDraft", "make_spotter", "model_window_spacing", "resolve_learned",
-           "segment_descriptor", "stop_threshold_rule"]
+           "rest_advice", "segment_descriptor", "stop_threshold_rule"]
 
 
 def segment_descriptor(config: RecognizerConfig, spacing: int | None = None) -> Descriptor:
@@ -148,6 +148,20 @@ def resolve_learned(
         draft.fill(stop_threshold_rule(), stop_threshold=max(k.stop_floor, k.stop_margin * peak))
     digest = takes_digest(tr.to_array() for tr in trajectories)
     return draft.settings(len(trajectories), digest), calibration
+
+
+def rest_advice(trajectories: Sequence[Trajectory], config: RecognizerConfig) -> str | None:
+    """One line of advice when most takes hold no rest before or after the gesture
+    (:func:`~framefree.online.segmentation.restless_takes`), else ``None``: the rest level is
+    then measured on their slowest motion, and a stream's gestures may be cut into pieces."""
+    k = config.constants
+    restless = restless_takes(trajectories, config.descriptor.L, k.dt, k.speed_lag)
+    if restless.size == 0 or restless.sum() * 2 <= restless.size:
+        return None
+    return (f"{int(restless.sum())} of {restless.size} takes hold no rest before or after the "
+            "gesture, so the rest level comes from their slowest motion and gestures in a stream "
+            "may be cut into pieces: record each take with a short rest before and after it, or "
+            "give rest_speed and move_speed (docs/online.md, Models cut without rests)")
 
 
 def stop_threshold_rule() -> str:

@@ -1,0 +1,78 @@
+"""Takes that hold no rest: the rest level is measured where the takes hold still, so models cut
+where the motion starts and ends get a note saying so (docs/online.md, Models cut without rests).
+Real Vive recordings, as recorded and cut at a fifth of their peak speed."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from framefree.cli import cli
+from framefree.core.trajectory import Trajectory
+from framefree.datasets.people_layout import load_people
+from framefree.online import RecognizerConfig
+from framefree.online.model_settings import rest_advice
+from framefree.online.segmentation import restless_takes, speed_levels
+from real_data import SHIPPED_MACHETE
+
+
+def cut(traj: Trajectory, share: float) -> Trajectory:
+    """``traj`` from where its position speed first exceeds ``share`` × its peak to where it last
+    does: a segmented example without the rests around the gesture."""
+    speed = np.linalg.norm(np.gradient(traj.p, traj.t, axis=0), axis=1)
+    fast = np.flatnonzero(speed > share * speed.max())
+    a, b = int(fast[0]), int(fast[-1]) + 1
+    return Trajectory(traj.t[a:b], traj.p[a:b], traj.q[a:b])
+
+
+@pytest.fixture(scope="module")
+def vive() -> tuple[list[Trajectory], list[str]]:
+    """The right controller's recordings of the shipped real people."""
+    people = load_people(SHIPPED_MACHETE)
+    return [r.sample.trackers[0] for r in people], [r.gesture for r in people]
+
+
+def test_real_recordings_rest_and_their_cut_copies_do_not(vive):
+    trajs, _ = vive
+    L = RecognizerConfig().descriptor.L
+    assert restless_takes(trajs, L).mean() <= 0.1
+    assert restless_takes([cut(t, 0.2) for t in trajs], L).mean() >= 0.9
+
+
+def test_cut_takes_raise_the_rest_level_and_get_advice(vive):
+    trajs, _ = vive
+    config = RecognizerConfig()
+    cuts = [cut(t, 0.2) for t in trajs]
+    L = config.descriptor.L
+    assert speed_levels(cuts, L).rest > 3 * speed_levels(trajs, L).rest  # why the note exists
+    assert rest_advice(trajs, config) is None
+    advice = rest_advice(cuts, config)
+    assert advice is not None and f"of {len(cuts)} takes hold no rest" in advice
+    assert "rest_speed" in advice
+
+
+def test_a_take_moving_from_end_to_end_is_restless_and_a_resting_one_is_not():
+    t = np.arange(0.0, 2.0, 0.01)
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1))
+    moving = Trajectory(t, np.column_stack([0.3 * t, 0.05 * np.sin(3 * t), 0 * t]), q)
+    s = np.clip((t - 0.5) / 1.0, 0.0, 1.0)
+    bump = 0.3 * (10 * s**3 - 15 * s**4 + 6 * s**5)  # at rest, a smooth stroke, at rest
+    resting = Trajectory(t, np.column_stack([bump, 0 * t, 0 * t]), q)
+    assert restless_takes([moving, resting], 0.1).tolist() == [True, False]
+
+
+def test_evaluate_stream_notes_models_cut_without_rests(vive, tmp_path):
+    trajs, labels = vive
+    models = tmp_path / "models"
+    for k, (tr, g) in enumerate(zip(trajs, labels, strict=True)):
+        (models / g).mkdir(parents=True, exist_ok=True)
+        cut(tr, 0.2).to_csv(models / g / f"{k:02d}.csv")
+    stream = tmp_path / "stream.csv"
+    trajs[0].to_csv(stream)
+    (tmp_path / "stream_labels.csv").write_text(f"label,start_t,end_t\n{labels[0]},"
+                                                f"{trajs[0].t[0]:.3f},{trajs[0].t[-1]:.3f}\n")
+    res = CliRunner().invoke(cli, ["evaluate-stream", "--models", str(models), "--stream",
+                                   str(stream)])
+    assert res.exit_code == 0, res.output
+    assert "note: " in res.output and "hold no rest" in res.output
