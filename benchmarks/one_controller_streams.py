@@ -29,7 +29,7 @@ from framefree.core.trajectory import Trajectory
 from framefree.datasets.people_layout import load_people
 from framefree.datasets.stream_files import load_stream
 from framefree.online import Recognizer
-from framefree.online.evaluation import combine, match_events, run_stream
+from framefree.online.evaluation import StreamResult, combine, match_events, run_stream
 
 REPO = Path(__file__).resolve().parent.parent
 DATA = REPO.parent / "shared" / "data"
@@ -46,8 +46,10 @@ def trimmed(traj: Trajectory, fraction: float) -> Trajectory:
     return Trajectory(traj.t[a:b], traj.p[a:b], traj.q[a:b], source=traj.source)
 
 
-def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim: float) -> dict:
-    """Counts for one held-out person: models from everyone else, that person's sessions."""
+def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim: float
+                ) -> tuple[StreamResult, float]:
+    """Counts for one held-out person (models from everyone else, that person's sessions) and
+    the rest level [m/s] learned from those models."""
     others = [r for r in recordings if r.person != person]
     rec = Recognizer.from_trajectories([trimmed(r.sample.trackers[tracker], trim) for r in others],
                                        [r.gesture for r in others])
@@ -62,9 +64,7 @@ def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim
         rec.reset()
         events, _ = run_stream(rec, traj)
         results.append(match_events(events, segments, traj.t[-1] - traj.t[0]))
-    out = combine(results).summary()
-    out["rest_speed"] = rec.learned_.rest_speed
-    return out
+    return combine(results), rec.learned_.rest_speed
 
 
 def main(argv: list[str] | None = None) -> dict:
@@ -84,15 +84,14 @@ def main(argv: list[str] | None = None) -> dict:
               else args.people.split(","))
     folds = {p: person_fold(p, recordings, args.streams, args.tracker, args.trim)
              for p in tqdm(people, desc="people")}
-    for p, f in folds.items():
+    rows = {p: {**res.summary(), "rest_speed": rest} for p, (res, rest) in folds.items()}
+    rows["all"] = combine([res for res, _ in folds.values()]).summary()
+    for p, f in rows.items():
+        level = f"  rest level {f['rest_speed']:.3f} m/s" if "rest_speed" in f else ""
         print(f"{p}: TP {f['tp']} FP {f['fp']} FN {f['fn']}  F1 {f['f1']:.3f}  "
-              f"FP/min {f['fp_per_minute']:.2f}  rest level {f['rest_speed']:.3f} m/s")
-    tp, fp, fn = (sum(f[k] for f in folds.values()) for k in ("tp", "fp", "fn"))
-    minutes = sum(f["nongesture_minutes"] for f in folds.values())
-    f1 = 2 * tp / (2 * tp + fp + fn) if tp + fp + fn else 0.0
-    print(f"all: TP {tp} FP {fp} FN {fn}  F1 {f1:.3f}  FP/min {fp / minutes:.2f}")
-    out = {"tracker": args.tracker, "trim": args.trim, "people": folds,
-           "all": {"tp": tp, "fp": fp, "fn": fn, "f1": f1, "fp_per_minute": fp / minutes}}
+              f"FP/min {f['fp_per_minute']:.2f}{level}")
+    out = {"tracker": args.tracker, "trim": args.trim,
+           "people": {p: f for p, f in rows.items() if p != "all"}, "all": rows["all"]}
     if args.out:
         args.out.write_text(json.dumps(out, indent=1))
     return out

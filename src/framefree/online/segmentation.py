@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -48,6 +48,7 @@ __all__ = [
     "motion_speed",
     "restless_takes",
     "speed_levels",
+    "take_speeds",
 ]
 
 
@@ -266,6 +267,16 @@ def heading(A: np.ndarray, B: np.ndarray, L: float) -> np.ndarray:
     return np.concatenate([L * se3.rotation_increment_one(A, B), B[:3, 3] - A[:3, 3]])
 
 
+def take_speeds(trajectories: Sequence[Trajectory], L: float, dt: float = 0.02, lag: int = 5
+                ) -> Iterator[np.ndarray]:
+    """Each recording's motion speed [m/s] on the uniform grid (:func:`motion_speed`), without
+    the first ``lag`` samples that have none: what :func:`speed_levels` and
+    :func:`restless_takes` measure."""
+    for tr in trajectories:
+        _, poses = tr.uniform_poses(dt)
+        yield motion_speed(poses, dt, L, lag)[lag:]
+
+
 def speed_levels(
     trajectories: Sequence[Trajectory],
     L: float,
@@ -302,9 +313,7 @@ def speed_levels(
         Scale length of the screw path [m].
     """
     floors, peaks = [], []
-    for tr in trajectories:
-        _, poses = tr.uniform_poses(dt)
-        v = motion_speed(poses, dt, L, lag)[lag:]
+    for v in take_speeds(trajectories, L, dt, lag):
         if v.size == 0:
             continue
         floors.append(float(np.percentile(v, 10)))
@@ -333,9 +342,7 @@ def restless_takes(
     A recording too short to measure is not restless.
     """
     out = np.zeros(len(trajectories), dtype=bool)
-    for i, tr in enumerate(trajectories):
-        _, poses = tr.uniform_poses(dt)
-        v = motion_speed(poses, dt, L, lag)[lag:]
+    for i, v in enumerate(take_speeds(trajectories, L, dt, lag)):
         if v.size < 2 * lag or not np.isfinite(v).all():
             continue
         ends = min(float(v[:lag].mean()), float(v[-lag:].mean()))
