@@ -14,6 +14,11 @@ cut without rests*).
 
     python benchmarks/one_controller_streams.py --out benchmarks/results/one_controller_streams.json
     python benchmarks/one_controller_streams.py --trim 0.05
+
+``--no-orientation`` replaces every quaternion, of the models and of the streams, by the identity:
+a sensor that tracks positions only, as skeleton trackers do (docs/online-history.md, *A sensor
+without orientation*). ``--set NAME=JSON`` passes a recognizer setting by name (e.g.
+``--set seen_fraction=0`` for the recognizer before v20).
 """
 
 from __future__ import annotations
@@ -46,13 +51,23 @@ def trimmed(traj: Trajectory, fraction: float) -> Trajectory:
     return Trajectory(traj.t[a:b], traj.p[a:b], traj.q[a:b], source=traj.source)
 
 
-def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim: float
-                ) -> tuple[StreamResult, float]:
-    """Counts for one held-out person (models from everyone else, that person's sessions) and
-    the rest level [m/s] learned from those models."""
+def without_orientation(traj: Trajectory) -> Trajectory:
+    """``traj`` with every quaternion replaced by the identity (positions only)."""
+    q = np.zeros_like(traj.q)
+    q[:, 0] = 1.0
+    return Trajectory(traj.t, traj.p, q, source=traj.source)
+
+
+def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim: float,
+                positions_only: bool = False, settings: dict | None = None
+                ) -> tuple[StreamResult, float, list[str]]:
+    """Counts for one held-out person (models from everyone else, that person's sessions), the
+    rest level [m/s] learned from those models and the gestures the tracker does not follow."""
     others = [r for r in recordings if r.person != person]
-    rec = Recognizer.from_trajectories([trimmed(r.sample.trackers[tracker], trim) for r in others],
-                                       [r.gesture for r in others])
+    sensor = without_orientation if positions_only else (lambda traj: traj)
+    rec = Recognizer.from_trajectories([sensor(trimmed(r.sample.trackers[tracker], trim))
+                                        for r in others],
+                                       [r.gesture for r in others], **(settings or {}))
     rec.warmup()
     rec.background = False
     results = []
@@ -60,11 +75,11 @@ def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim
         if path.name.endswith("_labels.csv"):
             continue
         multi, segments = load_stream(path)
-        traj = multi.trackers[tracker]
+        traj = sensor(multi.trackers[tracker])
         rec.reset()
         events, _ = run_stream(rec, traj)
         results.append(match_events(events, segments, traj.t[-1] - traj.t[0]))
-    return combine(results), rec.learned_.rest_speed
+    return combine(results), rec.learned_.rest_speed, list(rec.learned_.unseen or [])
 
 
 def main(argv: list[str] | None = None) -> dict:
@@ -76,21 +91,30 @@ def main(argv: list[str] | None = None) -> dict:
     ap.add_argument("--tracker", type=int, default=0, help="0: right controller, 1: left")
     ap.add_argument("--trim", type=float, default=0.0,
                     help="cut each model recording where its speed stays below this share of its peak")
+    ap.add_argument("--no-orientation", action="store_true",
+                    help="replace every quaternion by the identity (a position-only sensor)")
+    ap.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=JSON",
+                    help="a recognizer setting by name (repeatable)")
     ap.add_argument("--out", type=Path, default=None, help="write the results as JSON here")
     args = ap.parse_args(argv)
+    settings = {k: json.loads(v) for k, v in (s.split("=", 1) for s in args.sets)}
 
     recordings = load_people(args.models)
     people = (sorted({r.person for r in recordings}) if args.people == "all"
               else args.people.split(","))
-    folds = {p: person_fold(p, recordings, args.streams, args.tracker, args.trim)
+    folds = {p: person_fold(p, recordings, args.streams, args.tracker, args.trim,
+                            args.no_orientation, settings)
              for p in tqdm(people, desc="people")}
-    rows = {p: {**res.summary(), "rest_speed": rest} for p, (res, rest) in folds.items()}
-    rows["all"] = combine([res for res, _ in folds.values()]).summary()
+    rows = {p: {**res.summary(), "rest_speed": rest, "unseen": unseen}
+            for p, (res, rest, unseen) in folds.items()}
+    rows["all"] = combine([res for res, _, _ in folds.values()]).summary()
     for p, f in rows.items():
         level = f"  rest level {f['rest_speed']:.3f} m/s" if "rest_speed" in f else ""
+        unseen = f"  not followed: {', '.join(f['unseen'])}" if f.get("unseen") else ""
         print(f"{p}: TP {f['tp']} FP {f['fp']} FN {f['fn']}  F1 {f['f1']:.3f}  "
-              f"FP/min {f['fp_per_minute']:.2f}{level}")
-    out = {"tracker": args.tracker, "trim": args.trim,
+              f"FP/min {f['fp_per_minute']:.2f}{level}{unseen}")
+    out = {"tracker": args.tracker, "trim": args.trim, "positions_only": args.no_orientation,
+           "settings": settings,
            "people": {p: f for p, f in rows.items() if p != "all"}, "all": rows["all"]}
     if args.out:
         args.out.write_text(json.dumps(out, indent=1))

@@ -218,7 +218,7 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
     """
     from ..library.store import enroll, load_library
     from ..online.learned import split_settings
-    from ..online.model_settings import rest_advice
+    from ..online.model_settings import rest_advice, unseen_advice
 
     if out is None:
         if len(sources) != 1 or not Path(sources[0]).is_dir():
@@ -254,9 +254,10 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
     lib = enroll(takes, config, built_from=[str(Path(s).resolve()) for s in sources], **given)
     path = lib.save(out)
     click.echo(lib.summary())
-    advice = None if "rest_speed" in given else rest_advice(takes.takes, config)
-    if advice is not None:
-        click.echo(f"note: {advice}", err=True)
+    for advice in (None if "rest_speed" in given else rest_advice(takes.takes, config),
+                   unseen_advice(lib.learned_settings().unseen)):
+        if advice is not None:
+            click.echo(f"note: {advice}", err=True)
     click.echo(f"wrote {path} ({time.perf_counter() - t0:.1f} s). Next: framefree check {path}; "
                f"framefree live --models {path} --source zmq://127.0.0.1:5556", err=True)
 
@@ -307,6 +308,12 @@ def check_cmd(library: str, context: str | None, out: str, seed: int, invariance
     settings = CheckSettings(seed=seed)
     report = check_takes(takes, config, settings, progress=True)
     click.echo(report.format())
+    if not lib_path.is_dir():
+        from ..online.model_settings import unseen_advice
+
+        advice = unseen_advice(lib.learned_settings().unseen)
+        if advice is not None:
+            click.echo(f"note: {advice}")
     stem = lib_path.stem
     files = {
         "report": out_dir / f"{stem}_check.json",

@@ -143,11 +143,12 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
         err=True,
     )
     if method == "segments":
-        from ..online.model_settings import rest_advice
+        from ..online.model_settings import rest_advice, unseen_advice
 
-        advice = rest_advice(found.trajectories, rec.config)
-        if advice is not None:
-            click.echo(f"note: {advice}", err=True)
+        for advice in (rest_advice(found.trajectories, rec.config),
+                       unseen_advice(rec.learned_.unseen)):
+            if advice is not None:
+                click.echo(f"note: {advice}", err=True)
     return rec
 
 

@@ -414,6 +414,8 @@ class GestureLibrary(StoredSettings):
                 line += f"  in one go (rests ≤ {config.constants.min_pause:.2g} s at a corner)"
             if g in vertical:
                 line += f"  vertical {vertical[g][0]:.2f}–{vertical[g][1]:.2f}"
+            if g in (learned.unseen or []):
+                line += "  never fires (most takes do not move this tracker)"
             lines.append(line)
         return "\n".join(lines)
 

@@ -93,7 +93,7 @@ _CASTS: dict[str, Callable[[Any], Any]] = {
     "travel_limits": _per_gesture(float),
     "corner_limits": _per_gesture(int), "forbidden_turns": _per_gesture(int),
     "vertical_limits": _per_gesture(tuple), "gesture_thresholds": _per_gesture(float),
-    "stop_threshold": float,
+    "unseen": lambda v: [str(g) for g in v], "stop_threshold": float,
 }
 
 
@@ -138,6 +138,11 @@ class LearnedSettings:
         Smallest and largest verticality per gesture (only with ``RecognizerConfig.up``).
     gesture_thresholds : dict of str to float
         Decision threshold τ_g per gesture [DTW distance].
+    unseen : list of str
+        The gestures the tracker does not follow, which never fire: most of their takes give
+        no candidate of themselves, as when another limb performs them
+        (:func:`~framefree.online.thresholds.unseen_gestures`). A library saved before v20
+        gets them from its takes when it is loaded.
     stop_threshold : float
         The stop detector's threshold on the windowed angular speed [rad/s].
     provenance : Provenance
@@ -160,6 +165,7 @@ class LearnedSettings:
     forbidden_turns: dict[str, int] | None = None
     vertical_limits: dict[str, tuple[float, float]] | None = None
     gesture_thresholds: dict[str, float] | None = None
+    unseen: list[str] | None = None
     stop_threshold: float | None = None
     provenance: Provenance = field(default_factory=Provenance)
 

@@ -44,11 +44,17 @@ from .limits import (
 from .segmentation import SpeedLevels, restless_takes, speed_levels
 from .spotting import SegmentClassifier, Spotter
 from .stop import sustained_peak_speed
-from .thresholds import SegmentThresholds, calibrate_segment_thresholds, reach_down
+from .thresholds import (
+    SegmentThresholds,
+    calibrate_segment_thresholds,
+    reach_down,
+    take_scores,
+    unseen_gestures,
+)
 from .vertical import up_vector, vertical_limits
 
 __all__ = ["LearnedDraft", "make_spotter", "model_window_spacing", "resolve_learned",
-           "rest_advice", "segment_descriptor", "stop_threshold_rule"]
+           "rest_advice", "segment_descriptor", "stop_threshold_rule", "unseen_advice"]
 
 
 def segment_descriptor(config: RecognizerConfig, spacing: int | None = None) -> Descriptor:
@@ -150,6 +156,15 @@ def resolve_learned(
     return draft.settings(len(trajectories), digest), calibration
 
 
+def unseen_advice(unseen: Sequence[str] | None) -> str | None:
+    """One line naming the gestures the tracker does not follow (``LearnedSettings.unseen``),
+    which never fire, or ``None`` when there are none."""
+    if not unseen:
+        return None
+    return (f"{', '.join(unseen)} will never fire: most of the takes do not move this tracker "
+            "enough to be found (another limb performs it? enroll the tracker that does)")
+
+
 def rest_advice(trajectories: Sequence[Trajectory], config: RecognizerConfig) -> str | None:
     """One line of advice when most takes hold no rest before or after the gesture
     (:func:`~framefree.online.segmentation.restless_takes`), else ``None``: the rest level is
@@ -242,17 +257,24 @@ def _thresholds(trajectories: Sequence[Trajectory], labels: Sequence[str],
                    gesture_thresholds=dict.fromkeys(gestures, config.threshold))
     if config.gesture_thresholds is not None:
         draft.fill(f"{GIVEN}: gesture_thresholds", gesture_thresholds=config.gesture_thresholds)
-    if not draft.missing("gesture_thresholds"):
-        return None
     k = config.constants
     spotter = make_spotter(classifier, np.ones(len(labels)), config,
                            draft.settings(), list(labels))
+    if not draft.missing("gesture_thresholds"):
+        if draft.missing("unseen"):
+            scores = take_scores(trajectories, labels, classifier, levels, spotter,
+                                 config.descriptor.L)
+            draft.fill(unseen_gestures, unseen=unseen_gestures(scores, k.seen_fraction))
+        return None
     calibration = calibrate_segment_thresholds(
         trajectories, labels, classifier, levels, spotter, config.descriptor.L,
         k.negative_quantile, k.threshold_position, gated=k.gated_negatives,
         rivals=k.rival_negatives, drawn=k.drawn_negatives,
         reach=k.size_reach / k.size_factor if config.size and sizes_derived else 1.0)
     draft.fill(calibrate_segment_thresholds, gesture_thresholds=calibration.thresholds)
+    if draft.missing("unseen"):
+        draft.fill(unseen_gestures,
+                   unseen=unseen_gestures(calibration.positives, k.seen_fraction))
     if calibration.smallest_sizes:
         sizes = draft.values["size_limits"]
         draft.values["size_limits"] = {g: (calibration.smallest_sizes.get(g, lo), hi)
@@ -282,6 +304,7 @@ def make_spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray,
         turns = np.array([s.forbidden_turns.get(g, 0) for g in labels], dtype=np.int64)
     if c.gesture_pauses and s.one_go is not None:
         one_go = np.array([g in s.one_go for g in labels])
+    unseen = None if not s.unseen else np.array([g in s.unseen for g in labels])
     up = vertical = None
     if c.up is not None and s.vertical_limits is not None:
         up = up_vector(c.up)
@@ -291,4 +314,4 @@ def make_spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray,
                    math.inf if s.pause_ratio is None else s.pause_ratio, k.min_pause,
                    k.return_error if c.closure else 0.0, openings, k.fire_on_motion,
                    k.rest_before, corners, k.corner_angle, turns, up, vertical, one_go,
-                   travels, c.descriptor.presmooth, labels)
+                   travels, c.descriptor.presmooth, labels, unseen)

@@ -183,6 +183,11 @@ class Spotter:
         on into a longer candidate of the same gesture that contains it and fits worse: the
         gesture ended where the pending candidate ends (default: each longer candidate replaces
         it, see :meth:`on_unit`).
+    unseen : ndarray of bool, shape (M,), optional
+        Whether each model's gesture is one the tracker does not follow
+        (:func:`~framefree.online.thresholds.unseen_gestures`): no candidate is accepted as it,
+        and a candidate nearest it is refused rather than given to another gesture (default:
+        none).
     """
 
     def __init__(
@@ -213,9 +218,12 @@ class Spotter:
         travel_limits: np.ndarray | None = None,
         presmooth: int = 5,
         model_gestures: Sequence[str] | None = None,
+        unseen: np.ndarray | None = None,
     ) -> None:
         self.classifier = classifier
         n_models = len(classifier.models)
+        self.unseen = (np.zeros(n_models, dtype=bool) if unseen is None
+                       else np.asarray(unseen, dtype=bool).reshape(n_models))
         #: index of each model's gesture (M,), or None (every model a gesture of its own)
         self.model_gestures = (None if model_gestures is None else
                                np.unique(np.asarray(model_gestures), return_inverse=True)[1]
@@ -364,8 +372,9 @@ class Spotter:
         or ending within :attr:`return_error` of their start (closure × size), with no more
         corners than its corner limit, no turn its gesture never makes, a rest at a corner of
         at most ``min_pause`` if it is drawn in one go (:attr:`one_go`), travelling at least its
-        travel limit (travels (n,) [m]; ``inf``: not measured, passes) and, where a vertical is
-        known, within its verticality range (NaN: unknown, passes)."""
+        travel limit (travels (n,) [m]; ``inf``: not measured, passes), where a vertical is
+        known, within its verticality range (NaN: unknown, passes), and not a gesture the
+        tracker does not follow (:attr:`unseen`)."""
         return self._admits(j, np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float),
                             np.asarray(corners, dtype=float), np.asarray(turns, dtype=np.int64),
                             np.asarray(vertical, dtype=float), np.asarray(pauses, dtype=float),
@@ -393,6 +402,7 @@ class Spotter:
             "turns": (np.asarray(turns, dtype=np.int64) & self.forbidden_turns[j]) == 0,
             "vertical": ~((vertical < v_lo) | (vertical > v_hi)),  # NaN: no vertical known
             "one go": ~(self.one_go[j] & (pauses > self.min_pause)),
+            "unseen": ~self.unseen[j],
         }
 
     def refusals(self, candidate: Candidate) -> list[str]:

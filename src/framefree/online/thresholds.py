@@ -50,6 +50,8 @@ __all__ = [
     "calibrate_segment_thresholds",
     "reach_down",
     "segment_distances",
+    "take_scores",
+    "unseen_gestures",
 ]
 
 
@@ -203,7 +205,28 @@ def _quantile(values: list[float], q: float) -> float:
 ONE_TAKE_SIZE = 1.3
 
 
-def _positive_scores(
+def unseen_gestures(positives: dict[str, list[float]], fraction: float = 0.5) -> list[str]:
+    """The gestures the tracker does not follow: at most ``fraction`` of their takes have a
+    finite leave-one-out score (``positives``, :func:`take_scores`), i.e. no more than that
+    share of their takes gives the spotter a candidate it admits as themselves.
+
+    A gesture another limb performs is such a gesture: the hand holding the tracker barely moves
+    in its takes, so their motion is no shape (real Machete sessions, one controller: the right
+    controller's *hook left* has 7 findable takes of 25, every gesture its hand performs all 25).
+    Its threshold would rest on the few takes that happen to move, and idle motion of the hand
+    would fire it; the recognizer keeps its models, so motion nearest them is refused rather
+    than given to another gesture, but never fires it. With ``fraction`` 0 only a gesture none
+    of whose takes can be found is not followed.
+    """
+    out = []
+    for g, scores in positives.items():
+        found = np.isfinite(np.asarray(scores, dtype=float))
+        if found.size and found.mean() <= fraction:
+            out.append(g)
+    return out
+
+
+def take_scores(
     trajectories: Sequence[Trajectory],
     labels: Sequence[str],
     classifier: SegmentClassifier,
@@ -289,7 +312,7 @@ def calibrate_segment_thresholds(
     admissible = spotter.admissible
 
     first = {g: int(np.flatnonzero(labels_arr == g)[0]) for g in gestures}
-    positives = _positive_scores(trajectories, labels, classifier, levels, spotter, L)
+    positives = take_scores(trajectories, labels, classifier, levels, spotter, L)
     episodes: dict[str, list[float]] = {g: [] for g in gestures}
     kinds = ("rest", "moves", "drawn") if drawn else ("rest", "moves")
     records = []  # every episode's candidates, for the size reach
