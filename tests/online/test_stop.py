@@ -214,3 +214,39 @@ def test_sustained_strokes_are_no_stop_under_small_jitter(amp, dur, seed):
     peak = float(np.nanmax(windowed_angular_speeds(t, q)))
     assert StopDetector(threshold=0.9 * peak, confirm=0.0).run(zip(t, q, strict=True))
     assert StopDetector(threshold=0.9 * peak, confirm=0.3).run(zip(t, q, strict=True)) == []
+
+
+def test_no_stop_fires_while_a_relocation_settles():
+    a = math.radians(65)
+    t, q = strokes([a, -2 * a, a], [0.25, 0.4, 0.25])  # a quick shake: a stop
+    det = _detector(0.3)
+    det.settle(t[0] - 0.5)  # the tracker jumped half a second before
+    assert det.run(zip(t, q, strict=True)) == []
+    det = _detector(0.3)
+    det.settle(t[0] - det.refractory - 0.01)  # long enough before
+    assert len(det.run(zip(t, q, strict=True))) == 1
+
+
+def test_an_orientation_flip_of_hand_tracking_is_no_stop(model_set):
+    """A hand tracker at 20 Hz flips the palm's orientation by 140 degrees for two frames and
+    turns it back over three (as in a real SFINGE3D sequence): the gate takes the flip for a
+    relocation, and the fast turn back does not fire a stop."""
+    from framefree.online import Recognizer
+
+    trajs, labels = model_set
+    rec = Recognizer.from_trajectories(trajs, labels, stop_threshold=8.0)
+    rec.background = False
+    t = np.arange(0.0, 4.0, 0.05)
+    p = np.column_stack([0.3 + 0.01 * np.sin(t), 0.2 + 0 * t, 0.4 + 0 * t])
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1))
+    k = int(np.searchsorted(t, 2.0))
+    angles = [2.45, 2.3, 1.0, 0.35]  # about x: out in one frame, back over three
+    for j, angle in enumerate(angles):
+        q[k + j] = [math.cos(angle / 2), math.sin(angle / 2), 0.0, 0.0]
+    events = []
+    for tt, pp, qq in zip(t, p, q, strict=True):
+        events += rec.push(tt, pp, qq)
+    assert rec.gate.stats["relocations"] == 1
+    assert [e for e in events if e.is_stop] == []
+    speeds = windowed_angular_speeds(t[k + 1:], q[k + 1:])
+    assert np.nanmax(speeds) > 8.0  # the turn back alone is faster than the threshold

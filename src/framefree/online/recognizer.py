@@ -6,7 +6,8 @@ Per pose sample ``(t, p, q)``, four small stages:
    and glitched samples are dropped, quaternion signs made continuous, dropouts up to
    ``max_bridge`` seconds bridged by ScLERP, longer gaps and relocations restart the stream;
 2. **stop detection** (:class:`~framefree.online.stop.StopDetector`): windowed angular speed; a
-   stop fires first and nothing that overlaps the fast rotation can become a gesture;
+   stop fires first and nothing that overlaps the fast rotation can become a gesture; for
+   ``stop_refractory`` seconds after a relocation no stop fires (a tracking error settling);
 3. **segmentation** (:mod:`~framefree.online.segmentation`): the samples are put on the uniform
    50 Hz grid and cut into movement units at rests and speed minima;
 4. **classification and decision** (:mod:`~framefree.online.spotting`): every candidate segment
@@ -344,10 +345,13 @@ class Recognizer(StreamingRecognizer):
             Stop events and gesture events, in time order.
         """
         self.observations = []
+        relocations = self.gate.stats["relocations"]
         accepted = self.gate.push(t, p, q)
         if accepted.restarted:
             self._counts["restarts"] += 1
             self._restart()
+            if self.gate.stats["relocations"] > relocations:  # the tracker's pose jumped
+                self.stop.settle(t)
         events: list[Event] = []
         for ts, ps, qs in accepted.samples:
             events.extend(self._on_sample(ts, ps, qs))

@@ -183,6 +183,7 @@ class StopDetector:
         self.window = self._speed.window
         self.armed = True
         self._fired_at = -math.inf
+        self._settle_until = -math.inf
         self.reset()
 
     def reset(self) -> None:
@@ -203,6 +204,14 @@ class StopDetector:
         self.reset()
         self.armed = True
         self._fired_at = -math.inf
+        self._settle_until = -math.inf
+
+    def settle(self, t: float) -> None:
+        """The tracker's pose jumped at ``t`` [s] (a relocation): fire no stop for ``refractory``
+        seconds. A tracking error that flips the orientation and recovers turns the reported
+        hand faster than it can turn (real hand tracking, SFINGE3D: 49 rad/s for one frame,
+        then 15-17 rad/s back), which is no stop signal."""
+        self._settle_until = float(t) + self.refractory
 
     @property
     def active(self) -> bool:
@@ -254,7 +263,7 @@ class StopDetector:
             return False
         if self._run_start is None:
             self._run_start = t
-        quiet = t - self._fired_at < self.refractory
+        quiet = t - self._fired_at < self.refractory or t < self._settle_until
         if (self.armed and not self._vetoed and not quiet
                 and t - self._run_start >= self.min_duration):
             if self.confirm == 0.0 or speed >= self.instant * self.threshold:
