@@ -69,3 +69,25 @@ def test_an_unseen_gesture_never_fires_even_below_its_threshold(right):
         assert rec.learned_.unseen == (["hook_left"] if fraction else [])
     assert fired[0.5] == []
     assert "hook_left" in fired[0.0]  # the same takes fire it once the rule is off
+
+
+def test_enroll_and_check_name_the_gestures_the_tracker_does_not_follow(right, tmp_path):
+    from click.testing import CliRunner
+
+    from framefree.cli import cli
+
+    trajs, labels = right
+    count: dict[str, int] = {}
+    for traj, g in zip(trajs, labels, strict=True):
+        count[g] = count.get(g, 0) + 1
+        folder = tmp_path / "takes" / g / "right"
+        folder.mkdir(parents=True, exist_ok=True)
+        traj.to_csv(folder / f"trial_{count[g]}.csv")
+    lib = tmp_path / "right.npz"
+    res = CliRunner().invoke(cli, ["enroll", str(tmp_path / "takes"), "-o", str(lib)])
+    assert res.exit_code == 0, res.output
+    assert "note: hook_left will never fire" in res.output
+    hook = next(line for line in res.output.splitlines() if line.strip().startswith("hook_left"))
+    assert "never fires" in hook
+    res = CliRunner().invoke(cli, ["check", str(lib), "--out", str(tmp_path / "report")])
+    assert "note: hook_left will never fire" in res.output
