@@ -18,13 +18,16 @@ cut without rests*).
 ``--no-orientation`` replaces every quaternion, of the models and of the streams, by the identity:
 a sensor that tracks positions only, as skeleton trackers do (docs/online-history.md, *A sensor
 without orientation*). ``--set NAME=JSON`` passes a recognizer setting by name (e.g.
-``--set seen_fraction=0`` for the recognizer before v20).
+``--set seen_fraction=0`` for the recognizer before v20). ``--explain`` prints why each gesture
+was missed and what each false positive was (``framefree evaluate-stream --explain``'s diagnosis),
+counted by gesture over the people.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -34,7 +37,8 @@ from framefree.core.trajectory import Trajectory
 from framefree.datasets.people_layout import load_people
 from framefree.datasets.stream_files import load_stream
 from framefree.online import Recognizer
-from framefree.online.evaluation import StreamResult, combine, match_events, run_stream
+from framefree.online.diagnosis import explain_stream
+from framefree.online.evaluation import StreamResult, combine
 
 REPO = Path(__file__).resolve().parent.parent
 DATA = REPO.parent / "shared" / "data"
@@ -60,9 +64,11 @@ def without_orientation(traj: Trajectory) -> Trajectory:
 
 def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim: float,
                 positions_only: bool = False, settings: dict | None = None
-                ) -> tuple[StreamResult, float, list[str]]:
+                ) -> tuple[StreamResult, float, list[str], dict[str, list]]:
     """Counts for one held-out person (models from everyone else, that person's sessions), the
-    rest level [m/s] learned from those models and the gestures the tracker does not follow."""
+    rest level [m/s] learned from those models, the gestures the tracker does not follow, and
+    why each gesture was missed and what each false positive was
+    (:func:`~framefree.online.diagnosis.explain_stream`, over all the sessions)."""
     others = [r for r in recordings if r.person != person]
     sensor = without_orientation if positions_only else (lambda traj: traj)
     rec = Recognizer.from_trajectories([sensor(trimmed(r.sample.trackers[tracker], trim))
@@ -70,16 +76,30 @@ def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim
                                        [r.gesture for r in others], **(settings or {}))
     rec.warmup()
     rec.background = False
-    results = []
+    results, why = [], {"missed": [], "false_positives": []}
     for path in sorted(streams.glob(f"{person}_s*.csv")):
         if path.name.endswith("_labels.csv"):
             continue
         multi, segments = load_stream(path)
         traj = sensor(multi.trackers[tracker])
         rec.reset()
-        events, _ = run_stream(rec, traj)
-        results.append(match_events(events, segments, traj.t[-1] - traj.t[0]))
-    return combine(results), rec.learned_.rest_speed, list(rec.learned_.unseen or [])
+        res, explained = explain_stream(rec, traj, segments)
+        results.append(res)
+        for key in why:
+            why[key] += explained[key]
+    return combine(results), rec.learned_.rest_speed, list(rec.learned_.unseen or []), why
+
+
+def print_reasons(why: dict[str, list]) -> None:
+    """Misses by reason and gesture, and false positives by gesture and what they overlap."""
+    missed = Counter((m["label"], m["reason"]) for m in why["missed"])
+    print("misses by reason:", dict(Counter(m["reason"] for m in why["missed"]).most_common()))
+    for (label, reason), n in sorted(missed.items()):
+        print(f"  {label:<24} {reason:<22} {n}")
+    fps = Counter((f["label"], ", ".join(f.get("overlaps") or []) or "-")
+                  for f in why["false_positives"])
+    for (label, during), n in sorted(fps.items()):
+        print(f"  false {label:<18} during {during:<24} {n}")
 
 
 def main(argv: list[str] | None = None) -> dict:
@@ -95,6 +115,8 @@ def main(argv: list[str] | None = None) -> dict:
                     help="replace every quaternion by the identity (a position-only sensor)")
     ap.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=JSON",
                     help="a recognizer setting by name (repeatable)")
+    ap.add_argument("--explain", action="store_true",
+                    help="print why each gesture was missed and what each false positive was")
     ap.add_argument("--out", type=Path, default=None, help="write the results as JSON here")
     args = ap.parse_args(argv)
     settings = {k: json.loads(v) for k, v in (s.split("=", 1) for s in args.sets)}
@@ -106,15 +128,21 @@ def main(argv: list[str] | None = None) -> dict:
                             args.no_orientation, settings)
              for p in tqdm(people, desc="people")}
     rows = {p: {**res.summary(), "rest_speed": rest, "unseen": unseen}
-            for p, (res, rest, unseen) in folds.items()}
-    rows["all"] = combine([res for res, _, _ in folds.values()]).summary()
+            for p, (res, rest, unseen, _) in folds.items()}
+    rows["all"] = combine([res for res, *_ in folds.values()]).summary()
+    why = {key: [x for *_, w in folds.values() for x in w[key]]
+           for key in ("missed", "false_positives")}
     for p, f in rows.items():
         level = f"  rest level {f['rest_speed']:.3f} m/s" if "rest_speed" in f else ""
         unseen = f"  not followed: {', '.join(f['unseen'])}" if f.get("unseen") else ""
         print(f"{p}: TP {f['tp']} FP {f['fp']} FN {f['fn']}  F1 {f['f1']:.3f}  "
               f"FP/min {f['fp_per_minute']:.2f}{level}{unseen}")
+    if args.explain:
+        print_reasons(why)
     out = {"tracker": args.tracker, "trim": args.trim, "positions_only": args.no_orientation,
            "settings": settings,
+           "misses_by_reason": dict(Counter(m["reason"] for m in why["missed"])),
+           "false_positives": dict(Counter(f["label"] for f in why["false_positives"])),
            "people": {p: f for p, f in rows.items() if p != "all"}, "all": rows["all"]}
     if args.out:
         args.out.write_text(json.dumps(out, indent=1))

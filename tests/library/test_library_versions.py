@@ -55,8 +55,10 @@ def test_a_format_3_library_loads_with_what_enrolling_again_learns(old, enrolled
     assert meta["format_version"] == 3 and len(meta["config"]) == 69
     assert old.recognizer_config() == enrolled_again.recognizer_config()
     stored, learned = old.learned_settings().values(), enrolled_again.learned_settings().values()
-    assert stored.pop("travel_limits") is None  # newer than format 3: learned when it is loaded
+    for newer in ("travel_limits", "unseen"):  # newer than format 3: learned when it is loaded
+        assert stored.pop(newer) is None
     learned.pop("travel_limits")
+    assert learned.pop("unseen") == []  # the replica's takes are all found
     assert stored == learned
     assert old.gesture_thresholds == meta["gesture_thresholds"]
     provenance = old.learned_settings().provenance
@@ -105,7 +107,8 @@ def test_a_format_3_library_without_turn_limits_learns_them_on_loading(tmp_path)
     rec = Recognizer.load(older)
     assert rec.learned_.forbidden_turns == Recognizer.load(V3).learned_.forbidden_turns
     assert rec.learned_.provenance.rules["forbidden_turns"].endswith("limits.forbidden_turns")
-    assert "forbidden_turns, travel_limits learned on loading" in rec.learned_.provenance.note
+    assert "forbidden_turns, unseen, travel_limits learned on loading" in rec.learned_.provenance.note
+    assert rec.learned_.unseen == []
 
 
 @pytest.mark.parametrize("change, why", [
