@@ -20,7 +20,8 @@ demo: $(STAMP)
 	$(BIN)/framefree demo
 
 test: $(STAMP)
-	$(BIN)/python -m pytest -n 2
+	$(BIN)/python -m pytest -n 2 -m "not realtime"
+	$(BIN)/python -m pytest -m realtime
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks

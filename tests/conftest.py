@@ -13,6 +13,11 @@ from real_data import REAL_MOTIONS
 settings.register_profile("framefree", deadline=None, max_examples=25, derandomize=True)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "framefree"))
 
+
+def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line("markers", "realtime: tests with a 1 kHz simulator thread; make test "
+                                       "runs them alone, after the others")
+
 REPO = Path(__file__).resolve().parents[1]
 
 
