@@ -31,6 +31,7 @@ from collections import Counter
 from pathlib import Path
 
 import numpy as np
+from online_people import _parse_set
 from tqdm import tqdm
 
 from framefree.core.trajectory import Trajectory
@@ -119,7 +120,7 @@ def main(argv: list[str] | None = None) -> dict:
                     help="print why each gesture was missed and what each false positive was")
     ap.add_argument("--out", type=Path, default=None, help="write the results as JSON here")
     args = ap.parse_args(argv)
-    settings = {k: json.loads(v) for k, v in (s.split("=", 1) for s in args.sets)}
+    settings = _parse_set(args.sets)
 
     recordings = load_people(args.models)
     people = (sorted({r.person for r in recordings}) if args.people == "all"

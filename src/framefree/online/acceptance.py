@@ -94,10 +94,13 @@ class Accepted:
     restarted : bool
         The stream restarted before these samples (a gap too long to bridge, a relocation or a
         clock reset): anything built on the previous samples should be discarded.
+    relocated : bool
+        The restart was a relocation: the tracker's pose jumped farther than a hand moves.
     """
 
     samples: list[Sample] = field(default_factory=list)
     restarted: bool = False
+    relocated: bool = False
 
 
 @dataclass
@@ -341,6 +344,7 @@ class SampleGate:
         last = self._last
         if self._held_far:
             self.stats["relocations"] += 1
+            out.relocated = True
             self._restart(out)
         elif last is not None and first.t - last.t <= self.max_bridge:
             self._bridge(out, last, first)

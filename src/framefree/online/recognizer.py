@@ -345,12 +345,11 @@ class Recognizer(StreamingRecognizer):
             Stop events and gesture events, in time order.
         """
         self.observations = []
-        relocations = self.gate.stats["relocations"]
         accepted = self.gate.push(t, p, q)
         if accepted.restarted:
             self._counts["restarts"] += 1
             self._restart()
-            if self.gate.stats["relocations"] > relocations:  # the tracker's pose jumped
+            if accepted.relocated:
                 self.stop.settle(t)
         events: list[Event] = []
         for ts, ps, qs in accepted.samples:
