@@ -50,6 +50,9 @@ class Candidate:
     travel : float
         How far the hand's position travels in it [m]
         (:func:`~framefree.online.span_shape.travel`).
+    returning : bool
+        Whether it is the way back after the gesture that fired last, as that gesture
+        (:mod:`~framefree.online.returns`): refused.
     """
 
     start: int
@@ -68,6 +71,7 @@ class Candidate:
     vertical: float = math.nan
     pause: float = 0.0
     travel: float = math.inf
+    returning: bool = False
 
 
 def candidate_spans(

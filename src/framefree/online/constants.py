@@ -137,6 +137,9 @@ class SpottingConstants(_Group):
         gesture ends in rest).
     rest_before : float
         Rest [s] the hand must have held before a candidate's first unit (0.2; 0: none).
+    returns : bool
+        Refuse the way back after a gesture as that gesture again
+        (:mod:`~framefree.online.returns`; True).
     negative_quantile : float
         Quantile of the non-gesture episodes' distances taken as a gesture's negative distance
         ``N_g`` (0.05).
@@ -199,6 +202,7 @@ class SpottingConstants(_Group):
     margin: int = 5
     fire_on_motion: bool = False
     rest_before: float = 0.2
+    returns: bool = True
     negative_quantile: float = 0.05
     gated_negatives: bool = True
     rival_negatives: bool = True

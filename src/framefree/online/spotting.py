@@ -33,6 +33,7 @@ from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor
 from ..errors import DegenerateMotionError
 from .candidate import Candidate, candidate_spans
+from .returns import ReturnGuard
 from .segmentation import PoseBuffer, Unit
 from .span_shape import closure, corner_count, corner_rest, travel, turn_kinds
 from .vertical import verticality
@@ -219,8 +220,11 @@ class Spotter:
         presmooth: int = 5,
         model_gestures: Sequence[str] | None = None,
         unseen: np.ndarray | None = None,
+        returns: bool = False,
     ) -> None:
         self.classifier = classifier
+        #: the way back after a fired gesture is refused as that gesture (None: not watched)
+        self.returns = ReturnGuard() if returns else None
         n_models = len(classifier.models)
         self.unseen = (np.zeros(n_models, dtype=bool) if unseen is None
                        else np.asarray(unseen, dtype=bool).reshape(n_models))
@@ -279,6 +283,8 @@ class Spotter:
         self.last_distances: np.ndarray | None = None
         #: (end time [s], distances (M,)) of every candidate classified since the owner cleared it
         self.evaluated: list[tuple[float, np.ndarray]] = []
+        if self.returns is not None:
+            self.returns.reset()
 
     def discard_before(self, index: int) -> None:
         """Drop the pending candidate and every unit that started before ``index`` (after a stop
@@ -322,10 +328,13 @@ class Spotter:
             ratio = float(d[j] / self.model_thresholds[j])
             ok = ratio < bar and bool(self.admissible(j, np.array([c]), np.array([size]),
                                                       corners, turns, v, pause, moved)[0])
+            back = (self.returns is not None
+                    and self.returns.is_return(self._gesture(j), first.start, inside))
+            ok = ok and not back
             if ok and self.tighten and not self.fire_on_motion:
                 bar = ratio
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
-                                 ratio, n, c, size, ok, corners, turns, v, pause, moved))
+                                 ratio, n, c, size, ok, corners, turns, v, pause, moved, back))
         return out
 
     def corners_and_turns(self, n: int) -> tuple[int, int]:
@@ -411,6 +420,7 @@ class Spotter:
         passes = self._limits(candidate.model, candidate.closure, candidate.size,
                               candidate.corners, candidate.turns, candidate.vertical,
                               candidate.pause, candidate.travel)
+        passes["return"] = not candidate.returning
         return [name for name, ok in passes.items() if not bool(ok)]
 
     def add_unit(self, unit: Unit) -> None:
@@ -418,6 +428,12 @@ class Spotter:
         self.units.append(unit)
         self.rests.append(unit.start_t - self._last_end_t)
         self._last_end_t = unit.end_t
+        if self.returns is not None:
+            self.returns.unit_started(unit.start)
+
+    def _gesture(self, model: int) -> int:
+        """Index of a model's gesture (the model itself where gestures are not known)."""
+        return model if self.model_gestures is None else int(self.model_gestures[model])
 
     def on_unit(self, unit: Unit, buffer: PoseBuffer) -> Candidate | None:
         """A unit ended: update the pending candidate; return a candidate to fire now, if any."""
@@ -465,6 +481,10 @@ class Spotter:
             fired = self.poll(t, resting)
         if fired is not None:
             self.discard_before(fired.end + 1)
+            if self.returns is not None:
+                _, poses = buffer.slice(fired.start, fired.end)
+                self.returns.fired(self._gesture(fired.model), fired.closure, poses, fired.end,
+                                   [u.start for u in self.units])
         return fired
 
     def poll(self, t: float, resting: bool) -> Candidate | None:
