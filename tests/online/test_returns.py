@@ -36,7 +36,7 @@ def _guard(closure: float = 0.9) -> ReturnGuard:
 
 
 def test_the_next_stroke_back_of_the_same_gesture_is_its_return():
-    assert _guard().is_return(0, 60, _line(40, B, A + [0.05, 0.02, 0.0]))
+    assert _guard().is_return(0, 60, _line(40, B, A + np.array([0.05, 0.02, 0.0])))
 
 
 @pytest.mark.parametrize("gesture, start, to", [
@@ -69,7 +69,7 @@ def test_the_return_does_not_depend_on_the_world_frame(a, b, shift):
     G = np.eye(4)
     G[:3, :3] = se3.rotation_from_vector(b * np.array([math.cos(a), math.sin(a), 0.5]) / math.hypot(1, 0.5))
     G[:3, 3] = [shift, 0.3 * shift, -shift]
-    for to, expected in ((A + [0.02, 0.05, 0.0], True), (B + (B - A), False)):
+    for to, expected in ((A + np.array([0.02, 0.05, 0.0]), True), (B + (B - A), False)):
         guard = ReturnGuard()
         guard.fired(0, 0.9, G @ _line(50, A, B), end=49, later_starts=[60])
         assert guard.is_return(0, 60, G @ _line(40, B, to)) is expected
