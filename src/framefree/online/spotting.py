@@ -189,6 +189,9 @@ class Spotter:
         (:func:`~framefree.online.thresholds.unseen_gestures`): no candidate is accepted as it,
         and a candidate nearest it is refused rather than given to another gesture (default:
         none).
+    returns : bool
+        Refuse the way back after a fired gesture as that gesture again
+        (:class:`~framefree.online.returns.ReturnGuard`; default: off).
     """
 
     def __init__(
