@@ -174,6 +174,9 @@ class SpottingConstants(_Group):
     size_factor, size_growth : float
         People make a gesture up to ``size_factor`` times smaller (1.5) and ``size_growth`` times
         larger (2.5) than the takes.
+    travel_percentile : float
+        The travel limit is this percentile of a gesture's takes' travel over the factor its size
+        range allows (:func:`~framefree.online.limits.travel_limit`; 10).
     size_reach : float
         Where nothing that is no gesture looks like a gesture at smaller sizes, its smallest size
         reaches down to this factor below the smallest take instead (2.0; 1: never).
@@ -217,6 +220,7 @@ class SpottingConstants(_Group):
     slack_corners: int | None = None
     vertical_margin: float = VERTICAL_MARGIN
     size_factor: float = 1.5
+    travel_percentile: float = 10.0
     size_growth: float = 2.5
     size_reach: float = 2.0
     stop_margin: float = 1.3
@@ -242,6 +246,8 @@ class SpottingConstants(_Group):
             raise ValueError(f"move_factor must be above 1 (a hysteresis), got {self.move_factor}")
         if self.margin < 0:
             raise ValueError(f"margin must not be negative, got {self.margin}")
+        if not 0 <= self.travel_percentile <= 100:
+            raise ValueError(f"travel_percentile must be in [0, 100], got {self.travel_percentile}")
         if self.corner_slack < 0:
             raise ValueError(f"corner_slack must not be negative, got {self.corner_slack}")
         if not 0 <= self.corner_angle <= 180:

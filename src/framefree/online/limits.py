@@ -156,14 +156,14 @@ def gesture_travels(
     return measure_gestures(trajectories, labels, levels, L, dt, lambda P: travel(P, presmooth))
 
 
-def travel_limit(travels: Sequence[float], factor: float) -> float:
-    """The shortest travel [m] accepted for a gesture whose recordings travel ``travels``: the
-    10th percentile of them (a small performance, robust to one take far smaller than the
+def travel_limit(travels: Sequence[float], factor: float, percentile: float = 10.0) -> float:
+    """The shortest travel [m] accepted for a gesture whose recordings travel ``travels``: their
+    ``percentile`` (a typical or small performance, robust to one take far smaller than the
     others) over ``factor``, how much smaller people make a gesture (``size_factor``). 0 (no
     limit) without recordings."""
     if len(travels) == 0:
         return 0.0
-    return float(np.percentile(np.asarray(travels, dtype=float), 10.0)) / factor
+    return float(np.percentile(np.asarray(travels, dtype=float), percentile)) / factor
 
 
 def size_limits(smallest: float, largest: float, factor: float, growth: float | None = None

@@ -239,7 +239,7 @@ def _travel_limits(trajectories: Sequence[Trajectory], labels: Sequence[str],
         smallest = sizes.get(g, (0.0, 0.0))[0]
         lowest = (draft.values["size_limits"] or {}).get(g, (0.0, np.inf))[0]
         factor = smallest / lowest if smallest > 0 and lowest > 0 else k.size_factor
-        limits[g] = travel_limit(travels.get(g, []), factor)
+        limits[g] = travel_limit(travels.get(g, []), factor, k.travel_percentile)
     draft.fill(travel_limit, travel_limits=limits)
 
 
