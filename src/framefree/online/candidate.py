@@ -53,6 +53,8 @@ class Candidate:
     returning : bool
         Whether it is the way back after the gesture that fired last, as that gesture
         (:mod:`~framefree.online.returns`): refused.
+    after_rest : bool
+        Whether it starts after a full rest (False: after a brief dip below the rest level).
     """
 
     start: int
@@ -72,6 +74,7 @@ class Candidate:
     pause: float = 0.0
     travel: float = math.inf
     returning: bool = False
+    after_rest: bool = True
 
 
 def candidate_spans(

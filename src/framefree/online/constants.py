@@ -140,6 +140,9 @@ class SpottingConstants(_Group):
     returns : bool
         Refuse the way back after a gesture as that gesture again
         (:mod:`~framefree.online.returns`; True).
+    brief_starts : bool
+        Also start candidates after a briefer rest, a dip below the rest level; a candidate
+        after a full rest wins over them, and they fire only once the hand rests (True).
     negative_quantile : float
         Quantile of the non-gesture episodes' distances taken as a gesture's negative distance
         ``N_g`` (0.05).
@@ -206,6 +209,7 @@ class SpottingConstants(_Group):
     fire_on_motion: bool = False
     rest_before: float = 0.2
     returns: bool = True
+    brief_starts: bool = True
     negative_quantile: float = 0.05
     gated_negatives: bool = True
     rival_negatives: bool = True

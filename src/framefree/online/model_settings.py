@@ -314,4 +314,4 @@ def make_spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray,
                    math.inf if s.pause_ratio is None else s.pause_ratio, k.min_pause,
                    k.return_error if c.closure else 0.0, openings, k.fire_on_motion,
                    k.rest_before, corners, k.corner_angle, turns, up, vertical, one_go,
-                   travels, c.descriptor.presmooth, labels, unseen, k.returns)
+                   travels, c.descriptor.presmooth, labels, unseen, k.returns, k.brief_starts)

@@ -192,6 +192,11 @@ class Spotter:
     returns : bool
         Refuse the way back after a fired gesture as that gesture again
         (:class:`~framefree.online.returns.ReturnGuard`; default: off).
+    brief_starts : bool
+        Also start candidates after a rest shorter than ``rest_before`` (the speed dipped below
+        the rest level): they are accepted only where no candidate after a full rest is, and
+        fire only after the hand rests (``confirm``), never after ``max_wait`` alone (default:
+        off).
     """
 
     def __init__(
@@ -224,6 +229,7 @@ class Spotter:
         model_gestures: Sequence[str] | None = None,
         unseen: np.ndarray | None = None,
         returns: bool = False,
+        brief_starts: bool = False,
     ) -> None:
         self.classifier = classifier
         #: the way back after a fired gesture is refused as that gesture (None: not watched)
@@ -253,6 +259,7 @@ class Spotter:
         self.tighten = True
         self.fire_on_motion = bool(fire_on_motion)
         self.rest_before = float(rest_before)
+        self.brief_starts = bool(brief_starts)
         self.return_error = float(return_error)
         self.opening_limits = (np.zeros(len(classifier.models)) if opening_limits is None
                                else np.asarray(opening_limits, dtype=np.float64))
@@ -305,14 +312,18 @@ class Spotter:
         accepted candidate), only the best accepted one of them matters: once one is accepted with
         ratio ρ, a later one is accepted only below ρ (a tie goes to the earlier one, as
         ``min`` does), so its search may stop as soon as it cannot beat ρ. The candidate chosen
-        is the one the full search chooses."""
+        is the one the full search chooses. Candidates that start after a full rest and those
+        that start after a brief dip below the rest level (``brief_starts``) are two tiers, each
+        with its own ρ: any accepted one of the first wins over the second (:meth:`on_unit`)."""
         out: list[Candidate] = []
-        bar = 1.0  # ratio a candidate must stay below to be accepted
+        bar = brief_bar = 1.0  # ratio a candidate must stay below to be accepted
         last = self.units[-1]
         after = max(self.consumed, buffer.oldest + self.margin - 1)
         for first, n in candidate_spans(list(self.units), self.max_units, self.max_duration,
                                         self.max_pause, after, self.pause_ratio, self.min_pause):
-            if self.rests[len(self.units) - n] < self.rest_before:
+            rest = self.rests[len(self.units) - n]
+            full = rest >= self.rest_before
+            if not (full or (self.brief_starts and rest > 0.0)):
                 continue  # it starts in the middle of a motion
             lo_index = max(first.start - self.margin, buffer.oldest)
             times, poses = buffer.slice(lo_index, last.end + self.margin)
@@ -324,20 +335,22 @@ class Spotter:
             v = math.nan if self.up is None else verticality(inside, self.up)
             pause = corner_rest(list(self.units)[len(self.units) - n:], self.corner_angle)
             moved = travel(inside, self.presmooth) if self.travel_limits.any() else math.inf
-            d, size = self._classify(times, poses, c, bar, corners, turns, v, pause, moved)
+            tier = bar if full else brief_bar
+            d, size = self._classify(times, poses, c, tier, corners, turns, v, pause, moved)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
             ratio = float(d[j] / self.model_thresholds[j])
-            ok = ratio < bar and bool(self.admissible(j, np.array([c]), np.array([size]),
-                                                      corners, turns, v, pause, moved)[0])
+            ok = ratio < tier and bool(self.admissible(j, np.array([c]), np.array([size]),
+                                                       corners, turns, v, pause, moved)[0])
             back = (self.returns is not None
                     and self.returns.is_return(self._gesture(j), first.start, inside))
             ok = ok and not back
             if ok and self.tighten and not self.fire_on_motion:
-                bar = ratio
+                bar, brief_bar = (ratio, brief_bar) if full else (bar, ratio)
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
-                                 ratio, n, c, size, ok, corners, turns, v, pause, moved, back))
+                                 ratio, n, c, size, ok, corners, turns, v, pause, moved, back,
+                                 full))
         return out
 
     def corners_and_turns(self, n: int) -> tuple[int, int]:
@@ -445,7 +458,9 @@ class Spotter:
         if self.log is not None:
             self.log.extend(classified)
         accepted = [c for c in classified if c.accepted]
-        best = min(accepted, key=lambda c: c.ratio, default=None)
+        # a candidate after a full rest wins over one after a brief dip
+        best = min([c for c in accepted if c.after_rest] or accepted, key=lambda c: c.ratio,
+                   default=None)
         pend = self.pending
         if pend is None:
             self.pending = best
@@ -496,7 +511,7 @@ class Spotter:
         if pend is None:
             return None
         waited = t - pend.end_t
-        if (resting and waited >= self.confirm) or waited >= self.max_wait:
+        if (resting and waited >= self.confirm) or (waited >= self.max_wait and pend.after_rest):
             self.pending = None
             return pend
         return None
