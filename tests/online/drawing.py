@@ -86,3 +86,13 @@ def drawn_takes(points: np.ndarray, n: int, rng: np.random.Generator) -> list[Tr
                             stroke_s=rng.uniform(0.5, 0.7))
         out.append(Trajectory.from_poses(DT * np.arange(P.shape[0]), tracker_poses(P, np.eye(4))))
     return out
+
+
+def swipe_and_circle_takes(seed: int, swipe: np.ndarray) -> tuple[list[Trajectory], list[str]]:
+    """Six takes of a straight swipe from ``swipe[0]`` to ``swipe[1]`` (2, 3) and six of a circle,
+    each with a second of rest before and after, and their labels."""
+    takes = drawn_takes(swipe, 6, np.random.default_rng(seed))
+    for k in range(6):
+        P = circle_positions(radius=0.1 + 0.01 * k, duration=1.8 + 0.1 * k)
+        takes.append(Trajectory.from_poses(DT * np.arange(len(P)), tracker_poses(P, np.eye(4))))
+    return takes, ["swipe"] * 6 + ["circle"] * 6

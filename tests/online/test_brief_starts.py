@@ -10,7 +10,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from drawing import DT, circle_positions, drawn_takes, min_jerk, tracker_poses
+from drawing import DT, circle_positions, min_jerk, swipe_and_circle_takes
 
 from framefree.core.trajectory import Trajectory
 from framefree.online import Recognizer
@@ -77,13 +77,8 @@ B = np.array([0.35, 0.0, 0.0])
 
 @pytest.fixture(scope="module")
 def takes() -> tuple[list[Trajectory], list[str]]:
-    """Takes of a straight swipe and of a circle, each with a second of rest before and after."""
-    rng = np.random.default_rng(7)
-    out = drawn_takes(np.array([A, B]), 6, rng)
-    for k in range(6):
-        P = circle_positions(radius=0.1 + 0.01 * k, duration=1.8 + 0.1 * k)
-        out.append(Trajectory.from_poses(DT * np.arange(len(P)), tracker_poses(P, np.eye(4))))
-    return out, ["swipe"] * 6 + ["circle"] * 6
+    """Takes of a straight swipe and of a circle."""
+    return swipe_and_circle_takes(7, np.array([A, B]))
 
 
 def _events(takes: list[Trajectory], labels: list[str], brief: bool) -> list[str]:

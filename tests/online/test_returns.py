@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 import pytest
-from drawing import DT, circle_positions, drawn_positions, drawn_takes, tracker_poses
+from drawing import DT, drawn_positions, swipe_and_circle_takes, tracker_poses
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -78,12 +78,7 @@ def test_the_return_does_not_depend_on_the_world_frame(a, b, shift):
 @pytest.fixture(scope="module")
 def strokes() -> tuple[list[Trajectory], list[str]]:
     """Takes of a straight swipe and of a circle."""
-    rng = np.random.default_rng(5)
-    takes = drawn_takes(np.array([A, B]), 6, rng)
-    for k in range(6):
-        P = circle_positions(radius=0.1 + 0.01 * k, duration=1.8 + 0.1 * k)
-        takes.append(Trajectory.from_poses(DT * np.arange(len(P)), tracker_poses(P, np.eye(4))))
-    return takes, ["swipe"] * 6 + ["circle"] * 6
+    return swipe_and_circle_takes(5, np.array([A, B]))
 
 
 def _events(takes: list[Trajectory], labels: list[str], returns: bool) -> list[str]:
