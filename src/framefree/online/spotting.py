@@ -322,9 +322,9 @@ class Spotter:
         for first, n in candidate_spans(list(self.units), self.max_units, self.max_duration,
                                         self.max_pause, after, self.pause_ratio, self.min_pause):
             rest = self.rests[len(self.units) - n]
-            full = rest >= self.rest_before
-            if not (full or (self.brief_starts and rest > 0.0)):
+            if not self.may_start_after(rest):
                 continue  # it starts in the middle of a motion
+            full = rest >= self.rest_before
             lo_index = max(first.start - self.margin, buffer.oldest)
             times, poses = buffer.slice(lo_index, last.end + self.margin)
             # the margin after the unit may not be in the buffer yet: cut the unit out exactly
@@ -352,6 +352,11 @@ class Spotter:
                                  ratio, n, c, size, ok, corners, turns, v, pause, moved, back,
                                  full))
         return out
+
+    def may_start_after(self, rest: float) -> bool:
+        """Whether a candidate may start after a rest of ``rest`` [s] (0: a deep speed minimum
+        between two strokes): a full rest, or with ``brief_starts`` any dip below the rest level."""
+        return rest >= self.rest_before or (self.brief_starts and rest > 0.0)
 
     def corners_and_turns(self, n: int) -> tuple[int, int]:
         """Corners between the last ``n`` units (turns sharper than :attr:`corner_angle`) and which

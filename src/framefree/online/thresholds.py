@@ -30,7 +30,6 @@ If no negative is finite, ``τ_g = 2 P_g``.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import NamedTuple
@@ -135,8 +134,7 @@ def segment_distances(
                                         spotter.max_pause, -1, spotter.pause_ratio,
                                         spotter.min_pause):
             i = k + 1 - n
-            gap = first.start_t - units[i - 1].end_t if i > 0 else math.inf
-            if gap < spotter.rest_before and not (spotter.brief_starts and gap > 0.0):
+            if i > 0 and not spotter.may_start_after(first.start_t - units[i - 1].end_t):
                 continue  # starts in the middle of a motion, as the spotter would not take it
             t, P = seg.buffer.slice(first.start - spotter.margin, units[k].end + spotter.margin)
             d, size = classifier.distances(t, P)
