@@ -178,8 +178,14 @@ class SpottingConstants(_Group):
         People make a gesture up to ``size_factor`` times smaller (1.5) and ``size_growth`` times
         larger (2.5) than the takes.
     travel_percentile : float
-        The travel limit is this percentile of a gesture's takes' travel over the factor its size
-        range allows (:func:`~framefree.online.limits.travel_limit`; 10).
+        The travel limit of a gesture that moves the hand is this percentile of its takes'
+        travel over the factor its size range allows (:func:`~framefree.online.limits.travel_limit`;
+        50: as far as a typical take, made smaller as people make it).
+    moving_share : float
+        A gesture moves the hand when, in the median take, the hand's path is at least this share
+        of the screw path (0.5); one that turns it more than it moves it (a forearm turn) travels
+        incidentally, unevenly, and its limit stays at the takes' 10th percentile
+        (:func:`~framefree.online.limits.travel_percentiles`).
     size_reach : float
         Where nothing that is no gesture looks like a gesture at smaller sizes, its smallest size
         reaches down to this factor below the smallest take instead (2.0; 1: never).
@@ -224,7 +230,8 @@ class SpottingConstants(_Group):
     slack_corners: int | None = None
     vertical_margin: float = VERTICAL_MARGIN
     size_factor: float = 1.5
-    travel_percentile: float = 10.0
+    travel_percentile: float = 50.0
+    moving_share: float = 0.5
     size_growth: float = 2.5
     size_reach: float = 2.0
     stop_margin: float = 1.3
@@ -252,6 +259,8 @@ class SpottingConstants(_Group):
             raise ValueError(f"margin must not be negative, got {self.margin}")
         if not 0 <= self.travel_percentile <= 100:
             raise ValueError(f"travel_percentile must be in [0, 100], got {self.travel_percentile}")
+        if not 0 <= self.moving_share < float("inf"):
+            raise ValueError(f"moving_share must be a finite number >= 0, got {self.moving_share}")
         if self.corner_slack < 0:
             raise ValueError(f"corner_slack must not be negative, got {self.corner_slack}")
         if not 0 <= self.corner_angle <= 180:

@@ -24,6 +24,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from ..core.progress import cumulative_progress
 from ..core.trajectory import Trajectory
 from .segmentation import MotionSegmenter, SpeedLevels, Unit
 from .span_shape import (
@@ -56,6 +57,8 @@ __all__ = [
     "recording_units",
     "size_limits",
     "travel_limit",
+    "travel_percentiles",
+    "travel_shares",
 ]
 
 
@@ -154,6 +157,35 @@ def gesture_travels(
     (:func:`~framefree.online.span_shape.travel`, :func:`measure_gestures`): ``{g: [travel of
     each recording]}``."""
     return measure_gestures(trajectories, labels, levels, L, dt, lambda P: travel(P, presmooth))
+
+
+#: Percentile of the takes' travel that sets the travel limit of a gesture that turns the hand
+#: more than it moves it (:func:`travel_percentiles`).
+TURNING_PERCENTILE = 10.0
+
+
+def travel_shares(
+    trajectories: Sequence[Trajectory], labels: Sequence[str], levels: SpeedLevels, L: float,
+    dt: float = 0.02, presmooth: int = 5,
+) -> dict[str, list[float]]:
+    """How much of each recording's screw path is the hand's path
+    (:func:`~framefree.online.span_shape.travel` over the screw path, :func:`measure_gestures`):
+    about 1 for a stroke of the hand, small for a turn of the forearm in place. ``{g: [share of
+    each recording]}``."""
+    def share(P: np.ndarray) -> float:
+        path = float(cumulative_progress(P, "screw", L)[-1])
+        return travel(P, presmooth) / path if path > 0 else 0.0
+    return measure_gestures(trajectories, labels, levels, L, dt, share)
+
+
+def travel_percentiles(shares: dict[str, Sequence[float]], percentile: float,
+                       moving_share: float) -> dict[str, float]:
+    """Which percentile of its takes' travel sets each gesture's travel limit: ``percentile`` for
+    a gesture that moves the hand (its median take's ``shares`` at least ``moving_share``),
+    :data:`TURNING_PERCENTILE` for one that turns it more than it moves it, whose travel is
+    incidental and uneven (a forearm turn moves the hand 0.12-0.36 m in five takes)."""
+    return {g: percentile if len(s) and float(np.median(s)) >= moving_share
+            else TURNING_PERCENTILE for g, s in shares.items()}
 
 
 def travel_limit(travels: Sequence[float], factor: float, percentile: float = 10.0) -> float:

@@ -40,6 +40,8 @@ from .limits import (
     pooled_closures,
     size_limits,
     travel_limit,
+    travel_percentiles,
+    travel_shares,
 )
 from .segmentation import SpeedLevels, restless_takes, speed_levels
 from .spotting import SegmentClassifier, Spotter
@@ -224,9 +226,11 @@ def _travel_limits(trajectories: Sequence[Trajectory], labels: Sequence[str],
                    config: RecognizerConfig, levels: SpeedLevels, classifier: SegmentClassifier,
                    draft: LearnedDraft, sizes: dict[str, tuple[float, float]] | None = None
                    ) -> None:
-    """Derive the travel limits: each gesture's travel may shrink by as much as its size limit
+    """Derive the travel limits: a typical take's travel (``travel_percentile``; the 10th
+    percentile for a gesture that turns the hand more than it moves it,
+    :func:`~framefree.online.limits.travel_percentiles`) may shrink by as much as its size limit
     lets its screw path shrink (``size_factor``, or down to ``size_reach`` where the calibration
-    found that safe), so that the two limits agree on how small a person may be
+    found that safe), so that the two limits agree on how much smaller a person may be
     (:func:`~framefree.online.limits.travel_limit`). ``sizes``: the takes' size range per
     gesture, when :func:`_geometry_limits` measured it (else measured here)."""
     k, L = config.constants, config.descriptor.L
@@ -234,12 +238,15 @@ def _travel_limits(trajectories: Sequence[Trajectory], labels: Sequence[str],
     if sizes is None:
         _, sizes, _, _ = gesture_geometry(trajectories, labels, classifier, levels, L, k.margin,
                                           k.dt, k.corner_angle)
+    shares = travel_shares(trajectories, labels, levels, L, k.dt, config.descriptor.presmooth)
+    percentiles = travel_percentiles(shares, k.travel_percentile, k.moving_share)
     limits = {}
     for g in dict.fromkeys(labels):
         smallest = sizes.get(g, (0.0, 0.0))[0]
         lowest = (draft.values["size_limits"] or {}).get(g, (0.0, np.inf))[0]
         factor = smallest / lowest if smallest > 0 and lowest > 0 else k.size_factor
-        limits[g] = travel_limit(travels.get(g, []), factor, k.travel_percentile)
+        limits[g] = travel_limit(travels.get(g, []), factor,
+                                 percentiles.get(g, k.travel_percentile))
     draft.fill(travel_limit, travel_limits=limits)
 
 
