@@ -15,9 +15,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from framefree.core import se3
+from framefree.core.trajectory import Trajectory
 from framefree.datasets.people_layout import load_people
 from framefree.online import Recognizer, SpottingConstants
-from framefree.core.trajectory import Trajectory
 from framefree.online.limits import (
     TURNING_PERCENTILE,
     gesture_travels,
