@@ -120,7 +120,7 @@ class MultiSpotter(Spotter):
         after = max(self.consumed, buffer.oldest + self.margin - 1)
         for first, n in candidate_spans(list(self.units), self.max_units, self.max_duration,
                                         self.max_pause, after, self.pause_ratio, self.min_pause):
-            if not self.may_start(self.rests, len(self.units) - n):
+            if not self.may_start_after(self.rests[len(self.units) - n]):
                 continue  # it starts in the middle of a motion
             times, poses = buffer.slice(max(first.start - self.margin, buffer.oldest),
                                         last.end + self.margin)

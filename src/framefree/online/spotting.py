@@ -321,9 +321,10 @@ class Spotter:
         after = max(self.consumed, buffer.oldest + self.margin - 1)
         for first, n in candidate_spans(list(self.units), self.max_units, self.max_duration,
                                         self.max_pause, after, self.pause_ratio, self.min_pause):
-            if not self.may_start(self.rests, len(self.units) - n):
+            rest = self.rests[len(self.units) - n]
+            if not self.may_start_after(rest):
                 continue  # it starts in the middle of a motion
-            full = self.rests[len(self.units) - n] >= self.rest_before
+            full = rest >= self.rest_before
             lo_index = max(first.start - self.margin, buffer.oldest)
             times, poses = buffer.slice(lo_index, last.end + self.margin)
             # the margin after the unit may not be in the buffer yet: cut the unit out exactly
@@ -352,21 +353,10 @@ class Spotter:
                                  full))
         return out
 
-    def may_start(self, rests: Sequence[float], i: int) -> bool:
-        """Whether a candidate may start with unit ``i``, given the rest [s] before each unit
-        (``rests``; 0: a deep speed minimum between two strokes): after a full rest; or, with
-        ``brief_starts``, after a dip below the rest level in ongoing motion. A dip after the
-        first unit since a full rest is a corner of the motion that began at that rest (a letter
-        M's first corner, before the N that is a zigzag turned): the candidate from the rest
-        covers it, so no candidate starts there."""
-        if rests[i] >= self.rest_before:
-            return True
-        if not (self.brief_starts and rests[i] > 0.0):
-            return False
-        j = i - 1
-        while j >= 0 and rests[j] < self.rest_before:
-            j -= 1
-        return j < 0 or i - j > 1
+    def may_start_after(self, rest: float) -> bool:
+        """Whether a candidate may start after a rest of ``rest`` [s] (0: a deep speed minimum
+        between two strokes): a full rest, or with ``brief_starts`` any dip below the rest level."""
+        return rest >= self.rest_before or (self.brief_starts and rest > 0.0)
 
     def corners_and_turns(self, n: int) -> tuple[int, int]:
         """Corners between the last ``n`` units (turns sharper than :attr:`corner_angle`) and which

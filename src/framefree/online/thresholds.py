@@ -30,8 +30,6 @@ If no negative is finite, ``τ_g = 2 P_g``.
 
 from __future__ import annotations
 
-import itertools
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import NamedTuple
@@ -126,8 +124,6 @@ def segment_distances(
     candidates formed with the limits of ``spotter`` (no threshold is applied).
     """
     seg, units = recording_units(traj, levels, L, dt)
-    # the rest [s] before each unit; the recording's first unit starts after its opening rest
-    rests = [math.inf] + [b.start_t - a.end_t for a, b in itertools.pairwise(units)]
     rows: list[np.ndarray] = []
     closures: list[float] = []
     sizes: list[float] = []
@@ -138,7 +134,7 @@ def segment_distances(
                                         spotter.max_pause, -1, spotter.pause_ratio,
                                         spotter.min_pause):
             i = k + 1 - n
-            if not spotter.may_start(rests, i):
+            if i > 0 and not spotter.may_start_after(first.start_t - units[i - 1].end_t):
                 continue  # starts in the middle of a motion, as the spotter would not take it
             t, P = seg.buffer.slice(first.start - spotter.margin, units[k].end + spotter.margin)
             d, size = classifier.distances(t, P)
