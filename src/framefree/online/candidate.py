@@ -4,13 +4,15 @@ which spans of the latest movement units may be one (:func:`candidate_spans`).""
 
 from __future__ import annotations
 
+import dataclasses
+import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from .segmentation import Unit
 
-__all__ = ["Candidate", "candidate_spans"]
+__all__ = ["Candidate", "candidate_spans", "refuse_tails"]
 
 
 @dataclass(frozen=True)
@@ -55,6 +57,10 @@ class Candidate:
         (:mod:`~framefree.online.returns`): refused.
     after_rest : bool
         Whether it starts after a full rest (False: after a brief dip below the rest level).
+    tail : bool
+        Whether it starts after a brief dip and is the tail of the candidate one unit longer,
+        which starts after a full rest and is nearest the same gesture
+        (:func:`refuse_tails`): refused.
     """
 
     start: int
@@ -75,6 +81,7 @@ class Candidate:
     travel: float = math.inf
     returning: bool = False
     after_rest: bool = True
+    tail: bool = False
 
 
 def candidate_spans(
@@ -114,4 +121,20 @@ def candidate_spans(
             if longest_rest > max(min_pause, pause_ratio * stroke):
                 continue  # a longer candidate, with more of the strokes, may allow this rest
         out.append((first, n))
+    return out
+
+
+def refuse_tails(batch: Sequence[Candidate], gesture: Callable[[int], int]) -> list[Candidate]:
+    """``batch`` (the candidates ending with one unit, shortest first) with every accepted
+    candidate after a brief dip refused (:attr:`Candidate.tail`) when the candidate one unit
+    longer starts after a full rest and is nearest the same gesture (``gesture``: a model's
+    gesture): that one is the performance, begun at the rest, and was judged as a whole. The hand
+    slows at the corners of a drawn shape without resting; the rest of a letter M after its first
+    corner is an N, a zigzag turned, and must not fire a zigzag that the whole M did not."""
+    out = list(batch)
+    for k, (part, whole) in enumerate(itertools.pairwise(batch)):
+        if (part.accepted and not part.after_rest and whole.after_rest
+                and whole.n_units == part.n_units + 1
+                and gesture(whole.model) == gesture(part.model)):
+            out[k] = dataclasses.replace(part, accepted=False, tail=True)
     return out

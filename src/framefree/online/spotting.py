@@ -32,7 +32,7 @@ from ..core.pruning import ModelBank, pruned_nearest
 from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor
 from ..errors import DegenerateMotionError
-from .candidate import Candidate, candidate_spans
+from .candidate import Candidate, candidate_spans, refuse_tails
 from .returns import ReturnGuard
 from .segmentation import PoseBuffer, Unit
 from .span_shape import closure, corner_count, corner_rest, travel, turn_kinds
@@ -314,7 +314,9 @@ class Spotter:
         ``min`` does), so its search may stop as soon as it cannot beat ρ. The candidate chosen
         is the one the full search chooses. Candidates that start after a full rest and those
         that start after a brief dip below the rest level (``brief_starts``) are two tiers, each
-        with its own ρ: any accepted one of the first wins over the second (:meth:`on_unit`)."""
+        with its own ρ: any accepted one of the first wins over the second (:meth:`on_unit`),
+        and the tail of a candidate from a full rest is refused
+        (:func:`~framefree.online.candidate.refuse_tails`)."""
         out: list[Candidate] = []
         bar = brief_bar = 1.0  # ratio a candidate must stay below to be accepted
         last = self.units[-1]
@@ -351,7 +353,7 @@ class Spotter:
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
                                  ratio, n, c, size, ok, corners, turns, v, pause, moved, back,
                                  full))
-        return out
+        return refuse_tails(out, self._gesture)
 
     def may_start_after(self, rest: float) -> bool:
         """Whether a candidate may start after a rest of ``rest`` [s] (0: a deep speed minimum
@@ -442,6 +444,7 @@ class Spotter:
                               candidate.corners, candidate.turns, candidate.vertical,
                               candidate.pause, candidate.travel)
         passes["return"] = not candidate.returning
+        passes["tail"] = not candidate.tail
         return [name for name, ok in passes.items() if not bool(ok)]
 
     def add_unit(self, unit: Unit) -> None:
