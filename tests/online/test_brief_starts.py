@@ -2,7 +2,8 @@
 their speed often dips below the rest level for a frame or two. Such a candidate is found, yet a
 candidate after a full rest wins over it, and it fires only once the hand rests: a golf swing's
 downswing, which starts after the brief stop at the top of the swing, must not fire before the
-whole swing is over."""
+whole swing is over. And the tail of a candidate that starts after a full rest is no gesture of
+its own (v22): the rest of a letter M after its first corner is an N, a zigzag turned."""
 
 from __future__ import annotations
 
@@ -10,11 +11,19 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from drawing import DT, circle_positions, min_jerk, swipe_and_circle_takes
+from drawing import (
+    DT,
+    circle_positions,
+    drawn_positions,
+    drawn_takes,
+    min_jerk,
+    swipe_and_circle_takes,
+    tracker_poses,
+)
 
 from framefree.core.trajectory import Trajectory
-from framefree.online import Recognizer
-from framefree.online.candidate import Candidate
+from framefree.online import Recognizer, spotting
+from framefree.online.candidate import Candidate, refuse_tails
 from framefree.online.segmentation import Unit
 from framefree.online.spotting import Spotter
 
@@ -102,3 +111,63 @@ def test_a_swipe_right_after_another_motion_is_found(takes):
     assert _events(*takes, brief=True) == ["swipe"]
     # without brief starts its candidates begin at the rest before the circle: it is missed
     assert "swipe" not in _events(*takes, brief=False)
+
+
+def _tail_case(part_rest: bool = False, whole_rest: bool = True, whole_model: int = 0,
+               extra: int = 1) -> list[Candidate]:
+    part = Candidate(60, 100, 1.2, 2.0, 0, 0.3, 0.5, 3, accepted=True, after_rest=part_rest)
+    whole = Candidate(30, 100, 0.6, 2.0, whole_model, 0.6, 1.3, 3 + extra, after_rest=whole_rest)
+    return refuse_tails([part, whole], lambda model: model)
+
+
+def test_the_tail_of_a_candidate_from_a_rest_is_refused():
+    part, whole = _tail_case()
+    assert part.tail and not part.accepted
+    assert whole == _tail_case()[1]
+    spotter = _spotter()
+    assert spotter.refusals(part) == ["tail"]
+
+
+@pytest.mark.parametrize("case", [
+    {"part_rest": True},  # the part starts after a full rest itself
+    {"whole_rest": False},  # the longer one starts after a dip too
+    {"whole_model": 1},  # the whole is nearest another gesture
+    {"extra": 2},  # the whole reaches two units further back: the part follows ongoing motion
+])
+def test_a_part_stays_unless_it_is_the_tail_of_the_same_gesture_from_a_rest(case):
+    part, _ = _tail_case(**case)
+    assert part.accepted and not part.tail
+
+
+Z = np.array([[0.0, 0.3, 0.0], [0.3, 0.3, 0.0], [0.0, 0.0, 0.0], [0.3, 0.0, 0.0]])
+
+
+@pytest.fixture(scope="module")
+def zigzag_takes() -> tuple[list[Trajectory], list[str]]:
+    """Six takes of a zigzag (a Z) and six of a circle."""
+    takes = drawn_takes(Z, 6, np.random.default_rng(1))
+    for k in range(6):
+        P = circle_positions(radius=0.1 + 0.01 * k, duration=1.8 + 0.1 * k)
+        takes.append(Trajectory.from_poses(DT * np.arange(len(P)), tracker_poses(P, np.eye(4))))
+    return takes, ["zigzag"] * 6 + ["circle"] * 6
+
+
+def _shape_events(takes: list[Trajectory], labels: list[str]) -> list[str]:
+    """From a rest, a stroke to the left, then at once an N (a zigzag turned by 90°), then rest:
+    the hand stops only for an instant at each corner."""
+    rec = Recognizer.from_trajectories(takes, labels)
+    rec.background = False
+    P = drawn_positions(np.array([[0.3, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.3, 0.0],
+                                  [0.3, 0.0, 0.0], [0.3, 0.3, 0.0]]), stroke_s=0.6)
+    q = np.array([1.0, 0.0, 0.0, 0.0])
+    out = []
+    for k, p in enumerate(P):
+        out += [e.label for e in rec.push(DT * k, p, q)]
+    return out + [e.label for e in rec.finish()]
+
+
+def test_the_rest_of_a_shape_after_its_first_corner_fires_nothing(zigzag_takes, monkeypatch):
+    assert _shape_events(*zigzag_takes) == []
+    # without the rule the N after the first corner fires the zigzag
+    monkeypatch.setattr(spotting, "refuse_tails", lambda batch, gesture: list(batch))
+    assert _shape_events(*zigzag_takes) == ["zigzag"]
