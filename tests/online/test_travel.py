@@ -79,10 +79,12 @@ def test_the_travel_limit_is_a_small_take_over_the_factor():
     assert travel_limit([0.01] + [0.5] * 19, 1.5) > 0.3
 
 
-def _take(motion: str, seconds: float = 1.2, rest: float = 0.6, dt: float = 0.02) -> Trajectory:
+def _take(motion: str, seconds: float = 1.2, rest: float = 0.6, dt: float = 0.02,
+          scale: float = 1.0) -> Trajectory:
     """A take that rests, performs ``motion`` (``"stroke"``: the hand moves 0.4 m in a line
     while the wrist turns a little; ``"turn"``: the forearm turns by 90° about its own axis, the
-    tracker 4 cm off it) with a minimum-jerk profile, and rests again."""
+    tracker 4 cm off it), its lengths times ``scale``, with a minimum-jerk profile, and rests
+    again."""
     n_rest, n_move = round(rest / dt), round(seconds / dt)
     x = np.linspace(0.0, 1.0, n_move)
     x = 10 * x**3 - 15 * x**4 + 6 * x**5
@@ -90,12 +92,12 @@ def _take(motion: str, seconds: float = 1.2, rest: float = 0.6, dt: float = 0.02
     poses = np.tile(np.eye(4), (x.size, 1, 1))
     axis = np.array([1.0, 0.0, 0.0])
     if motion == "stroke":
-        poses[:, :3, 3] = x[:, None] * np.array([0.0, 0.4, 0.0])
+        poses[:, :3, 3] = x[:, None] * np.array([0.0, 0.4 * scale, 0.0])
         poses[:, :3, :3] = se3.rotation_from_vector(axis[None] * 0.2 * x[:, None])
     else:
         R = se3.rotation_from_vector(axis[None] * 0.5 * math.pi * x[:, None])
         poses[:, :3, :3] = R
-        poses[:, :3, 3] = R @ np.array([0.0, 0.04, 0.0])
+        poses[:, :3, 3] = R @ np.array([0.0, 0.04 * scale, 0.0])
     poses[:, :3, 3] += 2e-4 * RNG.standard_normal((x.size, 3))
     return Trajectory.from_poses(dt * np.arange(x.size), poses)
 
@@ -129,9 +131,10 @@ def test_a_gesture_that_moves_the_hand_must_travel_as_far_as_a_typical_take():
 
 
 def test_the_recognizer_learns_each_gestures_limit_by_its_share():
-    takes = [_take("stroke", seconds=s) for s in (0.8, 1.0, 1.2)]
-    takes += [_take("turn", seconds=s) for s in (0.8, 1.0, 1.2)]
-    labels = ["swipe"] * 3 + ["turn"] * 3
+    scales = (0.5, 0.75, 1.0, 1.25, 1.5)  # takes of different sizes: the percentiles differ
+    takes = [_take("stroke", seconds=0.8 + 0.1 * k, scale=x) for k, x in enumerate(scales)]
+    takes += [_take("turn", seconds=0.8 + 0.1 * k, scale=x) for k, x in enumerate(scales)]
+    labels = ["swipe"] * 5 + ["turn"] * 5
     rec = Recognizer.from_trajectories(takes, labels)
     levels = SpeedLevels(rec.learned_.rest_speed, rec.learned_.move_speed)
     k = rec.config.constants
@@ -141,6 +144,10 @@ def test_the_recognizer_learns_each_gestures_limit_by_its_share():
     assert any(limits["swipe"] == pytest.approx(np.median(travels["swipe"]) / f) for f in factors)
     assert any(limits["turn"] == pytest.approx(np.percentile(travels["turn"], TURNING_PERCENTILE)
                                                / f) for f in factors)
+    # and not the other way round: with these sizes no factor makes the two percentiles agree
+    assert not any(limits["swipe"] == pytest.approx(
+        np.percentile(travels["swipe"], TURNING_PERCENTILE) / f) for f in factors)
+    assert not any(limits["turn"] == pytest.approx(np.median(travels["turn"]) / f) for f in factors)
 
 
 @pytest.fixture(scope="module")

@@ -348,12 +348,28 @@ class Spotter:
             back = (self.returns is not None
                     and self.returns.is_return(self._gesture(j), first.start, inside))
             ok = ok and not back
+            if not ok and full and self.needs_exact_nearest(out, n):
+                # its nearest gesture decides whether the part before it is a tail: a refused
+                # candidate's pruned values are bounds, so search it in full
+                d = self.classifier.distances(times, poses)[0]
+                j = int(np.argmin(d))
+                ratio = float(d[j] / self.model_thresholds[j])
             if ok and self.tighten and not self.fire_on_motion:
                 bar, brief_bar = (ratio, brief_bar) if full else (bar, ratio)
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
                                  ratio, n, c, size, ok, corners, turns, v, pause, moved, back,
                                  full))
         return refuse_tails(out, self._gesture)
+
+    def needs_exact_nearest(self, batch: list[Candidate], n: int) -> bool:
+        """Whether the candidate of ``n`` units, refused, needs its exact nearest model: the
+        search is pruned and the previous candidate of ``batch`` is an accepted one of ``n - 1``
+        units after a brief dip, a tail if this one is nearest the same gesture
+        (:func:`~framefree.online.candidate.refuse_tails`)."""
+        if not (self.classifier.pruning and batch):
+            return False
+        part = batch[-1]
+        return part.accepted and not part.after_rest and part.n_units == n - 1
 
     def may_start_after(self, rest: float) -> bool:
         """Whether a candidate may start after a rest of ``rest`` [s] (0: a deep speed minimum
