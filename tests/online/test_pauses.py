@@ -23,10 +23,10 @@ from hypothesis import strategies as st
 from framefree.benchmark.take_geometry import other_peoples, take_rests
 from framefree.core import se3
 from framefree.core.trajectory import Trajectory
-from framefree.online import Recognizer, RecognizerConfig
+from framefree.online import Recognizer, RecognizerConfig, thresholds
 from framefree.online.evaluation import run_stream
 from framefree.online.limits import one_go_gestures
-from framefree.online.segmentation import Unit
+from framefree.online.segmentation import SpeedLevels, Unit
 from framefree.online.span_shape import corner_rest
 from real_data import MACHETE
 
@@ -53,6 +53,10 @@ def held_positions(points: np.ndarray, holds: list[float], stroke_s: float = 0.6
         parts.append(np.repeat(b[None], round(hold / DT), axis=0))
     parts.append(np.repeat(points[-1:], round(1.0 / DT), axis=0))
     return np.concatenate(parts)
+
+
+def _levels(rec: Recognizer) -> SpeedLevels:
+    return SpeedLevels(rec.learned_.rest_speed, rec.learned_.move_speed)
 
 
 def _trajectory(positions: np.ndarray, X: np.ndarray) -> Trajectory:
@@ -87,15 +91,19 @@ def test_which_gestures_pause_does_not_depend_on_the_world_frame(X):
     assert one_go_gestures(takes, labels, LEVELS, 0.1, pause=0.2, dt=DT) == ["zigzag"]
 
 
+def _zigzag_pause_takes() -> tuple[list[Trajectory], list[str]]:
+    circles = [_trajectory(circle_positions(radius=r, duration=d), np.eye(4))
+               for r, d in ((0.11, 1.8), (0.12, 2.0), (0.13, 2.2), (0.12, 1.9), (0.115, 2.1))]
+    takes = _takes(ZIGZAG, 0.0, np.eye(4), 3) + _takes(OUT_AND_BACK, 0.5, np.eye(4), 4) + circles
+    return takes, ["zigzag"] * 5 + ["out_and_back"] * 5 + ["circle"] * 5
+
+
 @pytest.fixture(scope="module")
 def zigzag_and_a_pause():
     """A Z and a circle drawn in one go and an out-and-back move held at its reversal, enrolled
     together with one loose threshold for all: only the pause limits tell a Z with a long rest
     apart."""
-    circles = [_trajectory(circle_positions(radius=r, duration=d), np.eye(4))
-               for r, d in ((0.11, 1.8), (0.12, 2.0), (0.13, 2.2), (0.12, 1.9), (0.115, 2.1))]
-    takes = _takes(ZIGZAG, 0.0, np.eye(4), 3) + _takes(OUT_AND_BACK, 0.5, np.eye(4), 4) + circles
-    labels = ["zigzag"] * 5 + ["out_and_back"] * 5 + ["circle"] * 5
+    takes, labels = _zigzag_pause_takes()
     return [Recognizer.from_trajectories(takes, labels, threshold=0.2, gesture_pauses=on)
             for on in (True, False)]
 
@@ -147,3 +155,25 @@ def test_real_people_rarely_rest_at_a_corner_where_another_person_did_not():
             over += sum(r > config.constants.min_pause for r in others)
     assert checked > 0
     assert over / checked <= 0.02
+
+
+def test_the_calibration_admits_a_rest_at_a_corner_as_the_spotter_does(zigzag_and_a_pause,
+                                                                      monkeypatch):
+    """A Z held 0.9 s at its first corner never fires the Z drawn in one go, so it must not set
+    the Z's threshold either: the calibration measures each candidate's rest at a corner and
+    applies the one-go limit as the live spotter does (before v23 it did not, and repositioning
+    moves held at a via point, two straight strokes and a rest, bound the threshold of a V)."""
+    on, off = zigzag_and_a_pause
+    held = _trajectory(held_positions(ZIGZAG, [0.9, 0.0]), np.eye(4))
+    scores = thresholds.segment_distances(held, on.classifier, _levels(on), on.spotter,
+                                          on.config.descriptor.L)
+    assert scores.pauses.max() == pytest.approx(0.9, abs=0.15)
+    monkeypatch.setattr(thresholds, "non_gesture_motions", lambda *a, **k: [("moves", held)])
+    takes, labels = _zigzag_pause_takes()
+    negatives = []
+    for rec in (on, off):
+        cal = thresholds.calibrate_segment_thresholds(
+            takes, labels, rec.classifier, _levels(rec), rec.spotter, rec.config.descriptor.L,
+            drawn=False, rivals=False)
+        negatives.append(cal.negatives["zigzag"])
+    assert negatives[0] > 10 * negatives[1]  # the whole held Z counts only without the limit

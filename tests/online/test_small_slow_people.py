@@ -91,7 +91,7 @@ class _Limits:
 
     size_limits = np.array([[0.3, 1.0]])
 
-    def admissible(self, j, closures, sizes, corners, turns):
+    def admissible(self, j, closures, sizes, corners, turns, pauses=0.0):
         return np.ones(len(closures), dtype=bool)
 
 
@@ -100,7 +100,7 @@ class _Limits:
 def test_the_size_range_reaches_down_unless_a_negative_in_the_band_would_be_taken(size, distance,
                                                                                   reach):
     records = [SegmentScores(np.array([[distance]]), np.array([0.0]), np.array([size]),
-                             np.array([0]), np.array([0]))]
+                             np.array([0]), np.array([0]), np.array([0.0]))]
     floor = reach_down(records, np.array([True]), 0, 0.5, _Limits(), reach)
     in_band = 0.3 / reach <= size < 0.3
     if in_band and distance < 0.5:

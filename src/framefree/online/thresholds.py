@@ -40,7 +40,7 @@ from ..core.trajectory import Trajectory
 from .limits import recording_units
 from .negatives import non_gesture_motions
 from .segmentation import SpeedLevels
-from .span_shape import closure, corner_count, turn_kinds
+from .span_shape import closure, corner_count, corner_rest, turn_kinds
 from .spotting import SegmentClassifier, Spotter, candidate_spans
 
 __all__ = [
@@ -107,6 +107,9 @@ class SegmentScores(NamedTuple):
     """(C,)"""
     turns: np.ndarray
     """(C,): :func:`~framefree.online.span_shape.turn_kinds` bits."""
+    pauses: np.ndarray
+    """(C,) [s]: the longest rest at a corner (:func:`~framefree.online.span_shape.corner_rest`),
+    which the spotter's one-go limit judges."""
 
 
 def segment_distances(
@@ -118,7 +121,7 @@ def segment_distances(
     dt: float = 0.02,
 ) -> SegmentScores:
     """Distances (C, M) of every candidate segment of a recording to every model, and the closure,
-    size [m], corners and turn kinds (C,) of each candidate.
+    size [m], corners, turn kinds and longest rest at a corner [s] (C,) of each candidate.
 
     The recording is resampled on the uniform grid, cut by :class:`MotionSegmenter` and its
     candidates formed with the limits of ``spotter`` (no threshold is applied).
@@ -129,6 +132,7 @@ def segment_distances(
     sizes: list[float] = []
     corners: list[int] = []
     turns: list[int] = []
+    pauses: list[float] = []
     for k in range(len(units)):
         for first, n in candidate_spans(units[: k + 1], spotter.max_units, spotter.max_duration,
                                         spotter.max_pause, -1, spotter.pause_ratio,
@@ -143,12 +147,13 @@ def segment_distances(
             closures.append(closure(P[spotter.margin:P.shape[0] - spotter.margin], L))
             corners.append(corner_count(units[i:k + 1], spotter.corner_angle))
             turns.append(turn_kinds(units[i:k + 1], spotter.corner_angle))
+            pauses.append(corner_rest(units[i:k + 1], spotter.corner_angle))
     if not rows:
         empty = np.zeros(0)
         return SegmentScores(np.full((0, len(classifier.models)), np.inf), empty, empty, empty,
-                             np.zeros(0, dtype=np.int64))
+                             np.zeros(0, dtype=np.int64), empty)
     return SegmentScores(np.vstack(rows), np.array(closures), np.array(sizes), np.array(corners),
-                         np.array(turns, dtype=np.int64))
+                         np.array(turns, dtype=np.int64), np.array(pauses))
 
 
 def reach_down(
@@ -180,12 +185,12 @@ def reach_down(
     if not (reach > 1.0 and lo > 0.0):
         return None
     floor = lo / reach
-    for D, c, size, corners, turns in records:
+    for D, c, size, corners, turns, pauses in records:
         band = (size >= floor) & (size < lo)
         if not band.any():
             continue
         shaped = spotter.admissible(model, c[band], np.full(int(band.sum()), lo), corners[band],
-                                    turns[band])
+                                    turns[band], pauses=pauses[band])
         if shaped.any() and float(D[band][shaped][:, own].min()) < threshold:
             return None
     return floor
@@ -248,8 +253,9 @@ def take_scores(
         else:
             copies = [tr]
         for copy in copies:
-            D, c, size, corners, turns = segment_distances(copy, classifier, levels, spotter, L)
-            ok = spotter.admissible(r, c, size, corners, turns)
+            D, c, size, corners, turns, pauses = segment_distances(copy, classifier, levels,
+                                                                   spotter, L)
+            ok = spotter.admissible(r, c, size, corners, turns, pauses=pauses)
             positives[labels[r]].append(float(D[ok][:, same].min()) if ok.any() else np.inf)
     return positives
 
@@ -320,13 +326,13 @@ def calibrate_segment_thresholds(
     for kind, neg in non_gesture_motions(trajectories, labels, L, seed=seed,
                                          kinds=(*kinds, "regrip") if reaching else kinds):
         scores = segment_distances(neg, classifier, levels, spotter, L)
-        D, c, size, corners, turns = scores
+        D, c, size, corners, turns, pauses = scores
         if reaching:
             records.append(scores)
         if kind == "regrip":
             continue
         for g in gestures:
-            ok = admissible(first[g], c, size, corners, turns)
+            ok = admissible(first[g], c, size, corners, turns, pauses=pauses)
             if ok.any():
                 episodes[g].append(float(D[ok][:, labels_arr == g].min()))
             elif gated:
