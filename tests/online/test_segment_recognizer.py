@@ -177,7 +177,8 @@ def test_thresholds_come_from_the_models_and_their_rivals(recognizer, models):
         P, N = max(cal.positives[g]), cal.negatives[g]
         rival = between[np.ix_(labels == g, labels != g)].min()
         assert N <= rival
-        a = recognizer.config.constants.threshold_position
+        k = recognizer.config.constants
+        a = k.threshold_position if cal.separated[g] else k.unseparated_position
         assert tau == pytest.approx(P ** (1 - a) * N**a) if np.isfinite(N) else tau == 2 * P
         assert min(P, N) <= tau <= max(P, N)
 

@@ -152,6 +152,9 @@ class SpottingConstants(_Group):
         takes (True); shapes drawn in the air (:mod:`~framefree.online.scribbles`, True).
     threshold_position : float
         τ_g = P_g^(1-a) N_g^a between the worst take ``P_g`` and the negatives ``N_g`` (0.7).
+    unseparated_position : float
+        ``a`` for a gesture whose worst take lies beyond its negatives (``P_g ≥ N_g``: no gap
+        to lean into; 0.5, the geometric midpoint).
     seen_fraction : float
         A gesture at most this fraction of whose takes the spotter can find in themselves is
         not followed by the tracker and never fires (0.5: most takes must be found; 0: only a
@@ -221,6 +224,7 @@ class SpottingConstants(_Group):
     rival_negatives: bool = True
     drawn_negatives: bool = True
     threshold_position: float = 0.7
+    unseparated_position: float = 0.5
     seen_fraction: float = 0.5
     closure_exponent: float = 0.65
     closure_pooled: bool = False
@@ -267,5 +271,8 @@ class SpottingConstants(_Group):
             raise ValueError(f"corner_angle must be in [0, 180] degrees, got {self.corner_angle}")
         if not 0 <= self.vertical_margin <= 1:
             raise ValueError(f"vertical_margin must be in [0, 1], got {self.vertical_margin}")
+        for name in ("threshold_position", "unseparated_position"):
+            if not 0 <= getattr(self, name) <= 1:
+                raise ValueError(f"{name} must be in [0, 1], got {getattr(self, name)}")
         if not 0 <= self.seen_fraction <= 1:
             raise ValueError(f"seen_fraction must be in [0, 1], got {self.seen_fraction}")

@@ -277,7 +277,8 @@ def _thresholds(trajectories: Sequence[Trajectory], labels: Sequence[str],
         trajectories, labels, classifier, levels, spotter, config.descriptor.L,
         k.negative_quantile, k.threshold_position, gated=k.gated_negatives,
         rivals=k.rival_negatives, drawn=k.drawn_negatives,
-        reach=k.size_reach / k.size_factor if config.size and sizes_derived else 1.0)
+        reach=k.size_reach / k.size_factor if config.size and sizes_derived else 1.0,
+        unseparated_position=k.unseparated_position)
     draft.fill(calibrate_segment_thresholds, gesture_thresholds=calibration.thresholds)
     if draft.missing("unseen"):
         draft.fill(unseen_gestures,

@@ -24,8 +24,10 @@ Generic motion also includes random shapes drawn in the air (``drawn``,
 **Rule.** Distances are scale-like, so the threshold is placed on a log scale between them:
 ``τ_g = P_g^(1-a) · N_g^a`` with ``a = position`` (the recognizer's default 0.7 leans towards the
 negatives: another person's performance lies farther from the models than one person's
-demonstrations lie from each other). When ``P_g ≥ N_g`` the gesture is reported as not separated.
-If no negative is finite, ``τ_g = 2 P_g``.
+demonstrations lie from each other, so τ_g goes into the gap between the two). When
+``P_g ≥ N_g`` the gesture is reported as not separated: there is no gap to lean into, takes
+lie beyond some negatives, and ``a = unseparated_position`` (the recognizer's default 0.5, the
+geometric midpoint, favouring neither error). If no negative is finite, ``τ_g = 2 P_g``.
 """
 
 from __future__ import annotations
@@ -85,7 +87,8 @@ class SegmentThresholds:
         return {
             "rule": "tau_g = P_g^(1-a) * N_g^a (P_g: worst leave-one-out demonstration, N_g: the "
                     "smaller of the 5 % quantile of generic non-gesture episodes and the nearest "
-                    "other gesture's recording)",
+                    "other gesture's recording; a: threshold_position where P_g < N_g, "
+                    "unseparated_position where not)",
             "thresholds": dict(self.thresholds),
             "positives_max": {g: float(max(v)) for g, v in self.positives.items()},
             "negatives_quantile": dict(self.negatives),
@@ -274,6 +277,7 @@ def calibrate_segment_thresholds(
     rivals: bool = True,
     drawn: bool = True,
     reach: float = 1.0,
+    unseparated_position: float | None = None,
 ) -> SegmentThresholds:
     """τ_g for every gesture (see the module docstring).
 
@@ -295,6 +299,8 @@ def calibrate_segment_thresholds(
     position : float
         Where τ_g lies between ``P_g`` and ``N_g`` on a log scale: ``τ_g = P_g^(1-a) N_g^a``
         (0.5: the geometric midpoint).
+    unseparated_position : float or None
+        ``a`` for a gesture that is not separated (``P_g ≥ N_g``); ``None``: ``position``.
     seed : int
         Seed of the generated non-gesture motion (the calibration is deterministic).
     gated : bool
@@ -350,7 +356,8 @@ def calibrate_segment_thresholds(
         negatives[g] = N
         separated[g] = bool(P < N)
         if np.isfinite(P) and np.isfinite(N):
-            thresholds[g] = float(P ** (1.0 - position) * N**position)
+            a = position if separated[g] or unseparated_position is None else unseparated_position
+            thresholds[g] = float(P ** (1.0 - a) * N**a)
         elif np.isfinite(P):  # nothing generic comes close to this gesture
             thresholds[g] = 2.0 * P
         elif np.isfinite(N):
