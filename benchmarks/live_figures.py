@@ -1,0 +1,160 @@
+"""Re-measure the live recognizer's headline figures and compare them with the ones on record.
+
+The README and docs/online.md report the live recognizer on four sets of streams. A change made
+for one of them can move another, and a figure nobody re-measures stays in the docs: the
+two-controller Machete sessions went from 98.5 to 95.7 % with v19 and the docs said 98.5 % until
+after v23 (docs/multi-trackers.md). This script runs each row as a reader would, with the
+command the docs give, and compares its counts (true positives, false positives, misses) with
+``benchmarks/results/live_figures.json``. Everything is deterministic, so any difference is a
+change of behaviour, not noise.
+
+Rows:
+
+``sfinge``
+    SFINGE3D's 36 development sequences, the four swipes, the dictionary as models
+    (``framefree evaluate-stream``; needs ``../shared/data/sfinge_dev``).
+``machete_one``
+    The Machete sessions, right controller only, each of the six people against models of the
+    five others (``benchmarks/one_controller_streams.py --people all``).
+``machete_two``
+    The same sessions with both controllers (``benchmarks/multi_people_streams.py``).
+``replica``
+    The replica's 20 held-out people, one session each (``benchmarks/online_people.py --people
+    heldout --per-person 1``).
+
+A row whose data is missing is skipped with one line. About five minutes for all four on a
+2-core machine.
+
+    python benchmarks/live_figures.py                  # measure, compare with the record
+    python benchmarks/live_figures.py --only sfinge    # some rows
+    python benchmarks/live_figures.py --write          # measure and record (after a change the docs report)
+
+Exit status: 0 when every row measured matches the record, 1 when one has moved (or has no
+record), 2 on a usage error or when a benchmark fails.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+import tempfile
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+REPO = Path(__file__).resolve().parent.parent
+DATA = REPO.parent / "shared" / "data"
+RECORD = REPO / "benchmarks" / "results" / "live_figures.json"
+SWIPES = "swipe_left,swipe_right,swipe_v,swipe_o"
+KEYS = ("tp", "fp", "fn", "precision", "recall", "f1", "fp_per_minute")
+
+
+def _run(args: Sequence[str]) -> None:
+    proc = subprocess.run([sys.executable, *args], capture_output=True, text=True, cwd=REPO)
+    if proc.returncode != 0:
+        tail = (proc.stderr.strip().splitlines() or ["(no message)"])[-1]
+        raise RuntimeError(f"{' '.join(args[:2])} failed: {tail}")
+
+
+def _sfinge(out: Path) -> dict[str, Any]:
+    streams = sorted(str(p) for p in (DATA / "sfinge_dev" / "streams").glob("seq_??.csv"))
+    _run(["-c", "from framefree.cli import main; main()", "evaluate-stream",
+          "--models", str(DATA / "sfinge_dev" / "templates"), "--gestures", SWIPES, *streams,
+          "--json", str(out)])
+    return json.loads(out.read_text())["total"]
+
+
+def _machete_one(out: Path) -> dict[str, Any]:
+    _run(["benchmarks/one_controller_streams.py", "--people", "all", "--out", str(out)])
+    return json.loads(out.read_text())["all"]
+
+
+def _machete_two(out: Path) -> dict[str, Any]:
+    _run(["benchmarks/multi_people_streams.py", "--out", str(out)])
+    return json.loads(out.read_text())["held_out"]
+
+
+def _replica(out: Path) -> dict[str, Any]:
+    _run(["benchmarks/online_people.py", "--people", "heldout", "--per-person", "1",
+          "--json", str(out)])
+    return json.loads(out.read_text())["segments"]["pooled"]
+
+
+#: row name: (what it measures, the data it needs, how to measure it)
+ROWS: dict[str, tuple[str, Path | None, Callable[[Path], dict[str, Any]]]] = {
+    "sfinge": ("SFINGE3D dev, 36 sequences, four swipes", DATA / "sfinge_dev", _sfinge),
+    "machete_one": ("Machete sessions, right controller, six people held out in turn",
+                    DATA / "machete_streams", _machete_one),
+    "machete_two": ("Machete sessions, both controllers, six people held out in turn",
+                    DATA / "machete_streams", _machete_two),
+    "replica": ("replica, 20 held-out people, one session each", None, _replica),
+}
+
+
+def counts(row: dict[str, Any]) -> tuple[int, int, int]:
+    """(true positives, false positives, misses) of a measured or recorded row."""
+    return int(row["tp"]), int(row["fp"]), int(row["fn"])
+
+
+def compare(measured: dict[str, dict[str, Any]], record: dict[str, dict[str, Any]]
+            ) -> dict[str, str]:
+    """Each measured row's verdict against the record: ``same``, ``moved`` or ``no record``."""
+    out = {}
+    for name, row in measured.items():
+        if name not in record:
+            out[name] = "no record"
+        else:
+            out[name] = "same" if counts(row) == counts(record[name]) else "moved"
+    return out
+
+
+def _line(row: dict[str, Any] | None) -> str:
+    if row is None:
+        return "-"
+    tp, fp, fn = counts(row)
+    return f"{tp} / {fp} / {fn}, F1 {100 * row['f1']:.1f} %, {row['fp_per_minute']:.2f} FP/min"
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--only", default=",".join(ROWS),
+                    help=f"comma-separated rows among {', '.join(ROWS)}")
+    ap.add_argument("--record", type=Path, default=RECORD, help="the figures on record (JSON)")
+    ap.add_argument("--write", action="store_true", help="record the measured rows")
+    args = ap.parse_args(argv)
+    names = [n.strip() for n in args.only.split(",") if n.strip()]
+    unknown = [n for n in names if n not in ROWS]
+    if unknown:
+        print(f"--only: unknown row {unknown[0]!r} (rows: {', '.join(ROWS)})", file=sys.stderr)
+        return 2
+    record = json.loads(args.record.read_text()) if args.record.is_file() else {}
+    measured: dict[str, dict[str, Any]] = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in names:
+            title, needs, measure = ROWS[name]
+            if needs is not None and not needs.is_dir():
+                print(f"{name}: skipped, {needs} is missing")
+                continue
+            print(f"{name}: {title} ...", flush=True)
+            try:
+                row = measure(Path(tmp) / f"{name}.json")
+            except RuntimeError as err:
+                print(f"{name}: {err}", file=sys.stderr)
+                return 2
+            measured[name] = {k: row[k] for k in KEYS}
+    verdicts = compare(measured, record)
+    for name, row in measured.items():
+        print(f"{name:<12} now {_line(row):<44} record {_line(record.get(name))}"
+              f"  {verdicts[name]}")
+    if args.write:
+        args.record.parent.mkdir(parents=True, exist_ok=True)
+        args.record.write_text(json.dumps({**record, **measured}, indent=2) + "\n")
+        print(f"wrote {args.record}")
+        return 0
+    return 0 if all(v == "same" for v in verdicts.values()) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,61 @@
+"""``benchmarks/live_figures.py``: the comparison with the record, and its usage errors. The rows
+themselves run the benchmarks (minutes), so only their verdicts are tested here."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
+sys.path.insert(0, str(BENCH))
+
+import live_figures  # noqa: E402
+
+
+def _row(tp: int, fp: int, fn: int) -> dict:
+    p, r = tp / max(tp + fp, 1), tp / max(tp + fn, 1)
+    return {"tp": tp, "fp": fp, "fn": fn, "precision": p, "recall": r,
+            "f1": 2 * p * r / (p + r) if p + r else 0.0, "fp_per_minute": 0.1}
+
+
+def test_a_row_with_the_same_counts_is_the_same():
+    assert live_figures.compare({"sfinge": _row(28, 8, 15)},
+                                {"sfinge": _row(28, 8, 15)}) == {"sfinge": "same"}
+
+
+@pytest.mark.parametrize("now", [(29, 8, 14), (28, 9, 15), (28, 8, 16)])
+def test_any_count_that_changes_moves_the_row(now):
+    assert live_figures.compare({"sfinge": _row(*now)},
+                                {"sfinge": _row(28, 8, 15)}) == {"sfinge": "moved"}
+
+
+def test_a_row_never_recorded_says_so():
+    assert live_figures.compare({"replica": _row(1, 0, 0)}, {}) == {"replica": "no record"}
+
+
+def test_every_row_of_the_record_is_a_row_the_script_measures():
+    record = json.loads(live_figures.RECORD.read_text())
+    assert set(record) <= set(live_figures.ROWS)
+    for row in record.values():
+        assert set(live_figures.KEYS) <= set(row)
+
+
+def test_an_unknown_row_is_one_line_and_exit_2():
+    proc = subprocess.run([sys.executable, str(BENCH / "live_figures.py"), "--only", "sfinge,nope"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert proc.stderr.strip().splitlines() == [
+        "--only: unknown row 'nope' (rows: sfinge, machete_one, machete_two, replica)"]
+
+
+def test_a_row_without_its_data_is_skipped(monkeypatch, tmp_path, capsys):
+    title, _, measure = live_figures.ROWS["sfinge"]
+    monkeypatch.setitem(live_figures.ROWS, "sfinge", (title, tmp_path / "missing", measure))
+    record = tmp_path / "record.json"
+    assert live_figures.main(["--only", "sfinge", "--record", str(record)]) == 0
+    assert f"sfinge: skipped, {tmp_path / 'missing'} is missing" in capsys.readouterr().out
+    assert not record.exists()
