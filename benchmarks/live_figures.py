@@ -22,7 +22,7 @@ Rows:
     The replica's 20 held-out people, one session each (``benchmarks/online_people.py --people
     heldout --per-person 1``).
 
-A row whose data is missing is skipped with one line. About five minutes for all four on a
+A row whose data is missing is skipped with one line. About three minutes for all four on a
 2-core machine.
 
     python benchmarks/live_figures.py                  # measure, compare with the record
