@@ -21,8 +21,12 @@ Rows:
 ``replica``
     The replica's 20 held-out people, one session each (``benchmarks/online_people.py --people
     heldout --per-person 1``).
+``zigzag``, ``check_mark``
+    A new gesture taught from five takes, among the seven, on 10 held-out people with
+    pentagons, letter Ms and Cs (``benchmarks/eighth_gesture.py --gesture G --people 10
+    --distractors fresh``): the new gesture's counts.
 
-A row whose data is missing is skipped with one line. About three minutes for all four on a
+A row whose data is missing is skipped with one line. About four minutes for all six on a
 2-core machine.
 
     python benchmarks/live_figures.py                  # measure, compare with the record
@@ -82,6 +86,14 @@ def _replica(out: Path) -> dict[str, Any]:
     return json.loads(out.read_text())["segments"]["pooled"]
 
 
+def _new_gesture(gesture: str) -> Callable[[Path], dict[str, Any]]:
+    def measure(out: Path) -> dict[str, Any]:
+        _run(["benchmarks/eighth_gesture.py", "--gesture", gesture, "--people", "10",
+              "--distractors", "fresh", "--no-baseline", "--json", str(out)])
+        return json.loads(out.read_text())["with_new_gesture"]["per_gesture"][gesture]
+    return measure
+
+
 #: row name: (what it measures, the data it needs, how to measure it)
 ROWS: dict[str, tuple[str, Path | None, Callable[[Path], dict[str, Any]]]] = {
     "sfinge": ("SFINGE3D dev, 36 sequences, four swipes", DATA / "sfinge_dev", _sfinge),
@@ -90,6 +102,9 @@ ROWS: dict[str, tuple[str, Path | None, Callable[[Path], dict[str, Any]]]] = {
     "machete_two": ("Machete sessions, both controllers, six people held out in turn",
                     DATA / "machete_streams", _machete_two),
     "replica": ("replica, 20 held-out people, one session each", None, _replica),
+    "zigzag": ("a zigzag taught from five takes, 10 held-out people", None, _new_gesture("zigzag")),
+    "check_mark": ("a check mark taught from five takes, 10 held-out people", None,
+                   _new_gesture("check_mark")),
 }
 
 
@@ -114,7 +129,8 @@ def _line(row: dict[str, Any] | None) -> str:
     if row is None:
         return "-"
     tp, fp, fn = counts(row)
-    return f"{tp} / {fp} / {fn}, F1 {100 * row['f1']:.1f} %, {row['fp_per_minute']:.2f} FP/min"
+    rate = f", {row['fp_per_minute']:.2f} FP/min" if "fp_per_minute" in row else ""
+    return f"{tp} / {fp} / {fn}, F1 {100 * row['f1']:.1f} %{rate}"
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -143,7 +159,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             except RuntimeError as err:
                 print(f"{name}: {err}", file=sys.stderr)
                 return 2
-            measured[name] = {k: row[k] for k in KEYS}
+            measured[name] = {k: row[k] for k in KEYS if k in row}
     verdicts = compare(measured, record)
     for name, row in measured.items():
         print(f"{name:<12} now {_line(row):<44} record {_line(record.get(name))}"

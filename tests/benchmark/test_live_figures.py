@@ -41,7 +41,7 @@ def test_every_row_of_the_record_is_a_row_the_script_measures():
     record = json.loads(live_figures.RECORD.read_text())
     assert set(record) <= set(live_figures.ROWS)
     for row in record.values():
-        assert set(live_figures.KEYS) <= set(row)
+        assert {"tp", "fp", "fn", "f1"} <= set(row) <= set(live_figures.KEYS)
 
 
 def test_an_unknown_row_is_one_line_and_exit_2():
@@ -49,7 +49,8 @@ def test_an_unknown_row_is_one_line_and_exit_2():
                           capture_output=True, text=True)
     assert proc.returncode == 2
     assert proc.stderr.strip().splitlines() == [
-        "--only: unknown row 'nope' (rows: sfinge, machete_one, machete_two, replica)"]
+        "--only: unknown row 'nope' (rows: sfinge, machete_one, machete_two, replica, zigzag, "
+        "check_mark)"]
 
 
 def test_a_row_without_its_data_is_skipped(monkeypatch, tmp_path, capsys):
