@@ -89,7 +89,8 @@ def _replica(out: Path) -> dict[str, Any]:
 def _new_gesture(gesture: str) -> Callable[[Path], dict[str, Any]]:
     def measure(out: Path) -> dict[str, Any]:
         _run(["benchmarks/eighth_gesture.py", "--gesture", gesture, "--people", "10",
-              "--distractors", "fresh", "--no-baseline", "--json", str(out)])
+              "--distractors", "fresh", "--no-baseline", "--json", str(out),
+              "--work", str(out.parent / f"{gesture}_work")])
         return json.loads(out.read_text())["with_new_gesture"]["per_gesture"][gesture]
     return measure
 
