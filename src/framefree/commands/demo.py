@@ -117,14 +117,17 @@ def _franka_sim_demo(out: str, seed: int, method: str, models: str | None) -> No
     click.echo(f"  path               within {1000 * run.path_error:.1f} mm of the ideal arm; ends "
                f"{1000 * run.end_error:.1f} mm from the planned end")
     click.echo(f"  time               {run.robot_seconds:.1f} s on the arm's clock, "
-               f"{run.wall_seconds:.1f} s wall")
+               f"{run.wall_seconds:.1f} s wall"
+               + (f"; {run.replans} motion(s) sent again after franky's planner failed"
+                  if run.replans else ""))
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
     summary = {"robot": "franka-sim", "host": run.host, "seed": seed, "accepted": run.accepted,
                "commands": run.command_log, "path_error_m": run.path_error,
                "end_error_m": run.end_error, "end_position_m": run.end_position.tolist(),
                "planned_end_m": run.planned_end.tolist(), "gripper_widths_m": run.gripper_widths,
-               "robot_seconds": run.robot_seconds, "wall_seconds": run.wall_seconds}
+               "robot_seconds": run.robot_seconds, "wall_seconds": run.wall_seconds,
+               "replans": run.replans}
     path = folder / "summary_franka_sim.json"
     path.write_text(json.dumps(summary, indent=2))
     click.echo(f"  summary            {path}")

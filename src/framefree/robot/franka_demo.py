@@ -56,6 +56,9 @@ class FrankaRun:
         Per accepted gripper event: its label and the measured finger opening 2 s later [m].
     robot_seconds, wall_seconds : float
         Session length on the arm's clock and on the wall clock [s].
+    replans : int
+        Motions sent again after franky's motion planner failed
+        (:attr:`~framefree.robot.backends.FrankaBackend.replans`).
     """
 
     host: str
@@ -68,6 +71,7 @@ class FrankaRun:
     gripper_widths: list[tuple[str, float]]
     robot_seconds: float
     wall_seconds: float
+    replans: int = 0
 
     @property
     def end_error(self) -> float:
@@ -169,4 +173,4 @@ def run_franka_session(recognizer: Any, commands: Sequence[tuple[float, str]], s
         command_log=list(loop.command_log), end_position=end, planned_end=ideal[-1],
         path_error=float(np.max(np.linalg.norm(measured - ideal, axis=1))),
         gripper_widths=widths, robot_seconds=float(backend.time),
-        wall_seconds=time.perf_counter() - wall0)
+        wall_seconds=time.perf_counter() - wall0, replans=backend.replans)

@@ -19,7 +19,11 @@ Before anything is sent, every period (:meth:`FrankaBackend.apply`): the command
 every joint must be farther than ``joint_margin`` from its limit, the TCP inside the workspace
 box, the arm's state fresh (a state older than ``state_timeout`` seconds means a lost
 connection). A violation stops the arm and raises :class:`~framefree.errors.FramefreeError` with
-one line; so does any error franky reports (a refused motion, a reflex, a network error).
+one line; so does any error franky reports (a refused motion, a reflex, a network error), with
+one exception: when franky's motion planner (Ruckig) could not follow the arm's state, an
+asynchronous motion ends with "Motion planner failed" and franky reports it at the next motion.
+The arm has then braked, and the period's motion is sent once more from where the arm stands
+(counted in :attr:`FrankaBackend.replans`); a second failure in a row stops the session.
 """
 
 from __future__ import annotations
@@ -197,6 +201,8 @@ class FrankaBackend:
     trace : list of (float, ndarray (3,), ndarray (3,), float)
         Every period: backend time [s], measured TCP position [m], linear velocity sent [m/s],
         measured finger opening [m].
+    replans : int
+        How many motions were sent again after franky's motion planner failed.
     """
 
     def __init__(self, host: str, dt: float = 0.01, limits: FrankaLimits | None = None,
@@ -231,6 +237,7 @@ class FrankaBackend:
         self._sent_at = -np.inf
         self._gripper_dir = 0
         self._closed = False
+        self.replans = 0
         self.trace: list[tuple[float, np.ndarray, np.ndarray, float]] = []
         self._read_state()
         self._time0 = self._state_time
@@ -300,7 +307,7 @@ class FrankaBackend:
         if moving and (changed or now - self._sent_at > 0.5 * self.hold):
             motion = fr.CartesianVelocityMotion(fr.Twist(lin.tolist(), ang.tolist()),
                                                 duration=fr.Duration(int(1000 * self.hold)))
-            self._call("move", lambda: self.robot.move(motion, asynchronous=True))
+            self._move(motion)
             self._sent_v, self._sent_at = lin, now
         elif not moving and self._sent_v is not None and np.any(self._sent_v):
             self._sent_v = lin  # the last motion runs out within `hold`: the arm comes to rest
@@ -310,6 +317,21 @@ class FrankaBackend:
         while self.time < self._next - 1e-6:  # the next period on the arm's clock
             time.sleep(0.001)
             self._read_state()
+
+    def _move(self, motion: Any) -> None:
+        """Send one asynchronous motion; after a motion-planner failure, send it once more."""
+        try:
+            self.robot.move(motion, asynchronous=True)
+            return
+        except Exception as exc:  # franky reports the previous motion's failure here
+            if "motion planner failed" not in str(exc).lower():
+                self._fail(f"could not move: {_one_line(exc)}")
+            first = _one_line(exc)
+        self.replans += 1
+        try:
+            self.robot.move(motion, asynchronous=True)
+        except Exception as exc:
+            self._fail(f"could not move: {first}, and again: {_one_line(exc)}")
 
     def _path_correction(self, command: Command, p: np.ndarray) -> np.ndarray:
         """Velocity [m/s] that pulls the TCP onto the path the planner's velocities integrate to
