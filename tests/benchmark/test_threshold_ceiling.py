@@ -1,0 +1,67 @@
+"""``benchmarks/threshold_ceiling.py``: the ceiling's count, its usage errors, and, where
+SFINGE3D's development data is there, that its live run at c = 1 is the recognizer
+``evaluate-stream`` runs (the counts on record)."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
+
+
+def _load():
+    spec = importlib.util.spec_from_file_location("threshold_ceiling",
+                                                  BENCH / "threshold_ceiling.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+threshold_ceiling = _load()
+
+
+def test_the_ceiling_counts_gestures_nearest_their_own_and_within_the_scaled_threshold():
+    rows = [{"label": "a", "nearest": "a", "own_ratio": 0.7},
+            {"label": "a", "nearest": "a", "own_ratio": 1.1},
+            {"label": "a", "nearest": "b", "own_ratio": 0.5},  # nearer another gesture
+            {"label": "b", "nearest": "b", "own_ratio": 0.95}]
+    assert threshold_ceiling.ceiling(rows, 1.0) == {"all": 2, "a": 1, "b": 1}
+    assert threshold_ceiling.ceiling(rows, 1.2) == {"all": 3, "a": 2, "b": 1}
+    assert threshold_ceiling.ceiling(rows, 0.6) == {"all": 0, "a": 0, "b": 0}
+
+
+@pytest.mark.parametrize("scales", ["", "a,b", "1,-0.5", "0", "nan"])
+def test_bad_scales_are_one_line_and_exit_2(scales):
+    proc = subprocess.run([sys.executable, str(BENCH / "threshold_ceiling.py"), "--scales", scales],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert proc.stderr.strip().count("\n") == 0 and "--scales" in proc.stderr
+
+
+def test_a_missing_folder_is_one_line(tmp_path):
+    proc = subprocess.run([sys.executable, str(BENCH / "threshold_ceiling.py"),
+                           "--models", str(tmp_path / "nowhere")], capture_output=True, text=True)
+    assert proc.returncode == 2 and "nowhere: no such folder" in proc.stderr
+
+
+SFINGE = BENCH.parent.parent / "shared" / "data" / "sfinge_dev"
+
+
+@pytest.mark.skipif(not SFINGE.is_dir(), reason="needs ../shared/data/sfinge_dev")
+def test_at_scale_one_the_live_run_is_evaluate_streams(tmp_path):
+    """c = 1 gives the SFINGE3D row of benchmarks/results/live_figures.json (the script builds
+    the recognizer evaluate-stream builds), every labelled swipe is cut out once, and the
+    ceiling counts no more than those nearest their own gesture."""
+    record = json.loads((BENCH / "results" / "live_figures.json").read_text())["sfinge"]
+    result = threshold_ceiling.main(["--scales", "1", "--out", str(tmp_path / "c.json")])
+    live = result["scales"]["1"]["live"]
+    assert (live["tp"], live["fp"], live["fn"]) == (record["tp"], record["fp"], record["fn"])
+    assert result["labelled"] == record["tp"] + record["fn"]
+    assert sum(live["per_gesture"][g]["tp"] for g in result["gestures"]) == live["tp"]
+    assert 0 < result["scales"]["1"]["ceiling"]["all"] <= result["nearest_own"] <= result["labelled"]
