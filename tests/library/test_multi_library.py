@@ -82,12 +82,34 @@ def test_a_loaded_library_restores_the_recognizer_without_recalibrating(recorded
     # nothing is left to derive: the thresholds are never computed again when restoring
     import framefree.online.multi as multi
 
-    before = multi.multi_thresholds
+    before = multi.multi_thresholds, multi.continuation_waits
     multi.multi_thresholds = lambda *a, **k: pytest.fail("recalibrated")
+    multi.continuation_waits = lambda *a, **k: pytest.fail("waits measured again")
     try:
-        lib.recognizer()
+        again = lib.recognizer()
     finally:
-        multi.multi_thresholds = before
+        multi.multi_thresholds, multi.continuation_waits = before
+    assert again.learned_.continuations == fresh.learned_.continuations
+    np.testing.assert_array_equal(again.spotter.model_waits, fresh.spotter.model_waits)
+
+
+def test_a_library_saved_before_the_learned_waits_learns_them_on_loading(recorded, tmp_path):
+    """A library file without ``continuations`` (framefree before v24) loads; the waits are
+    measured on its takes then, and its provenance says so."""
+    older = tmp_path / "older.npz"
+    with zipfile.ZipFile(recorded["file"]) as zin, zipfile.ZipFile(older, "w") as zout:
+        for item in zin.infolist():
+            data = zin.read(item.filename)
+            if item.filename == "library.json":
+                meta = json.loads(data)
+                meta["learned"].pop("continuations")
+                meta["learned"]["provenance"]["rules"].pop("continuations")
+                data = json.dumps(meta).encode()
+            zout.writestr(item, data)
+    restored = load_multi_library(older).recognizer()
+    current = load_multi_library(recorded["file"]).recognizer()
+    assert restored.learned_.continuations == current.learned_.continuations
+    assert "continuations learned on loading" in restored.learned_.provenance.note
 
 
 def test_live_with_the_library_file_gives_the_events_of_the_folder(recorded):

@@ -94,6 +94,7 @@ _CASTS: dict[str, Callable[[Any], Any]] = {
     "corner_limits": _per_gesture(int), "forbidden_turns": _per_gesture(int),
     "vertical_limits": _per_gesture(tuple), "gesture_thresholds": _per_gesture(float),
     "unseen": lambda v: [str(g) for g in v], "stop_threshold": float,
+    "continuations": _per_gesture(float),
 }
 
 
@@ -145,6 +146,12 @@ class LearnedSettings:
         gets them from its takes when it is loaded.
     stop_threshold : float
         The stop detector's threshold on the windowed angular speed [rad/s].
+    continuations : dict of str to float
+        Per gesture, how long [s] after a candidate of it ends another enrolled gesture that
+        begins the same way may still go on (:func:`~framefree.online.continuations.
+        continuation_waits`); a pending candidate waits for a rest that long at most, or
+        ``max_wait`` if longer. Learned for several trackers only (a library saved before
+        gets them from its takes when it is loaded).
     provenance : Provenance
         Which rule derived each value, from which takes, in which framefree.
     """
@@ -167,6 +174,7 @@ class LearnedSettings:
     gesture_thresholds: dict[str, float] | None = None
     unseen: list[str] | None = None
     stop_threshold: float | None = None
+    continuations: dict[str, float] | None = None
     provenance: Provenance = field(default_factory=Provenance)
 
     def __post_init__(self) -> None:

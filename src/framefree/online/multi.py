@@ -14,13 +14,16 @@ What comes from the models (:func:`resolve_multi_learned`): the rest and move le
 combined speed, the candidate limits (units, duration, pauses), each gesture's size range, the
 thresholds τ_g (the offline rule :func:`~framefree.rejection.thresholds_from_models`, P + N, with
 P also measured on the models as the live spotter cuts them, :func:`multi_thresholds`), the
-acceptance gates' speed limits (:func:`~framefree.online.multi_stream.gate_limits`) and the stop
-threshold (the fastest rotation of any tracker of any model).
+acceptance gates' speed limits (:func:`~framefree.online.multi_stream.gate_limits`), the stop
+threshold (the fastest rotation of any tracker of any model), and how long a pending gesture
+waits for a longer one that begins the same way (:func:`~framefree.online.continuations.
+continuation_waits`, measured by running the recognizer over the takes).
 See ``docs/online.md`` (Several trackers).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections import deque
 from collections.abc import Sequence
@@ -33,6 +36,7 @@ from ..core.multitrajectory import MultiTrajectory
 from ..rejection import thresholds_from_models
 from .acceptance import SampleGate
 from .config import RecognizerConfig
+from .continuations import continuation_waits
 from .events import Event
 from .learned import (
     GIVEN,
@@ -203,8 +207,10 @@ class MultiRecognizer(Recognizer):
                                               c.descriptor.L, k.dt, k.speed_lag, k.valley_ratio,
                                               capacity, n)
         sizes = np.array([s.size_limits.get(g, (0.0, np.inf)) for g in self.labels]) if c.size else None
+        waits = (None if s.continuations is None
+                 else np.array([s.continuations.get(g, 0.0) for g in self.labels]))
         self.spotter = MultiSpotter(
-            classifier, self.model_thresholds, sizes, max_units=s.max_units,
+            classifier, self.model_thresholds, sizes, waits, max_units=s.max_units,
             max_duration=s.max_duration, max_pause=s.max_pause, margin=k.margin,
             confirm=c.confirm, max_wait=c.max_wait, L=c.descriptor.L, pause_ratio=s.pause_ratio,
             min_pause=k.min_pause, fire_on_motion=k.fire_on_motion, rest_before=k.rest_before,
@@ -233,7 +239,7 @@ class MultiRecognizer(Recognizer):
             ``"gravity"`` (the default here, unlike offline): keeps the world's vertical (+z in
             framefree's frame, which multi-tracker CSV and Machete files are read into). On the
             six Machete Vive people, each left out of the models in turn, live F1 0.985 against
-            0.957 with ``"full"`` (docs/online.md, Several trackers); offline, the four people
+            FULL_TBD with ``"full"`` (docs/online.md, Several trackers); offline, the four people
             kept apart lost less with it (issue 39). ``"full"`` for a world whose vertical is
             unknown.
         learned : LearnedSettings, optional
@@ -254,10 +260,17 @@ class MultiRecognizer(Recognizer):
             draft.rules.update({n: r for n, r in learned.provenance.rules.items()
                                 if n not in given and n in draft.rules})
         resolved = resolve_multi_learned(samples, labels, config, clf, draft)
+        wrapped = MultiSegmentClassifier(clf, samples[0].names, samples[0].up)
+        gates = gate_limits(samples)
+        if resolved.continuations is None:  # learned by running the recognizer over the takes
+            probe = cls(wrapped, labels, config, resolved, invariance, gates)
+            rules = {**resolved.provenance.rules, "continuations": rule_name(continuation_waits)}
+            resolved = resolved.replace(
+                continuations=continuation_waits(probe, samples, labels),
+                provenance=dataclasses.replace(resolved.provenance, rules=rules))
         if learned is not None:
             resolved = resolved.replace(provenance=restored_provenance(resolved, learned))
-        wrapped = MultiSegmentClassifier(clf, samples[0].names, samples[0].up)
-        return cls(wrapped, labels, config, resolved, invariance, gate_limits(samples))
+        return cls(wrapped, labels, config, resolved, invariance, gates)
 
     # ---------------------------------------------------------------------------------- running
     @property

@@ -103,6 +103,9 @@ class MultiSpotter(Spotter):
         τ of each model's gesture.
     size_limits : ndarray, shape (M, 2), optional
         Smallest and largest :func:`path_size` [m] of a candidate of each model's gesture.
+    model_waits : ndarray, shape (M,), optional
+        Longest wait [s] for a rest after a candidate of each model's gesture while the hands
+        move on (at least ``max_wait``, the default for all).
     **kw
         The candidate and timing settings of :class:`~framefree.online.spotting.Spotter`
         (``max_units``, ``max_duration``, ``max_pause``, ``pause_ratio``, ``min_pause``,
@@ -110,8 +113,28 @@ class MultiSpotter(Spotter):
     """
 
     def __init__(self, classifier: MultiSegmentClassifier, model_thresholds: np.ndarray,
-                 size_limits: np.ndarray | None = None, **kw: Any) -> None:
+                 size_limits: np.ndarray | None = None, model_waits: np.ndarray | None = None,
+                 **kw: Any) -> None:
         super().__init__(classifier, model_thresholds, size_limits=size_limits, **kw)
+        self.model_waits = (np.full(len(model_thresholds), self.max_wait) if model_waits is None
+                            else np.maximum(np.asarray(model_waits, dtype=float), self.max_wait))
+
+    def poll(self, t: float, resting: bool) -> Candidate | None:
+        """Fire the pending candidate after a rest of ``confirm`` that follows the hands' last
+        motion (not merely its own end: the hands may have carried it on), or, when they do not
+        rest, once its model's wait is over: ``max_wait``, or longer for a gesture that another
+        enrolled gesture begins with (``model_waits``,
+        :func:`~framefree.online.continuations.continuation_waits`)."""
+        pend = self.pending
+        if pend is None:
+            return None
+        rested = t - max(pend.end_t, self._last_end_t)
+        waited = t - pend.end_t
+        if ((resting and rested >= self.confirm)
+                or (waited >= self.model_waits[pend.model] and pend.after_rest)):
+            self.pending = None
+            return pend
+        return None
 
     def candidates(self, buffer: PoseBuffer) -> list[Candidate]:
         """Classify every candidate that ends with the latest unit (all of them: no pruning)."""
