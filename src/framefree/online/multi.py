@@ -239,9 +239,9 @@ class MultiRecognizer(Recognizer):
             ``"gravity"`` (the default here, unlike offline): keeps the world's vertical (+z in
             framefree's frame, which multi-tracker CSV and Machete files are read into). On the
             six Machete Vive people, each left out of the models in turn, live F1 0.985 against
-            FULL_TBD with ``"full"`` (docs/online.md, Several trackers); offline, the four people
-            kept apart lost less with it (issue 39). ``"full"`` for a world whose vertical is
-            unknown.
+            0.986 with ``"full"`` (v24, one gesture apart; docs/multi-trackers.md); offline, the
+            four people kept apart lost less with it (issue 39). ``"full"`` for a world whose
+            vertical is unknown.
         learned : LearnedSettings, optional
             Learned values to keep instead of deriving them (a library's); a value left None is
             derived.
