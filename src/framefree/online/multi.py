@@ -202,7 +202,8 @@ class MultiRecognizer(Recognizer):
                                for _ in range(n)])
         self.resamplers = [UniformResampler(k.dt) for _ in range(n)]
         self.joiner = GridJoiner(n, k.dt)
-        capacity = math.ceil((s.max_duration + c.max_wait + 2.0) / k.dt) + 2 * k.margin
+        longest_wait = max([c.max_wait, *(s.continuations or {}).values()])
+        capacity = math.ceil((s.max_duration + longest_wait + 2.0) / k.dt) + 2 * k.margin
         self.segmenter = MultiMotionSegmenter(SpeedLevels(s.rest_speed, s.move_speed),
                                               c.descriptor.L, k.dt, k.speed_lag, k.valley_ratio,
                                               capacity, n)
