@@ -57,10 +57,14 @@ def continuation_waits(recognizer: Any, samples: Sequence[Any], labels: Sequence
     dict of str to float
         Every gesture of ``recognizer.labels`` [s].
     """
+    from tqdm import tqdm
+
     spotter = recognizer.spotter
     confirm = float(recognizer.config.confirm)
     waits = dict.fromkeys(recognizer.gestures, 0.0)
-    for sample, gesture in zip(samples, labels, strict=True):
+    takes = tqdm(list(zip(samples, labels, strict=True)), desc="timing the takes", unit="take",
+                 leave=False, disable=None)  # a bar on a terminal only
+    for sample, gesture in takes:
         recognizer.reset()
         spotter.log = log = []
         try:
