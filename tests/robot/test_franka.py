@@ -128,6 +128,25 @@ def test_a_planner_failure_sends_the_motion_once_more(simulator):
         backend.close()
 
 
+def test_a_real_planner_failure_in_franky_is_survived(simulator):
+    """franky's own failure, not an injected one: a motion whose twist Ruckig cannot plan (NaN)
+    fails inside franky's control loop and is reported at the next ``move``; the backend sends
+    that period's motion again and the arm goes on."""
+    import franky
+
+    backend = FrankaBackend(simulator.host, realtime=False)
+    try:
+        broken = franky.CartesianVelocityMotion(franky.Twist([float("nan"), 0.0, 0.0], [0.0] * 3),
+                                                duration=franky.Duration(100))
+        backend.robot.move(broken, asynchronous=True)
+        time.sleep(0.1)
+        moved = _move_along_y(backend, 40)
+        assert backend.replans == 1
+        assert moved > 0.005, moved
+    finally:
+        backend.close()
+
+
 def test_a_planner_failing_twice_in_a_row_stops_the_arm_in_one_line(simulator):
     backend = FrankaBackend(simulator.host, realtime=False)
     backend.robot = _PlannerFailsOn(backend.robot, failing_calls=[3, 4])
