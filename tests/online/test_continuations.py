@@ -10,7 +10,8 @@ from framefree.core.trajectory import Trajectory
 from framefree.datasets.people_layout import load_people
 from framefree.online.candidate import Candidate
 from framefree.online.config import RecognizerConfig
-from framefree.online.continuations import continuation_waits, pose_rows
+from framefree.online.continuations import continuation_waits
+from framefree.online.evaluation import stream_rows
 from framefree.online.multi import MultiRecognizer
 from real_data import MACHETE, SHIPPED_MACHETE
 
@@ -75,12 +76,12 @@ def test_an_unaccepted_or_final_candidate_sets_no_wait():
                                                               "swing": 0.0}
 
 
-def test_pose_rows_of_one_tracker_and_of_several():
+def test_stream_rows_of_one_tracker_and_of_several():
     take = _take(2)
-    t, p, q = pose_rows(take)
+    t, p, q = stream_rows(take)
     assert p.shape == (10, 3) and q.shape == (10, 4)
     sample = load_people(SHIPPED_MACHETE).of(["Sub_U001"])[0].sample
-    t, p, q = pose_rows(sample)
+    t, p, q = stream_rows(sample)
     assert p.shape == (t.size, 2, 3) and q.shape == (t.size, 2, 4)
     np.testing.assert_array_equal(p[:, 1], sample.trackers[1].p)
 
@@ -95,6 +96,7 @@ def test_a_pending_gesture_fires_at_its_own_wait_when_the_hands_move_on(recogniz
     spotter = recognizer.spotter
     spotter.reset()
     assert np.all(spotter.model_waits >= recognizer.config.max_wait)
+    learned = spotter.model_waits.copy()
     try:
         spotter.model_waits = np.full(len(recognizer.labels), 1.0)
         spotter.model_waits[3] = 2.5
@@ -107,9 +109,7 @@ def test_a_pending_gesture_fires_at_its_own_wait_when_the_hands_move_on(recogniz
         assert spotter.poll(21.0, resting=False).model == 0
     finally:
         spotter.reset()
-        spotter.model_waits = np.maximum(
-            np.array([recognizer.learned_.continuations[g] for g in recognizer.labels]),
-            recognizer.config.max_wait)
+        spotter.model_waits = learned
 
 
 def test_the_confirming_rest_follows_the_hands_last_motion(recognizer):

@@ -21,20 +21,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-import numpy as np
+from .evaluation import stream_rows
 
-__all__ = ["continuation_waits", "pose_rows"]
-
-
-def pose_rows(sample: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(t, P, Q)`` of a take for ``push``: shapes (N,), (N, n, 3) and (N, n, 4) for a
-    :class:`~framefree.core.multitrajectory.MultiTrajectory`, (N,), (N, 3) and (N, 4) for a
-    :class:`~framefree.core.trajectory.Trajectory`."""
-    trackers = getattr(sample, "trackers", None)
-    if trackers is None:
-        return sample.t, sample.p, sample.q
-    return (trackers[0].t, np.stack([tr.p for tr in trackers], axis=1),
-            np.stack([tr.q for tr in trackers], axis=1))
+__all__ = ["continuation_waits"]
 
 
 def continuation_waits(recognizer: Any, samples: Sequence[Any], labels: Sequence[str]
@@ -68,7 +57,7 @@ def continuation_waits(recognizer: Any, samples: Sequence[Any], labels: Sequence
         recognizer.reset()
         spotter.log = log = []
         try:
-            for t, p, q in zip(*pose_rows(sample), strict=True):
+            for t, p, q in zip(*stream_rows(sample), strict=True):
                 recognizer.push(float(t), p, q)
             recognizer.finish()
         finally:

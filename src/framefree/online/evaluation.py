@@ -267,19 +267,28 @@ class TracingRecognizer:
         return StreamTrace(np.array(self._times), diss, self.gestures, thresholds)
 
 
+def stream_rows(traj: Trajectory | MultiTrajectory) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(t, P, Q)`` of a stream as ``push`` takes it, shapes (N,), (N, 3) and (N, 4) for a
+    :class:`~framefree.core.trajectory.Trajectory`; (N,), (N, n, 3) and (N, n, 4) for a
+    :class:`~framefree.core.multitrajectory.MultiTrajectory` of n trackers."""
+    trackers = getattr(traj, "trackers", None)
+    if trackers is None:
+        return traj.t, traj.p, traj.q
+    return (traj.t, np.stack([tr.p for tr in trackers], axis=1),
+            np.stack([tr.q for tr in trackers], axis=1))
+
+
 def run_stream(recognizer: Any, traj: Trajectory | MultiTrajectory, view: Any = None
                ) -> tuple[list[Event], StreamTrace]:
     """Reset the recognizer, push a whole stream (a MultiTrajectory for a recognizer of several
     trackers), return its events and a dissimilarity trace (``view``: anything with
     ``update(t, p, q, events)``, e.g. the rerun view, fed every pose)."""
     tracer = TracingRecognizer(recognizer)
-    trackers = getattr(traj, "trackers", None)  # several trackers: (N, n, 3) and (N, n, 4)
-    P = traj.p if trackers is None else np.stack([tr.p for tr in trackers], axis=1)
-    Q = traj.q if trackers is None else np.stack([tr.q for tr in trackers], axis=1)
+    T, P, Q = stream_rows(traj)
     for k in range(len(traj)):
-        events = tracer.push(traj.t[k], P[k], Q[k])
+        events = tracer.push(T[k], P[k], Q[k])
         if view is not None:
-            view.update(traj.t[k], P[k], Q[k], events)
+            view.update(T[k], P[k], Q[k], events)
     return tracer.events, tracer.trace()
 
 

@@ -119,22 +119,15 @@ class MultiSpotter(Spotter):
         self.model_waits = (np.full(len(model_thresholds), self.max_wait) if model_waits is None
                             else np.maximum(np.asarray(model_waits, dtype=float), self.max_wait))
 
-    def poll(self, t: float, resting: bool) -> Candidate | None:
-        """Fire the pending candidate after a rest of ``confirm`` that follows the hands' last
-        motion (not merely its own end: the hands may have carried it on), or, when they do not
-        rest, once its model's wait is over: ``max_wait``, or longer for a gesture that another
-        enrolled gesture begins with (``model_waits``,
-        :func:`~framefree.online.continuations.continuation_waits`)."""
-        pend = self.pending
-        if pend is None:
-            return None
-        rested = t - max(pend.end_t, self._last_end_t)
-        waited = t - pend.end_t
-        if ((resting and rested >= self.confirm)
-                or (waited >= self.model_waits[pend.model] and pend.after_rest)):
-            self.pending = None
-            return pend
-        return None
+    def rest_start(self, pending: Candidate) -> float:
+        """The confirming rest follows the hands' last motion, not merely the candidate's end:
+        the hands may have carried it on (the other hand's stroke of a combo)."""
+        return max(pending.end_t, self._last_end_t)
+
+    def longest_wait(self, pending: Candidate) -> float:
+        """``max_wait``, or longer for a gesture that another enrolled gesture begins with
+        (``model_waits``, :func:`~framefree.online.continuations.continuation_waits`)."""
+        return float(self.model_waits[pending.model])
 
     def candidates(self, buffer: PoseBuffer) -> list[Candidate]:
         """Classify every candidate that ends with the latest unit (all of them: no pruning)."""

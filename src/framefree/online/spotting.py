@@ -535,7 +535,17 @@ class Spotter:
         if pend is None:
             return None
         waited = t - pend.end_t
-        if (resting and waited >= self.confirm) or (waited >= self.max_wait and pend.after_rest):
+        rested = t - self.rest_start(pend)
+        if ((resting and rested >= self.confirm)
+                or (waited >= self.longest_wait(pend) and pend.after_rest)):
             self.pending = None
             return pend
         return None
+
+    def rest_start(self, pending: Candidate) -> float:
+        """Time [s] from which the confirming rest after ``pending`` counts: its end."""
+        return pending.end_t
+
+    def longest_wait(self, pending: Candidate) -> float:
+        """Longest wait [s] after ``pending``'s end while the hand moves on: ``max_wait``."""
+        return self.max_wait
