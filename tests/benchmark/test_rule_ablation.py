@@ -1,0 +1,47 @@
+"""``benchmarks/rule_ablation.py``: every rule it switches off names settings the recognizer
+knows and that change something, and its usage errors are one line."""
+
+from __future__ import annotations
+
+import importlib.util
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from framefree.online import RecognizerConfig
+from framefree.online.learned import split_settings
+
+BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
+
+
+@pytest.fixture(scope="module")
+def rule_ablation():
+    sys.path.insert(0, str(BENCH))  # the script imports its sibling benchmarks
+    try:
+        spec = importlib.util.spec_from_file_location("rule_ablation", BENCH / "rule_ablation.py")
+        mod = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(mod)
+        yield mod
+    finally:
+        sys.path.remove(str(BENCH))
+
+
+def test_every_rule_switches_something_off(rule_ablation):
+    """Each rule's settings are known to the recognizer (a misspelt name raises) and differ from
+    the shipped recognizer: a changed setting, or a learned value given instead of derived."""
+    assert rule_ablation.RULES["none"][1] == {}
+    for name, (_, settings) in rule_ablation.RULES.items():
+        config, given = split_settings(dict(settings))
+        if name == "none":
+            assert config == RecognizerConfig() and not given
+        else:
+            assert config != RecognizerConfig() or given, name
+
+
+def test_an_unknown_rule_is_one_line_and_exit_2():
+    proc = subprocess.run([sys.executable, str(BENCH / "rule_ablation.py"), "--rules",
+                           "travel,no_such_rule"], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert proc.stderr.strip().count("\n") == 0 and "no_such_rule" in proc.stderr
