@@ -135,6 +135,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--out", type=Path, default=REPO / "benchmarks" / "results" / "rule_ablation.json")
     args = ap.parse_args(argv)
     rules = [r.strip() for r in args.rules.split(",") if r.strip()]
+    if args.jobs < 1:
+        print(f"error: --jobs must be at least 1, got {args.jobs}", file=sys.stderr)
+        raise SystemExit(2)
     unknown = [r for r in rules if r not in RULES]
     if unknown or not rules:
         print(f"error: --rules: unknown rule {', '.join(unknown) or '(none given)'}; "

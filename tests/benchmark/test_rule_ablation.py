@@ -40,8 +40,11 @@ def test_every_rule_switches_something_off(rule_ablation):
             assert config != RecognizerConfig() or given, name
 
 
-def test_an_unknown_rule_is_one_line_and_exit_2():
-    proc = subprocess.run([sys.executable, str(BENCH / "rule_ablation.py"), "--rules",
-                           "travel,no_such_rule"], capture_output=True, text=True)
+@pytest.mark.parametrize(("args", "named"), [(["--rules", "travel,no_such_rule"], "no_such_rule"),
+                                            (["--rules", ","], "--rules"),
+                                            (["--jobs", "0"], "--jobs")])
+def test_usage_errors_are_one_line_and_exit_2(args, named):
+    proc = subprocess.run([sys.executable, str(BENCH / "rule_ablation.py"), *args],
+                          capture_output=True, text=True)
     assert proc.returncode == 2
-    assert proc.stderr.strip().count("\n") == 0 and "no_such_rule" in proc.stderr
+    assert proc.stderr.strip().count("\n") == 0 and named in proc.stderr
