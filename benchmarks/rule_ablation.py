@@ -36,12 +36,11 @@ from typing import Any
 from joblib import Parallel, delayed
 from one_controller_streams import person_fold
 from online_people import _evaluate
+from threshold_ceiling import gesture_models, labelled_streams, live_counts
 
-from framefree.datasets.layout import resolve_models
 from framefree.datasets.people_layout import load_people
-from framefree.datasets.stream_files import load_stream
 from framefree.online import Recognizer
-from framefree.online.evaluation import combine, match_events, run_stream
+from framefree.online.evaluation import combine
 from framefree.replica import DEV_PEOPLE
 from framefree.replica.people_streams import make_person_streams
 
@@ -83,21 +82,15 @@ def _counts(results: Sequence[Any]) -> dict[str, Any]:
 
 def sfinge(settings: dict[str, Any]) -> dict[str, Any]:
     """SFINGE3D sequences 1-18 and 19-36 with ``settings``."""
-    found = resolve_models(str(DATA / "sfinge_dev" / "templates"), model_context="original_1",
-                           quat_order="wxyz", units="m")
-    keep = [i for i, label in enumerate(found.labels) if label in SWIPES]
-    rec = Recognizer.from_trajectories([found.trajectories[i] for i in keep],
-                                       [found.labels[i] for i in keep], **settings)
-    rec.warmup()
-    rec.background = False
-    halves: dict[str, list] = {"sfinge_1_18": [], "sfinge_19_36": []}
-    for path in sorted((DATA / "sfinge_dev" / "streams").glob("seq_??.csv")):
-        trajectory, segments = load_stream(path)
-        events, _ = run_stream(rec, trajectory)
-        result = match_events(events, [s for s in segments if s.label in SWIPES],
-                              float(trajectory.t[-1] - trajectory.t[0]))
-        halves["sfinge_1_18" if int(path.stem[4:]) <= 18 else "sfinge_19_36"].append(result)
-    return {name: _counts(results) for name, results in halves.items()}
+    takes, labels = gesture_models(DATA / "sfinge_dev" / "templates", SWIPES)
+    rec = Recognizer.from_trajectories(takes, labels, **settings)
+    streams = labelled_streams(DATA / "sfinge_dev" / "streams", SWIPES)
+    out = {}
+    for name, half in (("sfinge_1_18", range(1, 19)), ("sfinge_19_36", range(19, 37))):
+        counts = live_counts(rec, [(tr, seg) for path, tr, seg in streams
+                                   if int(path.stem[4:]) in half])
+        out[name] = {k: v for k, v in counts.items() if k != "per_gesture"}
+    return out
 
 
 def machete(settings: dict[str, Any]) -> dict[str, Any]:

@@ -94,19 +94,34 @@ def live_counts(rec: Recognizer, streams: Sequence[tuple[Any, list]]) -> dict[st
                             for g, v in per_gesture(results).items()}}
 
 
-def measure(models: Path, streams_dir: Path, gestures: list[str], scales: list[float]
-            ) -> dict[str, Any]:
-    """The ceiling and the live counts at every scale (see the module's docstring)."""
+def gesture_models(models: Path, gestures: Sequence[str]) -> tuple[list[Any], list[str]]:
+    """The takes of ``gestures`` in a models folder and their labels (as ``evaluate-stream
+    --gestures`` keeps them)."""
     found = resolve_models(str(models), model_context="original_1", quat_order="wxyz", units="m")
     keep = [i for i, label in enumerate(found.labels) if label in gestures]
-    takes, labels = [found.trajectories[i] for i in keep], [found.labels[i] for i in keep]
-    rec = Recognizer.from_trajectories(takes, labels)
-    tau = dict(rec.calibration.summary()["thresholds"])
-    streams = []
+    return [found.trajectories[i] for i in keep], [found.labels[i] for i in keep]
+
+
+def labelled_streams(streams_dir: Path, gestures: Sequence[str]
+                     ) -> list[tuple[Path, Any, list[Any]]]:
+    """Every stream of a folder with its labels of ``gestures`` (the others count as
+    non-gesture motion)."""
+    out = []
     for path in sorted(streams_dir.glob("*.csv")):
         if not path.name.endswith("_labels.csv"):
             trajectory, segments = load_stream(path)
-            streams.append((trajectory, [s for s in segments if s.label in gestures]))
+            out.append((path, trajectory, [s for s in segments if s.label in gestures]))
+    return out
+
+
+def measure(models: Path, streams_dir: Path, gestures: list[str], scales: list[float]
+            ) -> dict[str, Any]:
+    """The ceiling and the live counts at every scale (see the module's docstring)."""
+    takes, labels = gesture_models(models, gestures)
+    rec = Recognizer.from_trajectories(takes, labels)
+    tau = dict(rec.calibration.summary()["thresholds"])
+    streams = [(trajectory, segments)
+               for _, trajectory, segments in labelled_streams(streams_dir, gestures)]
     rows = [r for trajectory, segments in streams for r in labelled_ratios(rec, trajectory, segments)]
     out: dict[str, Any] = {"models": str(models), "streams": len(streams), "gestures": gestures,
                            "labelled": len(rows), "tau": tau,
