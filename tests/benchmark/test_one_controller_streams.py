@@ -1,0 +1,74 @@
+"""``benchmarks/one_controller_streams.py``: the vocabulary ``--gestures`` names, and its usage
+errors in one line with exit status 2."""
+
+from __future__ import annotations
+
+import importlib.util
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from framefree.datasets.people_layout import load_people
+
+BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
+MACHETE = BENCH.parent.parent / "shared" / "data" / "machete_vive"
+GESTURES = {"backflip", "cartwheel_left", "cartwheel_right", "fly_eagle", "golf_swing",
+            "hook_left", "hook_right", "left_right_left_combo", "right_left_right_combo",
+            "uppercut_left", "uppercut_right"}
+
+
+@pytest.fixture(scope="module")
+def script():
+    sys.path.insert(0, str(BENCH))  # the script imports its sibling benchmarks
+    try:
+        spec = importlib.util.spec_from_file_location("one_controller_streams",
+                                                      BENCH / "one_controller_streams.py")
+        mod = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(mod)
+        yield mod
+    finally:
+        sys.path.remove(str(BENCH))
+
+
+def test_the_right_hand_vocabulary_leaves_out_the_left_hand_gestures(script):
+    right = script.vocabulary("right-hand", GESTURES)
+    assert right == set(script.RIGHT_HAND) and right < GESTURES
+    assert not right & {"hook_left", "uppercut_left", "left_right_left_combo"}
+    assert {"cartwheel_left", "right_left_right_combo"} <= right  # both arms move in these
+
+
+def test_a_list_of_gestures_and_no_list(script):
+    assert script.vocabulary(" hook_right, backflip ,", GESTURES) == {"hook_right", "backflip"}
+    assert script.vocabulary(None, GESTURES) is None
+
+
+@pytest.mark.parametrize("text", ["hook_right,no_such_gesture", ",", "Hook_Right"])
+def test_a_name_the_recordings_lack_is_refused(script, text):
+    with pytest.raises(ValueError, match="unknown gesture"):
+        script.vocabulary(text, GESTURES)
+
+
+@pytest.mark.skipif(not MACHETE.is_dir(), reason="needs ../shared/data/machete_vive")
+def test_an_unknown_gesture_is_one_line_and_exit_2():
+    proc = subprocess.run([sys.executable, str(BENCH / "one_controller_streams.py"),
+                           "--gestures", "hook_right,no_such_gesture"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert proc.stderr.strip().count("\n") == 0 and "no_such_gesture" in proc.stderr
+
+
+@pytest.mark.skipif(not MACHETE.is_dir(), reason="needs ../shared/data/machete_vive")
+def test_the_right_hand_vocabulary_is_where_the_right_hand_moves_as_far(script):
+    """In the median take of each gesture of the list the right controller travels at least 0.9
+    times as far as the left; in the median take of every other gesture, at most 0.7 times."""
+    ratios: dict[str, list[float]] = {}
+    for r in load_people(MACHETE):
+        right, left = (float(np.linalg.norm(np.diff(r.sample.trackers[k].p, axis=0), axis=1).sum())
+                       for k in (0, 1))
+        ratios.setdefault(r.gesture, []).append(right / left)
+    median = {g: float(np.median(v)) for g, v in ratios.items()}
+    assert {g for g, m in median.items() if m >= 0.9} == set(script.RIGHT_HAND)
+    assert all(m <= 0.7 for g, m in median.items() if g not in script.RIGHT_HAND)
