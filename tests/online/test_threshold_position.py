@@ -75,3 +75,26 @@ def test_the_positions_are_fractions(value):
     for name in ("threshold_position", "unseparated_position"):
         with pytest.raises(ValueError, match=name):
             SpottingConstants(**{name: value})
+
+
+@pytest.mark.parametrize("q", [0.0, 0.5, 1.0])
+def test_the_rival_bound_is_a_quantile_of_the_other_takes_nearest_distances(vocabulary, q):
+    """Each take of another gesture is scored by its nearest take of ``g``; ``N_g`` is at most
+    the ``rival_quantile`` of those scores (0: the nearest pair, as before)."""
+    rec, _, labels = vocabulary
+    labels = np.asarray(labels)
+    generic = _calibrate(vocabulary, rivals=False).negatives
+    cal = _calibrate(vocabulary, rival_quantile=q)
+    between = rec.classifier.descriptor.distance_matrix(rec.classifier.models, rec.classifier.models)
+    for g in ("zigzag", "circle"):
+        nearest_of_g = between[np.ix_(labels == g, labels != g)].min(axis=0)
+        assert nearest_of_g.shape == (5,)
+        assert cal.negatives[g] == pytest.approx(min(generic[g], np.quantile(nearest_of_g, q)))
+    if q == 0.0:
+        assert cal.negatives == _calibrate(vocabulary).negatives
+
+
+@pytest.mark.parametrize("value", [-0.01, 1.01])
+def test_the_rival_quantile_is_a_fraction(value):
+    with pytest.raises(ValueError, match="rival_quantile"):
+        SpottingConstants(rival_quantile=value)

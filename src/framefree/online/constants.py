@@ -150,6 +150,11 @@ class SpottingConstants(_Group):
         Which negatives the thresholds are calibrated on (:mod:`~framefree.online.thresholds`):
         an episode the shape limits refuse counts as infinitely far (True); the other gestures'
         takes (True); shapes drawn in the air (:mod:`~framefree.online.scribbles`, True).
+    rival_quantile : float
+        Quantile, over the other gestures' takes, of their distances to a gesture's nearest
+        take that bounds its ``N_g`` (0: the nearest pair). 0.05 finds more of the Machete
+        right hand's gestures and fires more often on SFINGE3D's free motion
+        (docs/online-history.md).
     threshold_position : float
         τ_g = P_g^(1-a) N_g^a between the worst take ``P_g`` and the negatives ``N_g`` (0.7).
     unseparated_position : float
@@ -222,6 +227,7 @@ class SpottingConstants(_Group):
     negative_quantile: float = 0.05
     gated_negatives: bool = True
     rival_negatives: bool = True
+    rival_quantile: float = 0.0
     drawn_negatives: bool = True
     threshold_position: float = 0.7
     unseparated_position: float = 0.5
@@ -274,5 +280,7 @@ class SpottingConstants(_Group):
         for name in ("threshold_position", "unseparated_position"):
             if not 0 <= getattr(self, name) <= 1:
                 raise ValueError(f"{name} must be in [0, 1], got {getattr(self, name)}")
+        if not 0 <= self.rival_quantile <= 1:
+            raise ValueError(f"rival_quantile must be in [0, 1], got {self.rival_quantile}")
         if not 0 <= self.seen_fraction <= 1:
             raise ValueError(f"seen_fraction must be in [0, 1], got {self.seen_fraction}")

@@ -278,7 +278,7 @@ def _thresholds(trajectories: Sequence[Trajectory], labels: Sequence[str],
         k.negative_quantile, k.threshold_position, gated=k.gated_negatives,
         rivals=k.rival_negatives, drawn=k.drawn_negatives,
         reach=k.size_reach / k.size_factor if config.size and sizes_derived else 1.0,
-        unseparated_position=k.unseparated_position)
+        unseparated_position=k.unseparated_position, rival_quantile=k.rival_quantile)
     draft.fill(calibrate_segment_thresholds, gesture_thresholds=calibration.thresholds)
     if draft.missing("unseen"):
         draft.fill(unseen_gestures,

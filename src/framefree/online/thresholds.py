@@ -278,6 +278,7 @@ def calibrate_segment_thresholds(
     drawn: bool = True,
     reach: float = 1.0,
     unseparated_position: float | None = None,
+    rival_quantile: float = 0.0,
 ) -> SegmentThresholds:
     """τ_g for every gesture (see the module docstring).
 
@@ -309,6 +310,11 @@ def calibrate_segment_thresholds(
     rivals : bool
         Also count the other gestures' recordings as negatives: ``N_g`` is at most the distance
         between the nearest pair of a recording of ``g`` and a recording of another gesture.
+    rival_quantile : float
+        With ``rivals``: ``N_g`` is at most this quantile, over the other gestures' recordings,
+        of each one's distance to its nearest recording of ``g`` (0: their minimum, the nearest
+        pair). The nearest pair falls as takes are added; a low quantile lets one stray pair
+        go (docs/online-history.md, *rival negatives at a quantile*).
     drawn : bool
         Also count random shapes drawn in the air (the ``drawn`` family of
         :func:`~framefree.online.negatives.non_gesture_motions`) among the generic episodes.
@@ -352,7 +358,8 @@ def calibrate_segment_thresholds(
         N = _quantile(episodes[g], negative_quantile)
         own = labels_arr == g
         if between is not None and (~own).any():
-            N = min(N, float(between[np.ix_(own, ~own)].min()))
+            nearest_of_g = between[np.ix_(own, ~own)].min(axis=0)  # per take of another gesture
+            N = min(N, float(np.quantile(nearest_of_g, rival_quantile)))
         negatives[g] = N
         separated[g] = bool(P < N)
         if np.isfinite(P) and np.isfinite(N):
