@@ -170,7 +170,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             measured[name] = {k: row[k] for k in KEYS if k in row}
     verdicts = compare(measured, record)
     for name, row in measured.items():
-        print(f"{name:<12} now {_line(row):<44} record {_line(record.get(name))}"
+        print(f"{name:<{max(map(len, ROWS))}} now {_line(row):<44} record {_line(record.get(name))}"
               f"  {verdicts[name]}")
     if args.write:
         args.record.parent.mkdir(parents=True, exist_ok=True)

@@ -154,7 +154,7 @@ class SpottingConstants(_Group):
         Quantile, over the other gestures' takes, of their distances to a gesture's nearest
         take that bounds its ``N_g`` (0: the nearest pair). 0.05 finds more of the Machete
         right hand's gestures and fires more often on SFINGE3D's free motion
-        (docs/online-history.md).
+        (docs/online-history.md, *Session 27: one sensor that performs every gesture*).
     threshold_position : float
         τ_g = P_g^(1-a) N_g^a between the worst take ``P_g`` and the negatives ``N_g`` (0.7).
     unseparated_position : float

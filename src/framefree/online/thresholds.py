@@ -15,7 +15,9 @@ candidate segment of it is classified against the *other* recordings of its gest
   scores infinity (*gated*). Their ``negative_quantile`` (5 %) quantile is the generic part;
 * *rivals*: the other gestures. The distance (the classifier's, between whole recordings) of the
   nearest pair of a recording of ``g`` and a recording of another gesture bounds ``N_g`` from
-  above: a segment that far from ``g`` may as well be the other gesture.
+  above: a segment that far from ``g`` may as well be the other gesture. With
+  ``rival_quantile`` > 0 the bound is that quantile, over the other gestures' recordings, of
+  each one's distance to its nearest recording of ``g``, so that one stray pair does not set it.
 
 Generic motion also includes random shapes drawn in the air (``drawn``,
 :mod:`framefree.online.scribbles`), so that a threshold also meets shapes nobody enrolled.
@@ -314,7 +316,7 @@ def calibrate_segment_thresholds(
         With ``rivals``: ``N_g`` is at most this quantile, over the other gestures' recordings,
         of each one's distance to its nearest recording of ``g`` (0: their minimum, the nearest
         pair). The nearest pair falls as takes are added; a low quantile lets one stray pair
-        go (docs/online-history.md, *rival negatives at a quantile*).
+        go (docs/online-history.md, *Session 27: one sensor that performs every gesture*).
     drawn : bool
         Also count random shapes drawn in the air (the ``drawn`` family of
         :func:`~framefree.online.negatives.non_gesture_motions`) among the generic episodes.
