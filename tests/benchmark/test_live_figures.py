@@ -3,25 +3,15 @@ themselves run the benchmarks (minutes), so only their verdicts are tested here.
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
-BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
+from benchmark_scripts import BENCH, load_benchmark
 
-
-def _load():
-    spec = importlib.util.spec_from_file_location("live_figures", BENCH / "live_figures.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-live_figures = _load()
+live_figures = load_benchmark("live_figures")
 
 
 def _row(tp: int, fp: int, fn: int) -> dict:

@@ -3,22 +3,20 @@ only, and a clone without the shared data is told so in one line."""
 
 from __future__ import annotations
 
-import importlib.util
 import subprocess
 import sys
 from pathlib import Path
 
 import numpy as np
 
+from benchmark_scripts import load_benchmark
+
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = ROOT / "benchmarks" / "real_people_protocol.py"
 
 
 def _module():
-    spec = importlib.util.spec_from_file_location("real_people_protocol", SCRIPT)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_benchmark("real_people_protocol")
 
 
 def _perfect_on(people: list[str], persons: np.ndarray, gestures: np.ndarray) -> np.ndarray:

@@ -3,29 +3,19 @@ knows and that change something, and its usage errors are one line."""
 
 from __future__ import annotations
 
-import importlib.util
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
+from benchmark_scripts import BENCH, load_benchmark
 from framefree.online import RecognizerConfig
 from framefree.online.learned import split_settings
-
-BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
 
 
 @pytest.fixture(scope="module")
 def rule_ablation():
-    sys.path.insert(0, str(BENCH))  # the script imports its sibling benchmarks
-    try:
-        spec = importlib.util.spec_from_file_location("rule_ablation", BENCH / "rule_ablation.py")
-        mod = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(mod)
-        yield mod
-    finally:
-        sys.path.remove(str(BENCH))
+    return load_benchmark("rule_ablation")
 
 
 def test_every_rule_switches_something_off(rule_ablation):

@@ -4,26 +4,15 @@ SFINGE3D's development data is there, that its live run at c = 1 is the recogniz
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
-BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
+from benchmark_scripts import BENCH, load_benchmark
 
-
-def _load():
-    spec = importlib.util.spec_from_file_location("threshold_ceiling",
-                                                  BENCH / "threshold_ceiling.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-threshold_ceiling = _load()
+threshold_ceiling = load_benchmark("threshold_ceiling")
 
 
 def test_the_ceiling_counts_gestures_nearest_their_own_and_within_the_scaled_threshold():
