@@ -262,3 +262,12 @@ def test_enroll_multi_in_python_keeps_bit_identical_takes(recorded, tmp_path):
     for a, b in zip(lib.takes.takes, back.takes.takes, strict=True):
         assert np.array_equal(a.trackers[1].q, b.trackers[1].q)
     assert back.gesture_thresholds == lib.gesture_thresholds
+
+
+@pytest.mark.parametrize(("item", "named"), [("threshold_position=2", "threshold_position"),
+                                             ("rival_quantile=-1", "rival_quantile"),
+                                             ("no_such_setting=1", "no_such_setting")])
+def test_enroll_refuses_a_bad_setting_in_one_message(recorded, tmp_path, item, named):
+    res = run("enroll", recorded["library"], "--set", item, "-o", tmp_path / "bad.npz")
+    assert res.exit_code == 2 and named in res.output and "Traceback" not in res.output
+    assert not (tmp_path / "bad.npz").exists()

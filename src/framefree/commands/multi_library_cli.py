@@ -72,7 +72,10 @@ def enroll_multi_sources(sources: tuple[str, ...], out: str, context: str | None
         takes = takes.without(removals)
     invariance = invariance or stored or "gravity"
     base = RecognizerConfig.from_dict(settings) if settings else RecognizerConfig()
-    config = base.replace(**sets)
+    try:
+        config = base.replace(**sets)
+    except (TypeError, ValueError) as exc:  # an unknown name, or a value out of its range
+        raise click.BadParameter(str(exc), param_hint="--set") from None
     old = load_multi_library(out) if Path(out).is_file() and not force else None
     if old is not None:
         if old.fingerprint == multi_fingerprint(takes, config, invariance):
