@@ -26,6 +26,7 @@ from __future__ import annotations
 import argparse
 import collections
 import json
+import sys
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -35,6 +36,7 @@ from joblib import Parallel, delayed
 from framefree.datasets.layout import load_model_recordings
 from framefree.online import Recognizer
 from framefree.online.evaluation import combine, match_events, run_stream
+from framefree.online.learned import split_settings
 from framefree.online.paper import PaperRecognizer
 from framefree.online.window_baseline import WindowSpotter
 from framefree.replica import replica_path
@@ -81,14 +83,27 @@ def _evaluate(method: str, overrides: dict, item) -> dict:
 
 
 def _parse_set(values: list[str]) -> dict:
+    """``--set NAME=JSON`` values as recognizer settings; a malformed item, an unknown name or a
+    value out of its range is one line on stderr and exit status 2."""
     out = {}
     for kv in values:
-        k, v = kv.split("=", 1)
+        k, sep, v = kv.partition("=")
+        if not sep:
+            _usage_error(f"--set: {kv!r}: expected NAME=JSON")
         try:
-            out[k] = json.loads(v)
+            out[k.strip()] = json.loads(v)
         except json.JSONDecodeError:
-            out[k] = v
+            out[k.strip()] = v
+    try:
+        split_settings(dict(out))
+    except (TypeError, ValueError) as exc:
+        _usage_error(f"--set: {exc}")
     return out
+
+
+def _usage_error(message: str) -> None:
+    print(f"error: {message}", file=sys.stderr)
+    raise SystemExit(2)
 
 
 def _report(method: str, rows: list[dict]) -> dict:

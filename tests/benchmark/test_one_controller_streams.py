@@ -1,5 +1,5 @@
 """``benchmarks/one_controller_streams.py``: the vocabulary ``--gestures`` names, and its usage
-errors in one line with exit status 2."""
+errors (``--gestures``, ``--set``) in one line with exit status 2."""
 
 from __future__ import annotations
 
@@ -41,12 +41,17 @@ def test_a_name_the_recordings_lack_is_refused(script, text):
         script.vocabulary(text, GESTURES)
 
 
-def test_an_unknown_gesture_is_one_line_and_exit_2():
+@pytest.mark.parametrize(("args", "named"), [
+    (["--gestures", "hook_right,no_such_gesture"], "no_such_gesture"),
+    (["--set", "nonsense"], "NAME=JSON"),
+    (["--set", "no_such_setting=1"], "no_such_setting"),
+    (["--set", "rival_quantile=2"], "rival_quantile"),
+])
+def test_usage_errors_are_one_line_and_exit_2(args, named):
     proc = subprocess.run([sys.executable, str(BENCH / "one_controller_streams.py"),
-                           "--models", str(MACHETE), "--gestures", "hook_right,no_such_gesture"],
-                          capture_output=True, text=True)
+                           "--models", str(MACHETE), *args], capture_output=True, text=True)
     assert proc.returncode == 2
-    assert proc.stderr.strip().count("\n") == 0 and "no_such_gesture" in proc.stderr
+    assert proc.stderr.strip().count("\n") == 0 and named in proc.stderr
 
 
 def test_the_right_hand_vocabulary_is_where_the_right_hand_moves_as_far(script):
