@@ -102,7 +102,7 @@ def _segments(trajs, labels, counts, repeat, threads):
     import numba
 
     from framefree.online import Recognizer
-    from framefree.online.spotting import SegmentClassifier
+    from framefree.online.segment_classifier import SegmentClassifier
 
     calibrated = Recognizer.from_trajectories(trajs, labels)
     t, p, q = _person_stream()

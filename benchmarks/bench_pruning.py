@@ -195,7 +195,7 @@ def main() -> None:
 
     from framefree.datasets.layout import load_model_recordings
     from framefree.online import Recognizer
-    from framefree.online.spotting import SegmentClassifier
+    from framefree.online.segment_classifier import SegmentClassifier
     from framefree.replica import replica_path
 
     trajs, labels = load_model_recordings(replica_path(0), "original_1")

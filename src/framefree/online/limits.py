@@ -26,6 +26,7 @@ import numpy as np
 
 from ..core.progress import cumulative_progress
 from ..core.trajectory import Trajectory
+from .segment_classifier import SegmentClassifier
 from .segmentation import MotionSegmenter, SpeedLevels, Unit
 from .span_shape import (
     ALTERNATING,
@@ -36,7 +37,6 @@ from .span_shape import (
     travel,
     turn_kinds,
 )
-from .spotting import SegmentClassifier
 from .vertical import verticality
 
 __all__ = [

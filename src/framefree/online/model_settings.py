@@ -43,8 +43,9 @@ from .limits import (
     travel_percentiles,
     travel_shares,
 )
+from .segment_classifier import SegmentClassifier
 from .segmentation import SpeedLevels, restless_takes, speed_levels
-from .spotting import SegmentClassifier, Spotter
+from .spotting import Spotter
 from .stop import sustained_peak_speed
 from .thresholds import (
     SegmentThresholds,

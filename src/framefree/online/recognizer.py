@@ -45,6 +45,7 @@ from .model_settings import (
     resolve_learned,
     segment_descriptor,
 )
+from .segment_classifier import SegmentClassifier
 from .segmentation import (
     MotionSegmenter,
     PoseBuffer,
@@ -52,7 +53,6 @@ from .segmentation import (
     UniformResampler,
     Unit,
 )
-from .spotting import SegmentClassifier
 from .stop import StopDetector
 from .streaming import StreamingRecognizer
 from .thresholds import SegmentThresholds

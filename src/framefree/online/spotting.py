@@ -5,8 +5,8 @@ end with it are formed: the last unit alone, the last two, ... up to ``max_units
 as the candidate lasts at most ``max_duration`` seconds and no rest inside it is longer than
 ``max_pause`` (a gesture's own pause at its reversal). Each candidate is cut out of the pose buffer
 with a short margin and classified exactly as the offline 1-NN classifier classifies a recording
-(:class:`SegmentClassifier`: the same descriptor object and the same DTW distance), so a gesture
-seen live gets the label it would get offline.
+(:class:`~framefree.online.segment_classifier.SegmentClassifier`: the same descriptor object and
+the same DTW distance), so a gesture seen live gets the label it would get offline.
 
 A candidate is *accepted* when the distance to its nearest model is below the threshold τ of that
 model's gesture; its *ratio* is distance / τ. The best accepted candidate is kept pending while
@@ -27,90 +27,14 @@ from typing import Any
 
 import numpy as np
 
-from ..core.progress import reparameterize
-from ..core.pruning import ModelBank, pruned_nearest
-from ..core.trajectory import Trajectory
-from ..descriptors.base import Descriptor
-from ..errors import DegenerateMotionError
 from .candidate import Candidate, candidate_spans, refuse_tails
 from .returns import ReturnGuard
+from .segment_classifier import SegmentClassifier
 from .segmentation import PoseBuffer, Unit
 from .span_shape import closure, corner_count, corner_rest, travel, turn_kinds
 from .vertical import verticality
 
 __all__ = ["Candidate", "SegmentClassifier", "Spotter", "candidate_spans"]
-
-
-class SegmentClassifier:
-    """1-NN distances of a pose segment to every model, as the offline classifier computes them.
-
-    Parameters
-    ----------
-    descriptor : Descriptor
-        The offline descriptor (e.g. BILTS+ with screw progress and presmoothing).
-    models : sequence of ndarray
-        Model descriptor sequences, computed with ``descriptor.compute`` on the model recordings.
-    """
-
-    def __init__(self, descriptor: Descriptor, models: Sequence[np.ndarray], prune: bool = True) -> None:
-        self.descriptor = descriptor
-        self.models = list(models)
-        spec = descriptor.distance_spec()
-        #: packed models for exact pruned search (None: the descriptor's distance cannot be pruned)
-        self.bank = ModelBank(self.models, spec) if spec is not None and self.models else None
-        #: search with lower bounds (:mod:`framefree.core.pruning`); the nearest model and its
-        #: distance are those of the full search
-        self.prune = prune
-        #: DTW cells computed / that a full search would compute, over every :meth:`search_described`
-        self.cells = [0, 0]
-
-    def describe(self, times: np.ndarray, poses: np.ndarray) -> tuple[np.ndarray, float] | None:
-        """Descriptor of a segment (times (n,) [s], poses (n, 4, 4)) and its size: the total
-        progress [m of screw path] of its pre-smoothed poses. ``None`` if it has no motion.
-
-        The two steps of ``descriptor.compute`` (reparameterize, then describe), so the descriptor
-        is the offline one bit for bit and the size comes for free.
-        """
-        if poses.shape[0] < 5:
-            return None
-        traj = Trajectory.from_poses(times - times[0], poses, source="live segment")
-        D = self.descriptor
-        try:
-            rep = reparameterize(traj, D.progress, D.L, D.n_samples, presmooth=D.presmooth)
-            return D.from_reparameterized(rep.poses, rep.ds), rep.total
-        except DegenerateMotionError:
-            return None
-
-    def distances(self, times: np.ndarray, poses: np.ndarray) -> tuple[np.ndarray, float]:
-        """Distance (M,) from the segment to every model (``inf`` if it has no motion) and the
-        segment's size [m] (0 if it has no motion)."""
-        out = self.describe(times, poses)
-        if out is None:
-            return np.full(len(self.models), math.inf), 0.0
-        return self.descriptor.distance_matrix([out[0]], self.models)[0], out[1]
-
-    @property
-    def pruning(self) -> bool:
-        """Whether :meth:`search_described` can be used (:attr:`prune` set and the distance
-        allows it); otherwise :meth:`distances` computes every model's distance."""
-        return self.prune and self.bank is not None
-
-    def search_described(self, descriptor: np.ndarray, accept_below: np.ndarray | None = None
-                         ) -> np.ndarray:
-        """Distances (M,) from a descriptor (n, F) (:meth:`describe`) to the models, pruned:
-        every value is a model's exact distance or a lower bound of it. With ``accept_below``
-        (each model's threshold), whether the nearest model is below its threshold is exact, and
-        when it is, so are the nearest model and its distance
-        (:func:`~framefree.core.pruning.pruned_nearest`); without it, the nearest model and its
-        distance always are. When ``accept_below`` accepts nothing (all zero), nothing is
-        searched: every value is ``inf``."""
-        if accept_below is not None and not np.any(accept_below > 0.0):
-            self.cells[1] += self.bank.dtw_cells * descriptor.shape[0]
-            return np.full(len(self.models), math.inf)
-        found = pruned_nearest(descriptor, self.bank, accept_below=accept_below)
-        self.cells[0] += found.cells
-        self.cells[1] += found.full_cells
-        return found.values
 
 
 class Spotter:

@@ -43,9 +43,10 @@ import numpy as np
 from ..core.trajectory import Trajectory
 from .limits import recording_units
 from .negatives import non_gesture_motions
+from .segment_classifier import SegmentClassifier
 from .segmentation import SpeedLevels
 from .span_shape import closure, corner_count, corner_rest, turn_kinds
-from .spotting import SegmentClassifier, Spotter, candidate_spans
+from .spotting import Spotter, candidate_spans
 
 __all__ = [
     "ONE_TAKE_SIZE",
