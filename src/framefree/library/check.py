@@ -52,7 +52,12 @@ import numpy as np
 from ..descriptors.base import Descriptor
 from ..descriptors.canonical import CanonicalPath
 from ..online.config import RecognizerConfig
-from ..online.model_settings import model_window_spacing, rest_advice, segment_descriptor
+from ..online.model_settings import (
+    model_window_spacing,
+    orientation_advice,
+    rest_advice,
+    segment_descriptor,
+)
 from ..online.stop import sustained_peak_speed
 from .probes import everyday_motions, perturbed, slowest_stop_speed, stop_rotations
 from .store import TakeSet
@@ -302,9 +307,9 @@ def check_takes(
                          [str(x) for x in per_take], checks)
     report.findings = (_findings(report, s, config) + _unlike_findings(report, s)
                        + _direction_findings(takes, report, s))
-    advice = rest_advice(takes.takes, config)
-    if advice is not None:
-        report.findings.append(Finding("warning", "", advice))
+    for advice in (rest_advice(takes.takes, config), orientation_advice(takes.takes)):
+        if advice is not None:
+            report.findings.append(Finding("warning", "", advice))
     return report
 
 

@@ -56,8 +56,9 @@ from .thresholds import (
 )
 from .vertical import up_vector, vertical_limits
 
-__all__ = ["LearnedDraft", "make_spotter", "model_window_spacing", "resolve_learned",
-           "rest_advice", "segment_descriptor", "stop_threshold_rule", "unseen_advice"]
+__all__ = ["STILL_ORIENTATION", "LearnedDraft", "make_spotter", "model_window_spacing",
+           "orientation_advice", "resolve_learned", "rest_advice", "segment_descriptor",
+           "stop_threshold_rule", "unseen_advice"]
 
 
 def segment_descriptor(config: RecognizerConfig, spacing: int | None = None) -> Descriptor:
@@ -180,6 +181,33 @@ def rest_advice(trajectories: Sequence[Trajectory], config: RecognizerConfig) ->
             "gesture, so the rest level comes from their slowest motion and gestures in a stream "
             "may be cut into pieces: record each take with a short rest before and after it, or "
             "give rest_speed and move_speed (docs/online.md, Models cut without rests)")
+
+
+#: How far [rad] a take's tracker may turn from its first orientation and still count as holding
+#: none: a sensor of positions only (a skeleton's wrist joint, a marker) writes one quaternion
+#: throughout, while a hand-held 6-DoF tracker turns by more than a degree in any gesture.
+STILL_ORIENTATION = math.radians(1.0)
+
+
+def orientation_advice(trajectories: Sequence[Trajectory]) -> str | None:
+    """One line when no take's orientation changes by more than :data:`STILL_ORIENTATION` (a
+    sensor of positions only), else ``None``.
+
+    Without a turn of the hand the stop signal (a quick roll) cannot be made, and a planar
+    gesture and its mirror image (a circle drawn clockwise and anticlockwise, the Machete
+    cartwheels) differ by a rotation, so no frame-free measure tells them apart
+    (docs/online-history.md, *A sensor without orientation*).
+    """
+    if not trajectories:
+        return None
+    for tr in trajectories:
+        cos_half = np.abs(np.asarray(tr.q, dtype=float) @ np.asarray(tr.q[0], dtype=float))
+        if 2.0 * float(np.arccos(min(1.0, float(cos_half.min())))) > STILL_ORIENTATION:
+            return None
+    return ("the takes hold no orientation (the quaternion never changes: a sensor of positions "
+            "only?), so the stop signal, a quick roll of the hand, cannot be made, and a gesture "
+            "and its mirror image (a circle drawn clockwise and anticlockwise) cannot be told "
+            "apart (framefree check names the gestures that lie near each other)")
 
 
 def stop_threshold_rule() -> str:
