@@ -330,28 +330,11 @@ def calibrate_segment_thresholds(
     """
     labels_arr = np.asarray(labels)
     gestures = list(dict.fromkeys(labels))
-    admissible = spotter.admissible
-
     first = {g: int(np.flatnonzero(labels_arr == g)[0]) for g in gestures}
     positives = take_scores(trajectories, labels, classifier, levels, spotter, L)
-    episodes: dict[str, list[float]] = {g: [] for g in gestures}
-    kinds = ("rest", "moves", "drawn") if drawn else ("rest", "moves")
-    records = []  # every episode's candidates, for the size reach
     reaching = reach > 1.0
-    for kind, neg in non_gesture_motions(trajectories, labels, L, seed=seed,
-                                         kinds=(*kinds, "regrip") if reaching else kinds):
-        scores = segment_distances(neg, classifier, levels, spotter, L)
-        D, c, size, corners, turns, pauses = scores
-        if reaching:
-            records.append(scores)
-        if kind == "regrip":
-            continue
-        for g in gestures:
-            ok = admissible(first[g], c, size, corners, turns, pauses=pauses)
-            if ok.any():
-                episodes[g].append(float(D[ok][:, labels_arr == g].min()))
-            elif gated:
-                episodes[g].append(np.inf)
+    episodes, records = _episode_scores(trajectories, labels, classifier, levels, spotter, L,
+                                        seed, gated, drawn, reaching)
     thresholds, separated, negatives = {}, {}, {}
     between = (classifier.descriptor.distance_matrix(classifier.models, classifier.models)
                if rivals else None)
@@ -365,18 +348,61 @@ def calibrate_segment_thresholds(
             N = min(N, float(np.quantile(nearest_of_g, rival_quantile)))
         negatives[g] = N
         separated[g] = bool(P < N)
-        if np.isfinite(P) and np.isfinite(N):
-            a = position if separated[g] or unseparated_position is None else unseparated_position
-            thresholds[g] = float(P ** (1.0 - a) * N**a)
-        elif np.isfinite(P):  # nothing generic comes close to this gesture
-            thresholds[g] = 2.0 * P
-        elif np.isfinite(N):
-            thresholds[g] = 0.5 * N
-        else:
-            raise ValueError(f"cannot calibrate gesture {g!r}: no positive and no negative score")
+        a = position if separated[g] or unseparated_position is None else unseparated_position
+        thresholds[g] = _between(g, P, N, a)
     smallest = {}
     for g in gestures if reaching else ():
         floor = reach_down(records, labels_arr == g, first[g], thresholds[g], spotter, reach)
         if floor is not None:
             smallest[g] = floor
     return SegmentThresholds(thresholds, positives, negatives, separated, smallest)
+
+
+def _episode_scores(
+    trajectories: Sequence[Trajectory],
+    labels: Sequence[str],
+    classifier: SegmentClassifier,
+    levels: SpeedLevels,
+    spotter: Spotter,
+    L: float,
+    seed: int,
+    gated: bool,
+    drawn: bool,
+    regrips: bool,
+) -> tuple[dict[str, list[float]], list[SegmentScores]]:
+    """The generic non-gesture episodes' scores per gesture (the best distance to its models of
+    the candidates that pass its limits; ``inf`` where none does and ``gated``), and every
+    episode's candidates (re-grips included when ``regrips``) for :func:`reach_down`."""
+    labels_arr = np.asarray(labels)
+    gestures = list(dict.fromkeys(labels))
+    first = {g: int(np.flatnonzero(labels_arr == g)[0]) for g in gestures}
+    episodes: dict[str, list[float]] = {g: [] for g in gestures}
+    records: list[SegmentScores] = []
+    kinds = ("rest", "moves", "drawn") if drawn else ("rest", "moves")
+    for kind, neg in non_gesture_motions(trajectories, labels, L, seed=seed,
+                                         kinds=(*kinds, "regrip") if regrips else kinds):
+        scores = segment_distances(neg, classifier, levels, spotter, L)
+        D, c, size, corners, turns, pauses = scores
+        if regrips:
+            records.append(scores)
+        if kind == "regrip":
+            continue
+        for g in gestures:
+            ok = spotter.admissible(first[g], c, size, corners, turns, pauses=pauses)
+            if ok.any():
+                episodes[g].append(float(D[ok][:, labels_arr == g].min()))
+            elif gated:
+                episodes[g].append(np.inf)
+    return episodes, records
+
+
+def _between(gesture: str, P: float, N: float, a: float) -> float:
+    """τ at ``a`` of the way from the worst take ``P`` to the negatives ``N`` on a log scale;
+    twice ``P`` when no negative is finite, half ``N`` when no take is."""
+    if np.isfinite(P) and np.isfinite(N):
+        return float(P ** (1.0 - a) * N**a)
+    if np.isfinite(P):  # nothing generic comes close to this gesture
+        return 2.0 * P
+    if np.isfinite(N):
+        return 0.5 * N
+    raise ValueError(f"cannot calibrate gesture {gesture!r}: no positive and no negative score")
