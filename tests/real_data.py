@@ -25,3 +25,12 @@ REAL_MOTIONS = _first(*_shared("real_motions"), SHIPPED / "real_motions")
 MACHETE = _first(*_shared("machete_vive"), SHIPPED / "machete_vive")
 #: the shipped subset itself (always present)
 SHIPPED_MACHETE = SHIPPED / "machete_vive"
+
+
+def shipped_right_controller() -> tuple[list, list[str]]:
+    """The right controller's recordings (Trajectory) of the shipped real people, and their
+    gestures."""
+    from framefree.datasets.people_layout import load_people
+
+    people = load_people(SHIPPED_MACHETE)
+    return [r.sample.trackers[0] for r in people], [r.gesture for r in people]

@@ -15,9 +15,8 @@ from hypothesis import strategies as st
 
 from framefree.cli import cli
 from framefree.core.trajectory import Trajectory
-from framefree.datasets.people_layout import load_people
 from framefree.online.model_settings import STILL_ORIENTATION, orientation_advice
-from real_data import SHIPPED_MACHETE
+from real_data import shipped_right_controller
 
 
 def with_quaternion(traj: Trajectory, q: np.ndarray) -> Trajectory:
@@ -28,8 +27,7 @@ def with_quaternion(traj: Trajectory, q: np.ndarray) -> Trajectory:
 @pytest.fixture(scope="module")
 def vive() -> tuple[list[Trajectory], list[str]]:
     """The right controller's recordings of the shipped real people."""
-    people = load_people(SHIPPED_MACHETE)
-    return [r.sample.trackers[0] for r in people], [r.gesture for r in people]
+    return shipped_right_controller()
 
 
 def test_real_six_dof_takes_get_no_note(vive):

@@ -10,11 +10,10 @@ from click.testing import CliRunner
 
 from framefree.cli import cli
 from framefree.core.trajectory import Trajectory
-from framefree.datasets.people_layout import load_people
 from framefree.online import RecognizerConfig
 from framefree.online.model_settings import rest_advice
 from framefree.online.segmentation import restless_takes, speed_levels
-from real_data import SHIPPED_MACHETE
+from real_data import shipped_right_controller
 
 
 def cut(traj: Trajectory, share: float) -> Trajectory:
@@ -29,8 +28,7 @@ def cut(traj: Trajectory, share: float) -> Trajectory:
 @pytest.fixture(scope="module")
 def vive() -> tuple[list[Trajectory], list[str]]:
     """The right controller's recordings of the shipped real people."""
-    people = load_people(SHIPPED_MACHETE)
-    return [r.sample.trackers[0] for r in people], [r.gesture for r in people]
+    return shipped_right_controller()
 
 
 def test_real_recordings_rest_and_their_cut_copies_do_not(vive):
