@@ -153,6 +153,13 @@ def multi_thresholds(samples: Sequence[MultiTrajectory], labels: Sequence[str], 
     return tau
 
 
+def _one_tracker_settings(config: RecognizerConfig) -> None:
+    """Refuse the settings that only a recognizer of one tracker applies (``smoothing``)."""
+    if config.smoothing > 0:
+        raise ValueError("smoothing applies to one tracker; smooth the poses of several "
+                         "trackers before they reach the recognizer")
+
+
 class MultiRecognizer(Recognizer):
     """Streaming recognizer of gestures made with several trackers together.
 
@@ -179,6 +186,7 @@ class MultiRecognizer(Recognizer):
                  config: RecognizerConfig, learned: LearnedSettings, invariance: str = "gravity",
                  gate_speeds: tuple[float, float] = (5.0, 30.0)) -> None:
         c, s, k = config, learned, config.constants
+        _one_tracker_settings(c)
         self.classifier = classifier
         self.labels = [str(x) for x in labels]
         self.gestures = list(dict.fromkeys(self.labels))
@@ -255,6 +263,7 @@ class MultiRecognizer(Recognizer):
         if len(counts) != 1:
             raise ValueError(f"model recordings with different numbers of trackers: {sorted(counts)}")
         config, given = split_settings(overrides, config)
+        _one_tracker_settings(config)
         clf = _classifier(invariance).fit(list(samples), list(labels))
         draft = LearnedDraft({**(learned.values() if learned is not None else {}), **given})
         if learned is not None:  # what a library learned keeps its rules

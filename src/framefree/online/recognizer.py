@@ -53,6 +53,7 @@ from .segmentation import (
     UniformResampler,
     Unit,
 )
+from .smoothing import GridSmoother, smoothed_take
 from .stop import StopDetector
 from .streaming import StreamingRecognizer
 from .thresholds import SegmentThresholds
@@ -143,6 +144,7 @@ class Recognizer(StreamingRecognizer):
                                  k.stop_rearm, k.stop_refractory, k.stop_confirm,
                                  k.stop_sustain_ratio, k.stop_instant)
         self.resampler = UniformResampler(k.dt)
+        self.smoother = GridSmoother(c.smoothing, k.dt) if c.smoothing > 0 else None
         capacity = math.ceil((s.max_duration + c.max_wait + 2.0) / k.dt) + 2 * k.margin
         self.segmenter = MotionSegmenter(SpeedLevels(s.rest_speed, s.move_speed), c.descriptor.L,
                                          k.dt, k.speed_lag, k.valley_ratio, capacity)
@@ -185,6 +187,9 @@ class Recognizer(StreamingRecognizer):
         if not trajectories:
             raise ValueError("no model recordings")
         config, given = split_settings(overrides, config)
+        if config.smoothing > 0:  # the takes as the live recognizer will see the stream
+            trajectories = [smoothed_take(tr, config.smoothing, config.constants.dt)
+                            for tr in trajectories]
         draft = LearnedDraft({**(learned.values() if learned is not None else {}), **given})
         if learned is not None:  # what a library learned keeps its rules
             draft.rules.update({n: r for n, r in learned.provenance.rules.items()
@@ -309,6 +314,8 @@ class Recognizer(StreamingRecognizer):
 
     def _restart(self) -> None:
         self.resampler.reset()
+        if self.smoother is not None:
+            self.smoother.reset()
         self.segmenter.reset()
         self._recent_units.clear()
         self._decide_later(self.spotter.reset)
@@ -369,6 +376,8 @@ class Recognizer(StreamingRecognizer):
         T[:3, :3] = se3.matrix_from_quaternion(q)
         T[:3, 3] = p
         times, poses = self.resampler.push(t, T)
+        if self.smoother is not None:
+            times, poses = self.smoother.push(times, poses)
         for k in range(times.size):
             event = self._on_grid(float(times[k]), poses[k])
             if event is not None:

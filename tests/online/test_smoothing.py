@@ -1,0 +1,152 @@
+"""Smoothing a noisy sensor's poses (``RecognizerConfig.smoothing``): it keeps framefree's
+invariances exactly, the live smoother gives the offline smoothing pose for pose, and on noisy
+real takes it brings the learned rest level back down."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from framefree.core import se3
+from framefree.core.trajectory import Trajectory
+from framefree.online import Recognizer, RecognizerConfig
+from framefree.online.smoothing import GridSmoother, gaussian_weights, smooth_poses, smoothed_take
+from real_data import shipped_right_controller
+
+DT = 0.02
+
+
+def wobbly_poses(seed: int, n: int = 80, noise: float = 0.01) -> np.ndarray:
+    """A turning, travelling motion (n, 4, 4) with white position noise [m]."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) * DT
+    xi = np.column_stack([0.3 * np.sin(3 * t), 0.2 * t, 0.1 * np.cos(t), t, 0.5 * t**2, 0 * t])
+    poses = se3.pose_from_twist(xi)
+    poses[:, :3, 3] += rng.normal(0.0, noise, (n, 3))
+    return poses
+
+
+def test_weights_are_a_centred_gaussian_summing_to_one():
+    w = gaussian_weights(0.067, DT)
+    assert w.size == 2 * 11 + 1 and w.sum() == pytest.approx(1.0)
+    np.testing.assert_allclose(w, w[::-1])
+    assert np.argmax(w) == 11
+    assert gaussian_weights(0.0, DT).tolist() == [1.0]
+    with pytest.raises(ValueError, match="must not be negative"):
+        gaussian_weights(-0.1, DT)
+
+
+twists = st.lists(st.floats(-1.0, 1.0), min_size=6, max_size=6).map(np.array)
+
+
+@settings(max_examples=30, deadline=None)
+@given(twists, twists, st.integers(0, 1000), st.sampled_from([0.02, 0.05, 0.1]))
+def test_smoothing_commutes_with_any_change_of_world_and_body_frame(world, body, seed, std):
+    W, B = se3.pose_from_twist(world), se3.pose_from_twist(body)
+    poses = wobbly_poses(seed)
+    w = gaussian_weights(std, DT)
+    np.testing.assert_allclose(smooth_poses(W @ poses @ B, w), W @ smooth_poses(poses, w) @ B,
+                               atol=1e-9)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.lists(st.integers(1, 9), min_size=1, max_size=30), st.integers(0, 1000))
+def test_the_live_smoother_gives_the_offline_poses_whatever_the_chunks(chunks, seed):
+    poses = wobbly_poses(seed)
+    times = np.arange(poses.shape[0]) * DT
+    smoother = GridSmoother(0.05, DT)
+    got_t, got_p, k = [], [], 0
+    for size in chunks:
+        t, p = smoother.push(times[k:k + size], poses[k:k + size])
+        got_t.append(t)
+        got_p.append(p)
+        k += size
+        if k >= poses.shape[0]:
+            break
+    got_t, got_p = np.concatenate(got_t), np.concatenate(got_p)
+    done = max(0, min(k, poses.shape[0]) - smoother.half)  # every pose whose window is complete
+    assert got_p.shape[0] == done
+    np.testing.assert_allclose(got_t, times[:done])
+    offline = smooth_poses(poses, smoother.weights)
+    # the live smoother cannot see past the last pose pushed: compare where the window is whole
+    np.testing.assert_allclose(got_p, offline[:done], atol=1e-12)
+    assert smoother.delay == pytest.approx(smoother.half * DT)
+
+
+def test_positions_only_are_averaged_and_the_noise_shrinks():
+    rng = np.random.default_rng(3)
+    n = 400
+    poses = np.tile(np.eye(4), (n, 1, 1))
+    poses[:, :3, 3] = rng.normal(0.0, 0.01, (n, 3))
+    w = gaussian_weights(0.067, DT)
+    out = smooth_poses(poses, w)
+    h = (w.size - 1) // 2
+    np.testing.assert_allclose(out[h:-h, :3, 3],
+                               np.stack([w @ poses[c - h:c + h + 1, :3, 3]
+                                         for c in range(h, n - h)]), atol=1e-12)
+    np.testing.assert_allclose(out[:, :3, :3], poses[:, :3, :3])
+    assert out[h:-h, :3, 3].std() < 0.4 * poses[:, :3, 3].std()
+
+
+def test_a_take_is_smoothed_on_the_grid_and_zero_leaves_it_alone():
+    poses = wobbly_poses(1)
+    take = Trajectory.from_poses(5.0 + np.arange(poses.shape[0]) * DT, poses)
+    assert smoothed_take(take, 0.0, DT) is take
+    smooth = smoothed_take(take, 0.05, DT)
+    assert len(smooth) == len(take) and smooth.t[0] == pytest.approx(5.0)
+    np.testing.assert_allclose(smooth.poses(), smooth_poses(take.uniform_poses(DT)[1],
+                                                            gaussian_weights(0.05, DT)), atol=1e-9)
+
+
+@pytest.mark.parametrize("bad", [-0.01, float("nan"), float("inf")])
+def test_a_bad_smoothing_is_refused(bad):
+    with pytest.raises(ValueError, match="smoothing must be a finite number"):
+        RecognizerConfig(smoothing=bad)
+
+
+def noisy_positions(traj: Trajectory, rng: np.random.Generator, noise: float) -> Trajectory:
+    """A skeleton tracker's view of ``traj``: 30 Hz, positions only, white noise [m]."""
+    t = np.arange(traj.t[0], traj.t[-1], 1 / 30)
+    p = np.column_stack([np.interp(t, traj.t, traj.p[:, k]) for k in range(3)])
+    return Trajectory(t, p + rng.normal(0.0, noise, p.shape), np.tile([1.0, 0, 0, 0], (t.size, 1)))
+
+
+def test_on_noisy_real_takes_smoothing_brings_the_rest_level_down():
+    takes, labels = shipped_right_controller()
+    keep = [i for i, g in enumerate(labels) if g in ("cartwheel_left", "golf_swing", "fly_eagle")]
+    rng = np.random.default_rng(0)
+    noisy = [noisy_positions(takes[i], rng, 0.01) for i in keep]
+    clean = [noisy_positions(takes[i], rng, 0.0) for i in keep]
+    names = [labels[i] for i in keep]
+    rest = {name: Recognizer.from_trajectories(trajs, names, **extra).learned_.rest_speed
+            for name, trajs, extra in (("clean", clean, {}), ("noisy", noisy, {}),
+                                       ("smoothed", noisy, {"smoothing": 0.067}))}
+    assert rest["noisy"] > 1.5 * rest["clean"]  # what the setting is for
+    assert rest["smoothed"] < 0.75 * rest["noisy"]
+
+
+def test_the_recognizer_smooths_its_stream_and_restarts_the_smoother():
+    takes, labels = shipped_right_controller()
+    rec = Recognizer.from_trajectories(takes[:6], labels[:6], smoothing=0.05)
+    assert isinstance(rec.smoother, GridSmoother) and rec.smoother.delay == pytest.approx(0.16)
+    tr = takes[0]
+    for k in range(len(tr)):
+        rec.push(float(tr.t[k]), tr.p[k], tr.q[k])
+    assert rec.stats["grid"] > 0
+    assert rec.smoother._seen > rec.stats["grid"]  # the last poses wait for their window
+    rec.reset()
+    assert rec.smoother._seen == 0
+    assert Recognizer.from_trajectories(takes[:6], labels[:6]).smoother is None
+
+
+def test_a_recognizer_of_several_trackers_refuses_smoothing_before_calibrating():
+    from framefree.datasets.people_layout import load_people
+    from framefree.online.multi import MultiRecognizer
+    from real_data import SHIPPED_MACHETE
+
+    people = load_people(SHIPPED_MACHETE)
+    with pytest.raises(ValueError, match="smoothing applies to one tracker"):
+        MultiRecognizer.from_samples([r.sample for r in people], [r.gesture for r in people],
+                                     smoothing=0.05)
