@@ -150,3 +150,22 @@ def test_a_recognizer_of_several_trackers_refuses_smoothing_before_calibrating()
     with pytest.raises(ValueError, match="smoothing applies to one tracker"):
         MultiRecognizer.from_samples([r.sample for r in people], [r.gesture for r in people],
                                      smoothing=0.05)
+
+
+def test_an_event_is_stamped_when_it_fires_not_when_its_smoothed_pose_was_taken():
+    takes, labels = shipped_right_controller()
+    gesture = "cartwheel_right"
+    own = [i for i, g in enumerate(labels) if g == gesture]
+    models = [i for i, g in enumerate(labels) if g != gesture or i != own[-1]]
+    rec = Recognizer.from_trajectories([takes[i] for i in models], [labels[i] for i in models],
+                                       smoothing=0.05)
+    rec.background = False
+    tr = takes[own[-1]]
+    rest = np.arange(1, 76) * 0.02  # 1.5 s holding the last pose, so the gesture is confirmed
+    t = np.concatenate([tr.t, tr.t[-1] + rest])
+    p = np.concatenate([tr.p, np.repeat(tr.p[-1:], rest.size, axis=0)])
+    q = np.concatenate([tr.q, np.repeat(tr.q[-1:], rest.size, axis=0)])
+    fired = [(float(t[k]), e) for k in range(t.size) for e in rec.push(float(t[k]), p[k], q[k])]
+    assert [e.label for _, e in fired] == [gesture]
+    pushed_at, event = fired[0]
+    assert pushed_at - DT <= event.time <= pushed_at  # not a smoothing delay (0.16 s) earlier

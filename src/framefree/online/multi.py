@@ -187,6 +187,7 @@ class MultiRecognizer(Recognizer):
                  gate_speeds: tuple[float, float] = (5.0, 30.0)) -> None:
         c, s, k = config, learned, config.constants
         _one_tracker_settings(c)
+        self.smoother = None  # the poses of several trackers are not smoothed
         self.classifier = classifier
         self.labels = [str(x) for x in labels]
         self.gestures = list(dict.fromkeys(self.labels))

@@ -420,7 +420,9 @@ class Recognizer(StreamingRecognizer):
         if fired is None:
             return None
         self._counts["events"] += 1
-        return Event(self.labels[fired.model], t, fired.distance, fired.model)
+        # a smoothed pose is decided on once the poses after it have come: that is when it fires
+        delay = 0.0 if self.smoother is None else self.smoother.delay
+        return Event(self.labels[fired.model], t + delay, fired.distance, fired.model)
 
     def _decide_later(self, fn: Callable[..., Event | None], *args: Any) -> Event | None:
         """Run a spotter step now (inline: its event, if any) or queue it on the worker (None;
