@@ -169,3 +169,20 @@ def test_an_event_is_stamped_when_it_fires_not_when_its_smoothed_pose_was_taken(
     assert [e.label for _, e in fired] == [gesture]
     pushed_at, event = fired[0]
     assert pushed_at - DT <= event.time <= pushed_at  # not a smoothing delay (0.16 s) earlier
+
+
+def test_check_compares_the_takes_as_the_recognizer_smooths_them():
+    from framefree.library.check import check_takes
+    from framefree.library.store import TakeSet
+
+    takes, labels = shipped_right_controller()
+    keep = [i for i, g in enumerate(labels) if g in ("cartwheel_left", "golf_swing")]
+    rng = np.random.default_rng(1)
+    noisy = [noisy_positions(takes[i], rng, 0.01) for i in keep]
+    names, gestures = tuple(f"{labels[i]}/own/{i}" for i in keep), tuple(labels[i] for i in keep)
+    by_setting = check_takes(TakeSet(tuple(noisy), gestures, names), RecognizerConfig(smoothing=0.067))
+    smoothed_first = check_takes(TakeSet(tuple(smoothed_take(t, 0.067, DT) for t in noisy),
+                                         gestures, names), RecognizerConfig())
+    unsmoothed = check_takes(TakeSet(tuple(noisy), gestures, names), RecognizerConfig())
+    np.testing.assert_allclose(by_setting.distances, smoothed_first.distances)
+    assert not np.allclose(by_setting.distances, unsmoothed.distances)

@@ -58,6 +58,7 @@ from ..online.model_settings import (
     rest_advice,
     segment_descriptor,
 )
+from ..online.smoothing import smoothed_take
 from ..online.stop import sustained_peak_speed
 from .probes import everyday_motions, perturbed, slowest_stop_speed, stop_rotations
 from .store import TakeSet
@@ -256,7 +257,8 @@ def check_takes(
     takes : TakeSet
         At least two takes per gesture.
     config : RecognizerConfig, optional
-        Recognizer settings (descriptor scale length and window; stop margin).
+        Recognizer settings (descriptor scale length and window; stop margin; with
+        ``smoothing``, the takes are smoothed as the recognizer smooths them).
     settings : CheckSettings, optional
     progress : bool
         Show progress bars.
@@ -267,6 +269,9 @@ def check_takes(
     """
     s = settings or CheckSettings()
     config = config or RecognizerConfig()
+    if config.smoothing > 0:  # the takes as the recognizer sees them
+        takes = TakeSet(tuple(smoothed_take(tr, config.smoothing, config.constants.dt)
+                              for tr in takes.takes), takes.labels, takes.names)
     rng = np.random.default_rng(s.seed)
     relative = config.descriptor.relative_window
     desc = descriptor_for(config, model_window_spacing(takes.takes, config) if relative else None)
