@@ -46,7 +46,7 @@ from .limits import (
 from .segment_classifier import SegmentClassifier
 from .segmentation import SpeedLevels, restless_takes, speed_levels
 from .spotting import Spotter
-from .stop import sustained_peak_speed
+from .stop import rotation_angle, sustained_peak_speed
 from .thresholds import (
     SegmentThresholds,
     calibrate_segment_thresholds,
@@ -201,8 +201,8 @@ def orientation_advice(trajectories: Sequence[Trajectory]) -> str | None:
     if not trajectories:
         return None
     for tr in trajectories:
-        cos_half = np.abs(np.asarray(tr.q, dtype=float) @ np.asarray(tr.q[0], dtype=float))
-        if 2.0 * float(np.arccos(min(1.0, float(cos_half.min())))) > STILL_ORIENTATION:
+        farthest = tr.q[int(np.argmin(np.abs(tr.q @ tr.q[0])))]  # from the first orientation
+        if rotation_angle(tr.q[0], farthest) > STILL_ORIENTATION:
             return None
     return ("the takes hold no orientation (the quaternion never changes: a sensor of positions "
             "only?), so the stop signal, a quick roll of the hand, cannot be made, and a gesture "
