@@ -1,6 +1,7 @@
 """Smoothing a noisy sensor's poses (``RecognizerConfig.smoothing``): it keeps framefree's
-invariances exactly, the live smoother gives the offline smoothing pose for pose, and on noisy
-real takes it brings the learned rest level back down."""
+invariances exactly, the live smoother gives the offline smoothing pose for pose, on noisy
+real takes it brings the learned rest level back down, and by default the takes' own position
+noise decides it."""
 
 from __future__ import annotations
 
@@ -12,7 +13,15 @@ from hypothesis import strategies as st
 from framefree.core import se3
 from framefree.core.trajectory import Trajectory
 from framefree.online import Recognizer, RecognizerConfig
-from framefree.online.smoothing import GridSmoother, gaussian_weights, smooth_poses, smoothed_take
+from framefree.online.learned import LearnedSettings
+from framefree.online.smoothing import (
+    GridSmoother,
+    gaussian_weights,
+    noise_limit,
+    position_noise,
+    smooth_poses,
+    smoothed_take,
+)
 from real_data import shipped_right_controller
 
 DT = 0.02
@@ -120,11 +129,17 @@ def test_on_noisy_real_takes_smoothing_brings_the_rest_level_down():
     noisy = [noisy_positions(takes[i], rng, 0.01) for i in keep]
     clean = [noisy_positions(takes[i], rng, 0.0) for i in keep]
     names = [labels[i] for i in keep]
-    rest = {name: Recognizer.from_trajectories(trajs, names, **extra).learned_.rest_speed
-            for name, trajs, extra in (("clean", clean, {}), ("noisy", noisy, {}),
-                                       ("smoothed", noisy, {"smoothing": 0.067}))}
+    learned = {name: Recognizer.from_trajectories(trajs, names, **extra).learned_
+               for name, trajs, extra in (("clean", clean, {}), ("noisy", noisy, {"smoothing": 0}),
+                                          ("smoothed", noisy, {"smoothing": 0.067}),
+                                          ("by default", noisy, {}))}
+    rest = {name: s.rest_speed for name, s in learned.items()}
     assert rest["noisy"] > 1.5 * rest["clean"]  # what the setting is for
     assert rest["smoothed"] < 0.75 * rest["noisy"]
+    # by default the takes' noise decides: these are smoothed, the clean ones are not
+    assert learned["by default"].smoothing == 0.067 and rest["by default"] == rest["smoothed"]
+    assert "position noise" in learned["by default"].provenance.rules["smoothing"]
+    assert learned["clean"].smoothing == 0.0 and learned["noisy"].smoothing == 0.0
 
 
 def test_the_recognizer_smooths_its_stream_and_restarts_the_smoother():
@@ -183,6 +198,100 @@ def test_check_compares_the_takes_as_the_recognizer_smooths_them():
     by_setting = check_takes(TakeSet(tuple(noisy), gestures, names), RecognizerConfig(smoothing=0.067))
     smoothed_first = check_takes(TakeSet(tuple(smoothed_take(t, 0.067, DT) for t in noisy),
                                          gestures, names), RecognizerConfig())
-    unsmoothed = check_takes(TakeSet(tuple(noisy), gestures, names), RecognizerConfig())
+    unsmoothed = check_takes(TakeSet(tuple(noisy), gestures, names), RecognizerConfig(smoothing=0))
+    by_default = check_takes(TakeSet(tuple(noisy), gestures, names), RecognizerConfig())
     np.testing.assert_allclose(by_setting.distances, smoothed_first.distances)
+    np.testing.assert_allclose(by_default.distances, by_setting.distances)  # noisy: smoothed
     assert not np.allclose(by_setting.distances, unsmoothed.distances)
+
+
+def smooth_motion(seed: int, rate: float, seconds: float = 6.0) -> Trajectory:
+    """A hand's smooth motion (three sines of 5-15 cm at 0.2-0.8 Hz per axis) at ``rate`` [Hz]."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, seconds, 1.0 / rate)
+    freq, amp = rng.uniform(0.2, 0.8, (3, 3)), rng.uniform(0.05, 0.15, (3, 3))
+    phase = rng.uniform(0, 2 * np.pi, (3, 3))
+    p = np.stack([(amp[k] * np.sin(2 * np.pi * np.outer(t, freq[k]) + phase[k])).sum(axis=1)
+                  for k in range(3)], axis=1)
+    return Trajectory(t, p, np.tile([1.0, 0, 0, 0], (t.size, 1)))
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 10_000), st.sampled_from([20.0, 30.0, 60.0, 90.0]),
+       st.sampled_from([0.003, 0.005, 0.01, 0.02]))
+def test_position_noise_reads_the_white_noise_on_a_moving_hand(seed, rate, noise):
+    clean = smooth_motion(seed, rate)
+    rng = np.random.default_rng(seed + 1)
+    noisy = Trajectory(clean.t, clean.p + rng.normal(0.0, noise, clean.p.shape), clean.q)
+    assert position_noise(noisy) == pytest.approx(noise, rel=0.35)  # a median of 120-540
+    assert position_noise(clean) < noise_limit(0.03, 0.1) < 0.002  # smooth motion: no noise
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 10_000), twists)
+def test_position_noise_does_not_depend_on_the_world_frame(seed, world):
+    rng = np.random.default_rng(seed)
+    clean = smooth_motion(seed, 30.0)
+    traj = Trajectory(clean.t, clean.p + rng.normal(0.0, 0.01, clean.p.shape), clean.q)
+    W = se3.pose_from_twist(world)
+    moved = Trajectory(traj.t, traj.p @ W[:3, :3].T + W[:3, 3], traj.q)
+    assert position_noise(moved) == pytest.approx(position_noise(traj), rel=1e-9)
+
+
+def test_the_real_trackers_read_as_precise_and_a_skeleton_tracker_as_noisy():
+    takes, _ = shipped_right_controller()
+    limit = noise_limit(0.03, 0.1)
+    assert limit == pytest.approx(0.00133, abs=1e-5)
+    assert np.median([position_noise(t) for t in takes]) < limit / 3  # a Vive controller, 90 Hz
+    rng = np.random.default_rng(2)
+    for noise, noisy in ((0.0, False), (0.005, True)):  # 30 Hz: the sampling raises the motion's share
+        read = np.median([position_noise(noisy_positions(t, rng, noise)) for t in takes])
+        assert (read > limit) == noisy
+
+
+def test_a_library_saved_before_the_smoothing_was_learned_stays_unsmoothed():
+    takes, labels = shipped_right_controller()
+    rng = np.random.default_rng(3)
+    noisy = [noisy_positions(t, rng, 0.01) for t in takes[:6]]
+    rec = Recognizer.from_trajectories(noisy, labels[:6], learned=LearnedSettings())
+    assert rec.learned_.smoothing == 0.0 and rec.smoother is None
+    assert "saved before" in rec.learned_.provenance.rules["smoothing"]
+    assert Recognizer.from_trajectories(noisy, labels[:6], learned=LearnedSettings(),
+                                        smoothing=0.05).learned_.smoothing == 0.05
+
+
+def test_a_decided_smoothing_is_said_in_one_line_and_a_chosen_one_is_not():
+    from framefree.library.check import check_takes
+    from framefree.library.store import TakeSet
+    from framefree.online.model_settings import smoothing_advice
+
+    takes, labels = shipped_right_controller()
+    rng = np.random.default_rng(4)
+    noisy = [noisy_positions(t, rng, 0.01) for t in takes[:6]]
+    line = smoothing_advice(noisy, RecognizerConfig(), 0.067)
+    assert line is not None and "noisy (10." in line and "smoothing=0" in line and "\n" not in line
+    assert smoothing_advice(noisy, RecognizerConfig(smoothing=0.067), 0.067) is None
+    assert smoothing_advice(takes[:6], RecognizerConfig(), 0.0) is None
+    report = check_takes(TakeSet(tuple(noisy), tuple(labels[:6]),
+                                 tuple(f"{g}/own/{i}" for i, g in enumerate(labels[:6]))))
+    assert any("positions are noisy" in f.message for f in report.findings)
+
+
+def test_enroll_smooths_noisy_takes_says_so_and_the_library_keeps_it(tmp_path):
+    from click.testing import CliRunner
+
+    from framefree.cli import cli
+    from framefree.library import load_library
+
+    takes, labels = shipped_right_controller()
+    rng = np.random.default_rng(5)
+    folder = tmp_path / "takes"
+    for k, (tr, g) in enumerate(zip(takes, labels, strict=True)):
+        if g in ("cartwheel_left", "golf_swing", "fly_eagle"):
+            noisy_positions(tr, rng, 0.01).to_csv(folder / g / "own" / f"{k:02d}.csv")
+    lib = tmp_path / "lib.npz"
+    res = CliRunner().invoke(cli, ["enroll", str(folder), "-o", str(lib)])
+    assert res.exit_code == 0, res.output
+    assert "note: the takes' positions are noisy" in res.output
+    assert load_library(lib).learned_settings().smoothing == 0.067
+    assert Recognizer.load(lib).smoother is not None

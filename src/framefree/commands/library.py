@@ -218,7 +218,7 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
     """
     from ..library.store import enroll, load_library
     from ..online.learned import split_settings
-    from ..online.model_settings import orientation_advice, rest_advice, unseen_advice
+    from ..online.model_settings import takes_advice
 
     if out is None:
         if len(sources) != 1 or not Path(sources[0]).is_dir():
@@ -254,10 +254,9 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
     lib = enroll(takes, config, built_from=[str(Path(s).resolve()) for s in sources], **given)
     path = lib.save(out)
     click.echo(lib.summary())
-    for advice in (None if "rest_speed" in given else rest_advice(takes.takes, config),
-                   unseen_advice(lib.learned_settings().unseen), orientation_advice(takes.takes)):
-        if advice is not None:
-            click.echo(f"note: {advice}", err=True)
+    for advice in takes_advice(takes.takes, config, lib.learned_settings(),
+                               rest="rest_speed" not in given):
+        click.echo(f"note: {advice}", err=True)
     click.echo(f"wrote {path} ({time.perf_counter() - t0:.1f} s). Next: framefree check {path}; "
                f"framefree live --models {path} --source zmq://127.0.0.1:5556", err=True)
 

@@ -143,12 +143,10 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
         err=True,
     )
     if method == "segments":
-        from ..online.model_settings import orientation_advice, rest_advice, unseen_advice
+        from ..online.model_settings import takes_advice
 
-        for advice in (rest_advice(found.trajectories, rec.config),
-                       unseen_advice(rec.learned_.unseen), orientation_advice(found.trajectories)):
-            if advice is not None:
-                click.echo(f"note: {advice}", err=True)
+        for advice in takes_advice(found.trajectories, rec.config, rec.learned_):
+            click.echo(f"note: {advice}", err=True)
     return rec
 
 

@@ -53,10 +53,12 @@ from ..descriptors.base import Descriptor
 from ..descriptors.canonical import CanonicalPath
 from ..online.config import RecognizerConfig
 from ..online.model_settings import (
+    decided_smoothing,
     model_window_spacing,
     orientation_advice,
     rest_advice,
     segment_descriptor,
+    smoothing_advice,
 )
 from ..online.smoothing import smoothed_take
 from ..online.stop import sustained_peak_speed
@@ -244,6 +246,16 @@ def _probe_margin(D: np.ndarray, labels: np.ndarray, g: str, spread: float, q: f
     return float(np.quantile(D[:, sel].min(axis=1), q)) / spread if D.size else math.inf
 
 
+def _as_recognized(takes: TakeSet, config: RecognizerConfig) -> tuple[TakeSet, float]:
+    """The takes as the recognizer sees them, smoothed as it would smooth them
+    (:func:`~framefree.online.model_settings.decided_smoothing`), and that smoothing [s]."""
+    smoothing, _ = decided_smoothing(takes.takes, config)
+    if smoothing == 0:
+        return takes, 0.0
+    return TakeSet(tuple(smoothed_take(tr, smoothing, config.constants.dt) for tr in takes.takes),
+                   takes.labels, takes.names), smoothing
+
+
 def check_takes(
     takes: TakeSet,
     config: RecognizerConfig | None = None,
@@ -257,8 +269,8 @@ def check_takes(
     takes : TakeSet
         At least two takes per gesture.
     config : RecognizerConfig, optional
-        Recognizer settings (descriptor scale length and window; stop margin; with
-        ``smoothing``, the takes are smoothed as the recognizer smooths them).
+        Recognizer settings (descriptor scale length and window; stop margin). The takes are
+        smoothed as the recognizer would smooth them (``smoothing``, or the takes' noise).
     settings : CheckSettings, optional
     progress : bool
         Show progress bars.
@@ -269,9 +281,8 @@ def check_takes(
     """
     s = settings or CheckSettings()
     config = config or RecognizerConfig()
-    if config.smoothing > 0:  # the takes as the recognizer sees them
-        takes = TakeSet(tuple(smoothed_take(tr, config.smoothing, config.constants.dt)
-                              for tr in takes.takes), takes.labels, takes.names)
+    raw = takes.takes
+    takes, smoothing = _as_recognized(takes, config)
     rng = np.random.default_rng(s.seed)
     relative = config.descriptor.relative_window
     desc = descriptor_for(config, model_window_spacing(takes.takes, config) if relative else None)
@@ -312,7 +323,8 @@ def check_takes(
                          [str(x) for x in per_take], checks)
     report.findings = (_findings(report, s, config) + _unlike_findings(report, s)
                        + _direction_findings(takes, report, s))
-    for advice in (rest_advice(takes.takes, config), orientation_advice(takes.takes)):
+    for advice in (rest_advice(takes.takes, config), orientation_advice(takes.takes),
+                   smoothing_advice(raw, config, smoothing)):
         if advice is not None:
             report.findings.append(Finding("warning", "", advice))
     return report

@@ -64,11 +64,13 @@ class RecognizerConfig:
     max_bridge : float
         Longest dropout [s] of the tracker bridged by interpolation instead of restarting, > 0
         (0.5).
-    smoothing : float
+    smoothing : float or None
         Standard deviation [s] of a centred Gaussian that smooths the takes and the stream alike,
-        >= 0 (0: none). For a noisy sensor, such as a skeleton tracker's wrist joint: 0.067
-        gave back on 1-2 cm of noise what the noise had cost (:mod:`framefree.online.smoothing`);
-        the stream then reaches the recognizer three standard deviations late. One tracker only.
+        >= 0 (0: none), or None: decided from the takes (default). A noisy sensor, such as a
+        skeleton tracker's wrist joint, is then smoothed by ``noisy_smoothing`` (0.067 s), which
+        gave back on 1-2 cm of noise what the noise had cost, and a precise one not at all
+        (:mod:`framefree.online.smoothing`). A smoothed stream reaches the recognizer three
+        standard deviations late. One tracker only.
     descriptor : DescriptorSettings
         How motions are described and compared (scale length ``L``, window, smoothing).
     constants : SpottingConstants
@@ -87,7 +89,7 @@ class RecognizerConfig:
     turns: bool = False
     gesture_pauses: bool = True
     max_bridge: float = 0.5
-    smoothing: float = 0.0
+    smoothing: float | None = None
     descriptor: DescriptorSettings = field(default_factory=DescriptorSettings)
     constants: SpottingConstants = field(default_factory=SpottingConstants)
 
@@ -97,7 +99,8 @@ class RecognizerConfig:
                 raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
         if self.confirm < 0:
             raise ValueError(f"confirm must not be negative, got {self.confirm}")
-        if not (self.smoothing >= 0 and math.isfinite(self.smoothing)):
+        if self.smoothing is not None and not (self.smoothing >= 0
+                                               and math.isfinite(self.smoothing)):
             raise ValueError(f"smoothing must be a finite number >= 0, got {self.smoothing}")
         for name in ("threshold", "stop_threshold"):
             if getattr(self, name) is not None and not getattr(self, name) > 0:

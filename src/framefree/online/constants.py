@@ -114,6 +114,15 @@ class SpottingConstants(_Group):
         Step [s] of the uniform grid the poses are put on (0.02: 50 Hz, the descriptor's grid).
     speed_lag : int
         Grid samples over which the motion speed is measured, at least 1 (5: 0.1 s).
+    still_speed : float
+        Speed [m/s] under which a hand counts as still (0.03). A sensor whose position noise
+        alone would make a still hand appear faster, over ``speed_lag``, is noisy: its takes and
+        stream are smoothed by ``noisy_smoothing`` unless the user sets ``smoothing``
+        (:func:`~framefree.online.smoothing.sensor_smoothing`; 1.3 mm of noise at the defaults).
+    noisy_smoothing : float
+        Standard deviation [s] of the Gaussian that smooths a noisy sensor (0.067): it keeps a
+        hand's gesture, which has little above 3 Hz, and gave back on 1 and 2 cm of noise what
+        the noise had cost (docs/online-history.md, *Session 28*).
     noise_factor, peak_fraction : float
         Rest level = max(noise_factor × the takes' noise floor, peak_fraction × their smallest
         stroke peak) (3.0, 0.05; :func:`~framefree.online.segmentation.speed_levels`).
@@ -212,6 +221,8 @@ class SpottingConstants(_Group):
 
     dt: float = 0.02
     speed_lag: int = 5
+    still_speed: float = 0.03
+    noisy_smoothing: float = 0.067
     noise_factor: float = 3.0
     peak_fraction: float = 0.05
     move_factor: float = 1.5
@@ -257,6 +268,9 @@ class SpottingConstants(_Group):
     def __post_init__(self) -> None:
         _positive(self, ("dt", "span_factor", "pause_factor", "size_factor", "size_growth",
                          "stop_margin", "stop_floor", "stop_window"))
+        for name in ("still_speed", "noisy_smoothing"):
+            if not 0 <= getattr(self, name) < float("inf"):
+                raise ValueError(f"{name} must be a finite number >= 0, got {getattr(self, name)}")
         if self.speed_lag < 1:
             raise ValueError(f"speed_lag must be at least 1, got {self.speed_lag}")
         if not (self.return_error >= 0 and self.return_error < float("inf")):

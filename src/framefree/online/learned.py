@@ -94,7 +94,7 @@ _CASTS: dict[str, Callable[[Any], Any]] = {
     "corner_limits": _per_gesture(int), "forbidden_turns": _per_gesture(int),
     "vertical_limits": _per_gesture(tuple), "gesture_thresholds": _per_gesture(float),
     "unseen": lambda v: [str(g) for g in v], "stop_threshold": float,
-    "continuations": _per_gesture(float),
+    "continuations": _per_gesture(float), "smoothing": float,
 }
 
 
@@ -152,6 +152,12 @@ class LearnedSettings:
         continuation_waits`); a pending candidate waits for a rest that long at most, or
         ``max_wait`` if longer. Learned for several trackers only (a library saved before
         gets them from its takes when it is loaded).
+    smoothing : float
+        Standard deviation [s] of the Gaussian that smooths the takes and the stream (0: none):
+        the user's ``smoothing``, or, when it is None, ``noisy_smoothing`` for takes whose
+        position noise would make a still hand appear to move
+        (:func:`~framefree.online.smoothing.sensor_smoothing`). One tracker only; a library
+        saved before gets it from its takes when it is loaded.
     provenance : Provenance
         Which rule derived each value, from which takes, in which framefree.
     """
@@ -175,6 +181,7 @@ class LearnedSettings:
     unseen: list[str] | None = None
     stop_threshold: float | None = None
     continuations: dict[str, float] | None = None
+    smoothing: float | None = None
     provenance: Provenance = field(default_factory=Provenance)
 
     def __post_init__(self) -> None:

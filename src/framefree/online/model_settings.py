@@ -45,6 +45,7 @@ from .limits import (
 )
 from .segment_classifier import SegmentClassifier
 from .segmentation import SpeedLevels, restless_takes, speed_levels
+from .smoothing import noise_limit, sensor_smoothing, smoothed_take
 from .spotting import Spotter
 from .stop import rotation_angle, sustained_peak_speed
 from .thresholds import (
@@ -56,9 +57,10 @@ from .thresholds import (
 )
 from .vertical import up_vector, vertical_limits
 
-__all__ = ["STILL_ORIENTATION", "LearnedDraft", "make_spotter", "model_window_spacing",
-           "orientation_advice", "resolve_learned", "rest_advice", "segment_descriptor",
-           "stop_threshold_rule", "unseen_advice"]
+__all__ = ["STILL_ORIENTATION", "LearnedDraft", "decided_smoothing", "make_spotter",
+           "model_window_spacing", "orientation_advice", "resolve_learned", "resolve_smoothing",
+           "rest_advice", "segment_descriptor", "smoothing_advice", "stop_threshold_rule",
+           "takes_advice", "unseen_advice"]
 
 
 def segment_descriptor(config: RecognizerConfig, spacing: int | None = None) -> Descriptor:
@@ -158,6 +160,67 @@ def resolve_learned(
         draft.fill(stop_threshold_rule(), stop_threshold=max(k.stop_floor, k.stop_margin * peak))
     digest = takes_digest(tr.to_array() for tr in trajectories)
     return draft.settings(len(trajectories), digest), calibration
+
+
+def decided_smoothing(trajectories: Sequence[Trajectory], config: RecognizerConfig
+                      ) -> tuple[float, str]:
+    """The smoothing [s] for these takes and the rule that gave it: the user's
+    ``config.smoothing`` when set, else decided from the takes' position noise
+    (:func:`~framefree.online.smoothing.sensor_smoothing`)."""
+    if config.smoothing is not None:
+        return config.smoothing, f"{GIVEN}: smoothing"
+    k = config.constants
+    lag = k.speed_lag * k.dt
+    value, noise = sensor_smoothing(trajectories, k.still_speed, lag, k.noisy_smoothing)
+    return value, (f"{rule_name(sensor_smoothing)} (position noise {1000 * noise:.2g} mm, "
+                   f"noisy above {1000 * noise_limit(k.still_speed, lag):.2g} mm)")
+
+
+def resolve_smoothing(trajectories: Sequence[Trajectory], config: RecognizerConfig,
+                      draft: LearnedDraft, restoring: bool = False) -> list[Trajectory]:
+    """Fill ``draft``'s ``smoothing`` and return the takes as the recognizer will see the stream:
+    smoothed by it (:mod:`~framefree.online.smoothing`), or as given when it is 0.
+
+    The user's ``config.smoothing`` when set; else a value ``draft`` holds (a library's); else
+    none when ``restoring`` a library saved before the smoothing was learned (its other values
+    were learned on the takes as recorded); else :func:`decided_smoothing`."""
+    if config.smoothing is not None:
+        draft.values["smoothing"] = None  # the user's setting wins over a library's
+    elif restoring:
+        draft.fill("a library saved before framefree learned its smoothing: none", smoothing=0.0)
+    if draft.missing("smoothing"):
+        value, rule = decided_smoothing(trajectories, config)
+        draft.fill(rule, smoothing=value)
+    std = draft.values["smoothing"]
+    if std == 0:
+        return list(trajectories)
+    return [smoothed_take(tr, std, config.constants.dt) for tr in trajectories]
+
+
+def smoothing_advice(trajectories: Sequence[Trajectory], config: RecognizerConfig,
+                     applied: float | None) -> str | None:
+    """One line when the recognizer smooths because the takes' positions are noisy (it decided
+    so, ``applied`` > 0, without the user's ``smoothing``), else ``None``."""
+    if config.smoothing is not None or not applied:
+        return None
+    k = config.constants
+    lag = k.speed_lag * k.dt
+    _, noise = sensor_smoothing(trajectories, k.still_speed, lag, k.noisy_smoothing)
+    return (f"the takes' positions are noisy ({1000 * noise:.1f} mm per sample; a precise "
+            f"tracker reads under {1000 * noise_limit(k.still_speed, lag):.1f} mm), so the takes "
+            f"and the stream are smoothed by a Gaussian of {1000 * applied:.0f} ms and gestures "
+            f"fire {3 * applied:.2f} s later (--set smoothing=0 turns it off)")
+
+
+def takes_advice(trajectories: Sequence[Trajectory], config: RecognizerConfig,
+                 learned: LearnedSettings, rest: bool = True) -> list[str]:
+    """The one-line notes a command prints about a recognizer's takes: no rests (unless ``rest``
+    is False: the user gave the speed levels), gestures the tracker does not follow, no
+    orientation, a noisy sensor smoothed."""
+    lines = (rest_advice(trajectories, config) if rest else None, unseen_advice(learned.unseen),
+             orientation_advice(trajectories),
+             smoothing_advice(trajectories, config, learned.smoothing))
+    return [line for line in lines if line is not None]
 
 
 def unseen_advice(unseen: Sequence[str] | None) -> str | None:

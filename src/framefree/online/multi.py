@@ -155,7 +155,7 @@ def multi_thresholds(samples: Sequence[MultiTrajectory], labels: Sequence[str], 
 
 def _one_tracker_settings(config: RecognizerConfig) -> None:
     """Refuse the settings that only a recognizer of one tracker applies (``smoothing``)."""
-    if config.smoothing > 0:
+    if config.smoothing:
         raise ValueError("smoothing applies to one tracker; smooth the poses of several "
                          "trackers before they reach the recognizer")
 

@@ -43,6 +43,7 @@ from .model_settings import (
     make_spotter,
     model_window_spacing,
     resolve_learned,
+    resolve_smoothing,
     segment_descriptor,
 )
 from .segment_classifier import SegmentClassifier
@@ -53,7 +54,7 @@ from .segmentation import (
     UniformResampler,
     Unit,
 )
-from .smoothing import GridSmoother, smoothed_take
+from .smoothing import GridSmoother
 from .stop import StopDetector
 from .streaming import StreamingRecognizer
 from .thresholds import SegmentThresholds
@@ -144,7 +145,7 @@ class Recognizer(StreamingRecognizer):
                                  k.stop_rearm, k.stop_refractory, k.stop_confirm,
                                  k.stop_sustain_ratio, k.stop_instant)
         self.resampler = UniformResampler(k.dt)
-        self.smoother = GridSmoother(c.smoothing, k.dt) if c.smoothing > 0 else None
+        self.smoother = GridSmoother(s.smoothing, k.dt) if s.smoothing else None
         capacity = math.ceil((s.max_duration + c.max_wait + 2.0) / k.dt) + 2 * k.margin
         self.segmenter = MotionSegmenter(SpeedLevels(s.rest_speed, s.move_speed), c.descriptor.L,
                                          k.dt, k.speed_lag, k.valley_ratio, capacity)
@@ -187,10 +188,9 @@ class Recognizer(StreamingRecognizer):
         if not trajectories:
             raise ValueError("no model recordings")
         config, given = split_settings(overrides, config)
-        if config.smoothing > 0:  # the takes as the live recognizer will see the stream
-            trajectories = [smoothed_take(tr, config.smoothing, config.constants.dt)
-                            for tr in trajectories]
         draft = LearnedDraft({**(learned.values() if learned is not None else {}), **given})
+        # the takes as the live recognizer will see the stream
+        trajectories = resolve_smoothing(trajectories, config, draft, learned is not None)
         if learned is not None:  # what a library learned keeps its rules
             draft.rules.update({n: r for n, r in learned.provenance.rules.items()
                                 if n not in given and n in draft.rules})

@@ -1,5 +1,5 @@
 """Smoothing a noisy sensor's poses: a centred Gaussian on the uniform grid, for the takes and
-the stream alike (``RecognizerConfig.smoothing``, off by default).
+the stream alike (``RecognizerConfig.smoothing``; by default decided from the takes' noise).
 
 A skeleton tracker's wrist joint jitters by a centimetre or more. That noise raises the learned
 rest level (the motion speed over 0.1 s of a hand at rest is then mostly noise) and roughens the
@@ -14,19 +14,76 @@ smoothing commutes with any change of world frame and of body frame: it keeps fr
 invariances exactly. For positions only (a constant orientation) it is the weighted mean of the
 positions. Live, a pose can be smoothed only once the poses after it have arrived: the stream
 reaches the recognizer three standard deviations late.
+
+By default (``smoothing=None``) the recognizer decides from its takes (:func:`sensor_smoothing`):
+it measures the white noise on their positions (:func:`position_noise`) and smooths only when
+that noise alone would make a still hand appear to move.
 """
 
 from __future__ import annotations
 
 import math
 from collections import deque
+from collections.abc import Sequence
 
 import numpy as np
 
 from ..core import se3
 from ..core.trajectory import Trajectory
 
-__all__ = ["GridSmoother", "gaussian_weights", "smooth_poses", "smoothed_take"]
+__all__ = ["GridSmoother", "gaussian_weights", "noise_limit", "position_noise",
+           "sensor_smoothing", "smooth_poses", "smoothed_take"]
+
+#: Order of the differences that :func:`position_noise` measures noise on. White noise of σ
+#: gives third differences of σ √20; a hand's smooth motion gives almost none at tracking rates
+#: (the Machete controllers at 90 Hz read 0.2 mm, resampled to 30 Hz 0.5-0.7 mm; SFINGE3D's
+#: palm at 20 Hz 0.4 mm; the same controllers with 1 cm of noise added 10.2 mm).
+NOISE_ORDER = 3
+
+#: Median of a χ distribution of three degrees of freedom (the norm of a standard normal vector
+#: of three dimensions): √2.36597, the median of χ² with three.
+CHI3_MEDIAN = 1.53817
+
+
+def position_noise(traj: Trajectory) -> float:
+    """Standard deviation [m] of white noise on ``traj``'s positions, per axis and sample.
+
+    A robust estimate from the third differences of the positions as recorded (no resampling):
+    white noise of σ per axis makes each third difference a Gaussian vector of σ √20 per axis,
+    whose norm has the median 1.538 σ √20 (a χ of three degrees of freedom). The motion itself
+    hardly contributes: a third difference of a smooth motion is its jerk times the sample
+    period cubed. The norm makes the estimate independent of the world frame. ``nan`` for a
+    take of fewer than eight samples.
+    """
+    if traj.p.shape[0] < 2 * NOISE_ORDER + 2:
+        return float("nan")
+    d = np.linalg.norm(np.diff(traj.p, n=NOISE_ORDER, axis=0), axis=1)
+    return float(np.median(d)) / (CHI3_MEDIAN * math.sqrt(math.comb(2 * NOISE_ORDER, NOISE_ORDER)))
+
+
+def noise_limit(still_speed: float, lag: float) -> float:
+    """Position noise [m per axis] at which a still hand appears to move at ``still_speed``
+    [m/s] when its speed is taken over ``lag`` [s]: the displacement between two noisy
+    positions has a per-axis deviation of σ √2, and the norm of three such axes a mean of
+    √(8/π) times that."""
+    return still_speed * lag / (math.sqrt(2.0) * math.sqrt(8.0 / math.pi))
+
+
+def sensor_smoothing(trajectories: Sequence[Trajectory], still_speed: float, lag: float,
+                     smoothing: float) -> tuple[float, float]:
+    """The smoothing [s] a recognizer built on ``trajectories`` applies, and the noise [m]
+    that decided it.
+
+    ``smoothing`` when the takes' median :func:`position_noise` exceeds
+    :func:`noise_limit` (``still_speed``, ``lag``): the noise alone would make a still hand
+    appear to move; else 0.
+    """
+    noise = [position_noise(tr) for tr in trajectories]
+    noise = [x for x in noise if math.isfinite(x)]
+    if not noise:
+        return 0.0, float("nan")
+    level = float(np.median(noise))
+    return (smoothing if level > noise_limit(still_speed, lag) else 0.0), level
 
 
 def gaussian_weights(std: float, dt: float) -> np.ndarray:
