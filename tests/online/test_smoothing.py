@@ -156,15 +156,67 @@ def test_the_recognizer_smooths_its_stream_and_restarts_the_smoother():
     assert Recognizer.from_trajectories(takes[:6], labels[:6]).smoother is None
 
 
-def test_a_recognizer_of_several_trackers_refuses_smoothing_before_calibrating():
+def noisy_sample(sample, rng: np.random.Generator, noise: float):
+    """Every tracker of a two-controller ``sample`` as :func:`noisy_positions` gives it."""
+    from framefree.core.multitrajectory import MultiTrajectory
+
+    t = np.arange(sample.t[0], sample.t[-1], 1 / 30)
+    trackers = []
+    for tr in sample.trackers:
+        p = np.column_stack([np.interp(t, tr.t, tr.p[:, k]) for k in range(3)])
+        q = np.tile([1.0, 0, 0, 0], (t.size, 1))
+        trackers.append(Trajectory(t, p + rng.normal(0.0, noise, p.shape), q))
+    return MultiTrajectory(tuple(trackers), sample.names, sample.up, sample.source)
+
+
+@pytest.fixture(scope="module")
+def two_controller_hooks():
     from framefree.datasets.people_layout import load_people
-    from framefree.online.multi import MultiRecognizer
     from real_data import SHIPPED_MACHETE
 
-    people = load_people(SHIPPED_MACHETE)
-    with pytest.raises(ValueError, match="smoothing applies to one tracker"):
-        MultiRecognizer.from_samples([r.sample for r in people], [r.gesture for r in people],
-                                     smoothing=0.05)
+    people = [r for r in load_people(SHIPPED_MACHETE) if r.gesture.startswith("hook")]
+    return [r.sample for r in people], [r.gesture for r in people]
+
+
+def test_a_recognizer_of_several_trackers_smooths_every_tracker_of_noisy_takes(two_controller_hooks):
+    from framefree.online.multi import MultiRecognizer
+
+    samples, labels = two_controller_hooks
+    rng = np.random.default_rng(6)
+    noisy = [noisy_sample(s, rng, 0.01) for s in samples]
+    rec = MultiRecognizer.from_samples(noisy, labels)
+    assert rec.learned_.smoothing == 0.067 and len(rec.smoothers) == 2
+    assert rec.smoothing_delay == pytest.approx(0.22)  # 11 grid steps: 3 σ, rounded up
+    clean = MultiRecognizer.from_samples([noisy_sample(s, rng, 0.0) for s in samples], labels)
+    assert clean.learned_.smoothing == 0.0 and clean.smoothers == []
+    unsmoothed = MultiRecognizer.from_samples(noisy, labels, smoothing=0)
+    assert unsmoothed.learned_.rest_speed > 2 * clean.learned_.rest_speed  # what it is for
+    assert rec.learned_.rest_speed < 0.6 * unsmoothed.learned_.rest_speed
+
+
+def test_a_recognizer_of_several_trackers_finds_a_smoothed_gesture_and_stamps_it_when_it_fires(
+        two_controller_hooks):
+    from framefree.online.multi import MultiRecognizer
+
+    samples, labels = two_controller_hooks
+    held = len(labels) - 1
+    rec = MultiRecognizer.from_samples(samples[:held], labels[:held], smoothing=0.05)
+    rec.background = False
+    smp = samples[held]
+    rest = np.arange(1, 76) * 0.02  # 1.5 s holding the last pose, so the gesture is confirmed
+    t = np.concatenate([smp.t, smp.t[-1] + rest])
+
+    def held_still(x: np.ndarray) -> np.ndarray:
+        return np.concatenate([x, np.repeat(x[-1:], rest.size, axis=0)])
+
+    P = np.stack([held_still(tr.p) for tr in smp.trackers], axis=1)
+    Q = np.stack([held_still(tr.q) for tr in smp.trackers], axis=1)
+    fired = [(float(t[k]), e) for k in range(t.size) for e in rec.push(float(t[k]), P[k], Q[k])]
+    assert [e.label for _, e in fired] == [labels[held]]
+    pushed_at, event = fired[0]
+    assert pushed_at - 0.02 <= event.time <= pushed_at  # not a smoothing delay (0.16 s) earlier
+    rec.reset()
+    assert all(sm._seen == 0 for sm in rec.smoothers)
 
 
 def test_an_event_is_stamped_when_it_fires_not_when_its_smoothed_pose_was_taken():

@@ -65,6 +65,12 @@ def multi_recognizer(found: Any, method: str, gestures: list[str] | None,
     click.echo(f"{len(rec.labels)} models, {len(rec.gestures)} gestures, {rec.n_trackers} trackers "
                f"({', '.join(rec.tracker_names)}), invariance {invariance}, thresholds {taus}, stop above "
                f"{rec.stop_threshold:.3g} rad/s ({time.perf_counter() - t0:.1f} s)", err=True)
+    from ..online.model_settings import smoothing_advice
+
+    advice = smoothing_advice([tr for smp in samples for tr in smp.trackers], rec.config,
+                              rec.learned_.smoothing)
+    if advice is not None:
+        click.echo(f"note: {advice}", err=True)
     return rec
 
 

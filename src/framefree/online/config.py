@@ -70,7 +70,7 @@ class RecognizerConfig:
         skeleton tracker's wrist joint, is then smoothed by ``noisy_smoothing`` (0.067 s), which
         gave back on 1-2 cm of noise what the noise had cost, and a precise one not at all
         (:mod:`framefree.online.smoothing`). A smoothed stream reaches the recognizer three
-        standard deviations late. One tracker only.
+        standard deviations late. Several trackers are smoothed alike.
     descriptor : DescriptorSettings
         How motions are described and compared (scale length ``L``, window, smoothing).
     constants : SpottingConstants

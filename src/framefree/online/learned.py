@@ -156,8 +156,9 @@ class LearnedSettings:
         Standard deviation [s] of the Gaussian that smooths the takes and the stream (0: none):
         the user's ``smoothing``, or, when it is None, ``noisy_smoothing`` for takes whose
         position noise would make a still hand appear to move
-        (:func:`~framefree.online.smoothing.sensor_smoothing`). One tracker only; a library
-        saved before gets it from its takes when it is loaded.
+        (:func:`~framefree.online.smoothing.sensor_smoothing`, over every tracker's takes). A
+        library saved before it was learned stays unsmoothed when it is loaded, as its other
+        values were learned.
     provenance : Provenance
         Which rule derived each value, from which takes, in which framefree.
     """

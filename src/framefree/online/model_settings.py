@@ -45,7 +45,7 @@ from .limits import (
 )
 from .segment_classifier import SegmentClassifier
 from .segmentation import SpeedLevels, restless_takes, speed_levels
-from .smoothing import noise_limit, sensor_smoothing, smoothed_take
+from .smoothing import GridSmoother, noise_limit, sensor_smoothing, smoothed_take
 from .spotting import Spotter
 from .stop import rotation_angle, sustained_peak_speed
 from .thresholds import (
@@ -209,7 +209,8 @@ def smoothing_advice(trajectories: Sequence[Trajectory], config: RecognizerConfi
     return (f"the takes' positions are noisy ({1000 * noise:.1f} mm per sample; a precise "
             f"tracker reads under {1000 * noise_limit(k.still_speed, lag):.1f} mm), so the takes "
             f"and the stream are smoothed by a Gaussian of {1000 * applied:.0f} ms and gestures "
-            f"fire {3 * applied:.2f} s later (--set smoothing=0 turns it off)")
+            f"fire {GridSmoother(applied, k.dt).delay:.2f} s later (--set smoothing=0 turns it "
+            "off)")
 
 
 def takes_advice(trajectories: Sequence[Trajectory], config: RecognizerConfig,

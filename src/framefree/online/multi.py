@@ -2,7 +2,8 @@
 
 :class:`MultiRecognizer` is :class:`~framefree.online.recognizer.Recognizer` for poses of
 several trackers: ``push(t, P, Q)`` with one row per tracker. Per tracker, the samples pass the
-acceptance gate, the stop detector and the uniform 50 Hz grid; the grids are joined
+acceptance gate, the stop detector and the uniform 50 Hz grid (smoothed, every tracker alike,
+when the takes are noisy or the user sets ``smoothing``); the grids are joined
 (:class:`~framefree.online.multi_stream.GridJoiner`) and cut into movement units on the
 trackers' combined motion speed; every candidate that ends with a unit is classified by the
 offline :class:`~framefree.classifier.NearestNeighborClassifier` fitted on the model recordings
@@ -10,7 +11,8 @@ offline :class:`~framefree.classifier.NearestNeighborClassifier` fitted on the m
 gives the same motion. Events, their order, the stop signal (either hand), background
 classification and the statistics are the single-tracker recognizer's.
 
-What comes from the models (:func:`resolve_multi_learned`): the rest and move levels of the
+What comes from the models (:func:`resolve_multi_learned`): the smoothing (from the position
+noise of every tracker's takes together, :func:`smoothed_samples`), the rest and move levels of the
 combined speed, the candidate limits (units, duration, pauses), each gesture's size range, the
 thresholds τ_g (the offline rule :func:`~framefree.rejection.thresholds_from_models`, P + N, with
 P also measured on the models as the live spotter cuts them, :func:`multi_thresholds`), the
@@ -46,7 +48,7 @@ from .learned import (
     split_settings,
     takes_digest,
 )
-from .model_settings import LearnedDraft, stop_threshold_rule
+from .model_settings import LearnedDraft, resolve_smoothing, stop_threshold_rule
 from .multi_spotting import MultiSegmentClassifier, MultiSpotter, path_size
 from .multi_stream import (
     GridJoiner,
@@ -59,9 +61,10 @@ from .multi_stream import (
 )
 from .recognizer import STAT_KEYS, Recognizer
 from .segmentation import SpeedLevels, UniformResampler, Unit
+from .smoothing import GridSmoother
 from .stop import StopDetector, sustained_peak_speed
 
-__all__ = ["MultiRecognizer", "multi_thresholds", "resolve_multi_learned"]
+__all__ = ["MultiRecognizer", "multi_thresholds", "resolve_multi_learned", "smoothed_samples"]
 
 
 def _classifier(invariance: str) -> Any:
@@ -153,11 +156,21 @@ def multi_thresholds(samples: Sequence[MultiTrajectory], labels: Sequence[str], 
     return tau
 
 
-def _one_tracker_settings(config: RecognizerConfig) -> None:
-    """Refuse the settings that only a recognizer of one tracker applies (``smoothing``)."""
-    if config.smoothing:
-        raise ValueError("smoothing applies to one tracker; smooth the poses of several "
-                         "trackers before they reach the recognizer")
+def smoothed_samples(samples: Sequence[MultiTrajectory], config: RecognizerConfig,
+                     draft: LearnedDraft, restoring: bool = False) -> list[MultiTrajectory]:
+    """Fill ``draft``'s ``smoothing`` from the takes of every tracker together
+    (:func:`~framefree.online.model_settings.resolve_smoothing`) and return the samples as the
+    recognizer will see the stream: each tracker smoothed alike on the uniform grid."""
+    flat = [tr for smp in samples for tr in smp.trackers]
+    smoothed = resolve_smoothing(flat, config, draft, restoring)
+    if not draft.values["smoothing"]:
+        return list(samples)
+    out, k = [], 0
+    for smp in samples:
+        n = smp.n_trackers
+        out.append(MultiTrajectory(tuple(smoothed[k:k + n]), smp.names, smp.up, smp.source))
+        k += n
+    return out
 
 
 class MultiRecognizer(Recognizer):
@@ -186,8 +199,10 @@ class MultiRecognizer(Recognizer):
                  config: RecognizerConfig, learned: LearnedSettings, invariance: str = "gravity",
                  gate_speeds: tuple[float, float] = (5.0, 30.0)) -> None:
         c, s, k = config, learned, config.constants
-        _one_tracker_settings(c)
-        self.smoother = None  # the poses of several trackers are not smoothed
+        self.smoother = None  # one smoother per tracker instead
+        n = len(classifier.names)
+        self.smoothers = [GridSmoother(s.smoothing, k.dt) for _ in range(n)] if s.smoothing else []
+        self.smoothing_delay = self.smoothers[0].delay if self.smoothers else 0.0
         self.classifier = classifier
         self.labels = [str(x) for x in labels]
         self.gestures = list(dict.fromkeys(self.labels))
@@ -264,13 +279,14 @@ class MultiRecognizer(Recognizer):
         if len(counts) != 1:
             raise ValueError(f"model recordings with different numbers of trackers: {sorted(counts)}")
         config, given = split_settings(overrides, config)
-        _one_tracker_settings(config)
-        clf = _classifier(invariance).fit(list(samples), list(labels))
         draft = LearnedDraft({**(learned.values() if learned is not None else {}), **given})
         if learned is not None:  # what a library learned keeps its rules
             draft.rules.update({n: r for n, r in learned.provenance.rules.items()
                                 if n not in given and n in draft.rules})
-        resolved = resolve_multi_learned(samples, labels, config, clf, draft)
+        # the takes as the live recognizer will see the stream
+        seen = smoothed_samples(samples, config, draft, learned is not None)
+        clf = _classifier(invariance).fit(seen, list(labels))
+        resolved = resolve_multi_learned(seen, labels, config, clf, draft)
         wrapped = MultiSegmentClassifier(clf, samples[0].names, samples[0].up)
         gates = gate_limits(samples)
         if resolved.continuations is None:  # learned by running the recognizer over the takes
@@ -313,7 +329,7 @@ class MultiRecognizer(Recognizer):
         self._counts = dict.fromkeys(STAT_KEYS, 0)
 
     def _restart(self) -> None:
-        for r in self.resamplers:
+        for r in [*self.resamplers, *self.smoothers]:
             r.reset()
         self.joiner.reset()
         self.segmenter.reset()
@@ -362,7 +378,8 @@ class MultiRecognizer(Recognizer):
                 T = np.eye(4)
                 T[:3, :3] = se3.matrix_from_quaternion(qs)
                 T[:3, 3] = ps
-                self.joiner.add(j, *self.resamplers[j].push(ts, T))
+                grid = self.resamplers[j].push(ts, T)
+                self.joiner.add(j, *(self.smoothers[j].push(*grid) if self.smoothers else grid))
         for _ in stops:
             self._counts["stops"] += 1
             self._decide_later(self.spotter.discard_before, self.segmenter.buffer.count)

@@ -146,6 +146,9 @@ class Recognizer(StreamingRecognizer):
                                  k.stop_sustain_ratio, k.stop_instant)
         self.resampler = UniformResampler(k.dt)
         self.smoother = GridSmoother(s.smoothing, k.dt) if s.smoothing else None
+        #: How late [s] the smoothed grid poses reach the spotter: an event fires that much after
+        #: the time of the pose it is decided on.
+        self.smoothing_delay = 0.0 if self.smoother is None else self.smoother.delay
         capacity = math.ceil((s.max_duration + c.max_wait + 2.0) / k.dt) + 2 * k.margin
         self.segmenter = MotionSegmenter(SpeedLevels(s.rest_speed, s.move_speed), c.descriptor.L,
                                          k.dt, k.speed_lag, k.valley_ratio, capacity)
@@ -421,8 +424,8 @@ class Recognizer(StreamingRecognizer):
             return None
         self._counts["events"] += 1
         # a smoothed pose is decided on once the poses after it have come: that is when it fires
-        delay = 0.0 if self.smoother is None else self.smoother.delay
-        return Event(self.labels[fired.model], t + delay, fired.distance, fired.model)
+        return Event(self.labels[fired.model], t + self.smoothing_delay, fired.distance,
+                     fired.model)
 
     def _decide_later(self, fn: Callable[..., Event | None], *args: Any) -> Event | None:
         """Run a spotter step now (inline: its event, if any) or queue it on the worker (None;
