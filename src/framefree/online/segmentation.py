@@ -305,6 +305,12 @@ def speed_levels(
     percentile low enough to pull the rest level from 0.2 to 0.09 m/s, which cut real gestures
     into pieces.
 
+A rest is slower than ``peak_fraction`` of the gesture, so the median floor counts at most
+``peak_fraction`` × the median take's peak (session 29). Takes with rests never reach that
+bound; takes cut where their motion starts and ends (a benchmark's segmented examples) do: on the
+Machete right controller's takes cut at 5 % of their peak the rest level falls from 0.77–0.89 to
+0.50–0.56 m/s, and the gestures of a stream are no longer cut at their slower parts.
+
     Parameters
     ----------
     trajectories : sequence of Trajectory
@@ -320,8 +326,11 @@ def speed_levels(
         peaks.append(float(v.max()))
     if not peaks:
         raise ValueError("no model recording is long enough to measure its motion speed")
-    rest = max(noise_factor * float(np.median(floors)), peak_fraction * min(peaks))
     typical_peak = float(np.median(peaks))
+    # a rest is slower than peak_fraction of the gesture: takes cut without rests, whose floor
+    # is their slowest motion, count at most that much of the typical take's peak as a floor
+    floor = min(float(np.median(floors)), peak_fraction * typical_peak)
+    rest = max(noise_factor * floor, peak_fraction * min(peaks))
     if move_factor * rest > 0.5 * typical_peak:  # most takes cut without a rest: the typical take
         rest = 0.5 * typical_peak / move_factor  # must reach twice the move level to start a unit
     return SpeedLevels(rest=rest, move=move_factor * rest)
