@@ -81,3 +81,26 @@ def test_evaluate_stream_notes_models_cut_without_rests(vive, tmp_path):
                                    str(stream)])
     assert res.exit_code == 0, res.output
     assert "note: " in res.output and "hold no rest" in res.output
+
+
+def test_several_trackers_cut_without_rests_get_the_same_bound():
+    from framefree.core.multitrajectory import MultiTrajectory
+    from framefree.datasets.people_layout import load_people
+    from framefree.online.multi_stream import combined_speed, multi_speed_levels
+    from real_data import SHIPPED_MACHETE
+
+    samples = [r.sample for r in load_people(SHIPPED_MACHETE)]
+    L = RecognizerConfig().descriptor.L
+
+    def cut_both(s, fraction):  # both trackers cut where their combined speed first and last passes
+        v = combined_speed(s, L)
+        idx = np.flatnonzero(v > fraction * v.max())
+        a, b = (np.searchsorted(s.t, s.t[0] + k * 0.02) for k in (idx[0], idx[-1] + 1))
+        return MultiTrajectory(tuple(Trajectory(tr.t[a:b], tr.p[a:b], tr.q[a:b]) for tr in s.trackers),
+                               s.names, s.up, s.source)
+
+    cuts = [cut_both(s, 0.2) for s in samples]
+    peaks = [combined_speed(s, L).max() for s in cuts]
+    assert multi_speed_levels(cuts, L).rest == pytest.approx(3 * 0.05 * float(np.median(peaks)))
+    floors = [np.percentile(combined_speed(s, L), 10) for s in samples]
+    assert multi_speed_levels(samples, L).rest == pytest.approx(3 * float(np.median(floors)))

@@ -115,7 +115,8 @@ def multi_speed_levels(samples: Sequence[MultiTrajectory], L: float, dt: float =
     percentile of a recording's speed) instead of the largest: whole-body recordings such as the
     Machete Vive set often start or end in motion, and the largest floor of the six people's 330
     recordings (0.95 m/s) lies above many of their strokes' valleys; the median (0.15 m/s)
-    is a rest.
+    is a rest. The median floor counts at most ``peak_fraction`` × the median peak, as there
+    (recordings cut without rests).
     """
     floors, peaks = [], []
     for s in samples:
@@ -125,7 +126,9 @@ def multi_speed_levels(samples: Sequence[MultiTrajectory], L: float, dt: float =
             peaks.append(float(v.max()))
     if not peaks:
         raise ValueError("no model recording is long enough to measure its motion speed")
-    rest = max(noise_factor * float(np.median(floors)), peak_fraction * min(peaks))
+    # the bound of speed_levels: a rest is slower than peak_fraction of the typical peak
+    floor = min(float(np.median(floors)), peak_fraction * float(np.median(peaks)))
+    rest = max(noise_factor * floor, peak_fraction * min(peaks))
     return SpeedLevels(rest=rest, move=move_factor * rest)
 
 
