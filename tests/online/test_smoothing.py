@@ -16,10 +16,10 @@ from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.learned import LearnedSettings
 from framefree.online.smoothing import (
     GridSmoother,
-    gaussian_weights,
+    grid_gaussian,
     noise_limit,
     position_noise,
-    smooth_poses,
+    smooth_in_own_frame,
     smoothed_take,
 )
 from real_data import shipped_right_controller
@@ -38,13 +38,13 @@ def wobbly_poses(seed: int, n: int = 80, noise: float = 0.01) -> np.ndarray:
 
 
 def test_weights_are_a_centred_gaussian_summing_to_one():
-    w = gaussian_weights(0.067, DT)
+    w = grid_gaussian(0.067, DT)
     assert w.size == 2 * 11 + 1 and w.sum() == pytest.approx(1.0)
     np.testing.assert_allclose(w, w[::-1])
     assert np.argmax(w) == 11
-    assert gaussian_weights(0.0, DT).tolist() == [1.0]
+    assert grid_gaussian(0.0, DT).tolist() == [1.0]
     with pytest.raises(ValueError, match="must not be negative"):
-        gaussian_weights(-0.1, DT)
+        grid_gaussian(-0.1, DT)
 
 
 twists = st.lists(st.floats(-1.0, 1.0), min_size=6, max_size=6).map(np.array)
@@ -55,8 +55,8 @@ twists = st.lists(st.floats(-1.0, 1.0), min_size=6, max_size=6).map(np.array)
 def test_smoothing_commutes_with_any_change_of_world_and_body_frame(world, body, seed, std):
     W, B = se3.pose_from_twist(world), se3.pose_from_twist(body)
     poses = wobbly_poses(seed)
-    w = gaussian_weights(std, DT)
-    np.testing.assert_allclose(smooth_poses(W @ poses @ B, w), W @ smooth_poses(poses, w) @ B,
+    w = grid_gaussian(std, DT)
+    np.testing.assert_allclose(smooth_in_own_frame(W @ poses @ B, w), W @ smooth_in_own_frame(poses, w) @ B,
                                atol=1e-9)
 
 
@@ -78,7 +78,7 @@ def test_the_live_smoother_gives_the_offline_poses_whatever_the_chunks(chunks, s
     done = max(0, min(k, poses.shape[0]) - smoother.half)  # every pose whose window is complete
     assert got_p.shape[0] == done
     np.testing.assert_allclose(got_t, times[:done])
-    offline = smooth_poses(poses, smoother.weights)
+    offline = smooth_in_own_frame(poses, smoother.weights)
     # the live smoother cannot see past the last pose pushed: compare where the window is whole
     np.testing.assert_allclose(got_p, offline[:done], atol=1e-12)
     assert smoother.delay == pytest.approx(smoother.half * DT)
@@ -89,8 +89,8 @@ def test_positions_only_are_averaged_and_the_noise_shrinks():
     n = 400
     poses = np.tile(np.eye(4), (n, 1, 1))
     poses[:, :3, 3] = rng.normal(0.0, 0.01, (n, 3))
-    w = gaussian_weights(0.067, DT)
-    out = smooth_poses(poses, w)
+    w = grid_gaussian(0.067, DT)
+    out = smooth_in_own_frame(poses, w)
     h = (w.size - 1) // 2
     np.testing.assert_allclose(out[h:-h, :3, 3],
                                np.stack([w @ poses[c - h:c + h + 1, :3, 3]
@@ -105,8 +105,8 @@ def test_a_take_is_smoothed_on_the_grid_and_zero_leaves_it_alone():
     assert smoothed_take(take, 0.0, DT) is take
     smooth = smoothed_take(take, 0.05, DT)
     assert len(smooth) == len(take) and smooth.t[0] == pytest.approx(5.0)
-    np.testing.assert_allclose(smooth.poses(), smooth_poses(take.uniform_poses(DT)[1],
-                                                            gaussian_weights(0.05, DT)), atol=1e-9)
+    np.testing.assert_allclose(smooth.poses(), smooth_in_own_frame(take.uniform_poses(DT)[1],
+                                                            grid_gaussian(0.05, DT)), atol=1e-9)
 
 
 @pytest.mark.parametrize("bad", [-0.01, float("nan"), float("inf")])
@@ -318,6 +318,20 @@ def test_a_library_saved_before_the_smoothing_was_learned_stays_unsmoothed():
     assert "saved before" in rec.learned_.provenance.rules["smoothing"]
     assert Recognizer.from_trajectories(noisy, labels[:6], learned=LearnedSettings(),
                                         smoothing=0.05).learned_.smoothing == 0.05
+
+
+def test_the_users_smoothing_replaces_a_librarys_value_and_its_rule():
+    from framefree.online.learned import Provenance
+
+    takes, labels = shipped_right_controller()
+    rng = np.random.default_rng(7)
+    noisy = [noisy_positions(t, rng, 0.01) for t in takes[:6]]
+    library = LearnedSettings(smoothing=0.067,
+                              provenance=Provenance({"smoothing": "sensor_smoothing (noisy)"}))
+    kept = Recognizer.from_trajectories(noisy, labels[:6], learned=library).learned_
+    assert kept.smoothing == 0.067 and kept.provenance.rules["smoothing"] == "sensor_smoothing (noisy)"
+    mine = Recognizer.from_trajectories(noisy, labels[:6], learned=library, smoothing=0.05).learned_
+    assert mine.smoothing == 0.05 and mine.provenance.rules["smoothing"] == "given: smoothing"
 
 
 def test_a_decided_smoothing_is_said_in_one_line_and_a_chosen_one_is_not():

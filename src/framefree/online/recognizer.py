@@ -192,11 +192,12 @@ class Recognizer(StreamingRecognizer):
             raise ValueError("no model recordings")
         config, given = split_settings(overrides, config)
         draft = LearnedDraft({**(learned.values() if learned is not None else {}), **given})
-        # the takes as the live recognizer will see the stream
-        trajectories = resolve_smoothing(trajectories, config, draft, learned is not None)
         if learned is not None:  # what a library learned keeps its rules
             draft.rules.update({n: r for n, r in learned.provenance.rules.items()
                                 if n not in given and n in draft.rules})
+        # the takes as the live recognizer will see the stream (after the library's rules: the
+        # user's smoothing replaces a library's value and its rule)
+        trajectories = resolve_smoothing(trajectories, config, draft, learned is not None)
         if config.descriptor.relative_window and draft.missing("window_spacing"):
             draft.fill(model_window_spacing,
                        window_spacing=model_window_spacing(trajectories, config))

@@ -15,6 +15,9 @@ invariances exactly. For positions only (a constant orientation) it is the weigh
 positions. Live, a pose can be smoothed only once the poses after it have arrived: the stream
 reaches the recognizer three standard deviations late.
 
+Not :mod:`framefree.core.smoothing`, the reference descriptors' pre-smoothing of positions and
+quaternion components by a window of samples, which is not exact for a change of body frame.
+
 By default (``smoothing=None``) the recognizer decides from its takes (:func:`sensor_smoothing`):
 it measures the white noise on their positions (:func:`position_noise`) and smooths only when
 that noise alone would make a still hand appear to move.
@@ -31,8 +34,8 @@ import numpy as np
 from ..core import se3
 from ..core.trajectory import Trajectory
 
-__all__ = ["GridSmoother", "gaussian_weights", "noise_limit", "position_noise",
-           "sensor_smoothing", "smooth_poses", "smoothed_take"]
+__all__ = ["GridSmoother", "grid_gaussian", "noise_limit", "position_noise",
+           "sensor_smoothing", "smooth_in_own_frame", "smoothed_take"]
 
 #: Order of the differences that :func:`position_noise` measures noise on. White noise of σ
 #: gives third differences of σ √20; a hand's smooth motion gives almost none at tracking rates
@@ -86,7 +89,7 @@ def sensor_smoothing(trajectories: Sequence[Trajectory], still_speed: float, lag
     return (smoothing if level > noise_limit(still_speed, lag) else 0.0), level
 
 
-def gaussian_weights(std: float, dt: float) -> np.ndarray:
+def grid_gaussian(std: float, dt: float) -> np.ndarray:
     """Weights (2h+1,) of a centred Gaussian of standard deviation ``std`` [s] on a grid of step
     ``dt`` [s], ``h = ceil(3 std / dt)``, summing to 1; ``[1.0]`` for ``std`` 0."""
     if not std >= 0:
@@ -109,8 +112,8 @@ def _smoothed_one(poses: np.ndarray, centre: int, weights: np.ndarray) -> np.nda
     return T_c @ se3.pose_from_twist(mean_twist)
 
 
-def smooth_poses(poses: np.ndarray, weights: np.ndarray) -> np.ndarray:
-    """Every pose of ``poses`` (n, 4, 4) smoothed with ``weights`` (:func:`gaussian_weights`),
+def smooth_in_own_frame(poses: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """Every pose of ``poses`` (n, 4, 4) smoothed with ``weights`` (:func:`grid_gaussian`),
     the windows cut at both ends. Returns a new array (n, 4, 4)."""
     poses = np.asarray(poses, dtype=np.float64)
     if weights.size == 1:
@@ -126,11 +129,11 @@ def smoothed_take(traj: Trajectory, std: float, dt: float) -> Trajectory:
         return traj
     times, poses = traj.uniform_poses(dt)
     return Trajectory.from_poses(traj.t[0] + times,
-                                 smooth_poses(poses, gaussian_weights(std, dt)), source=traj.source)
+                                 smooth_in_own_frame(poses, grid_gaussian(std, dt)), source=traj.source)
 
 
 class GridSmoother:
-    """The live side of :func:`smooth_poses`: grid poses in, the same poses smoothed out, each
+    """The live side of :func:`smooth_in_own_frame`: grid poses in, the same poses smoothed out, each
     as soon as the poses of its window after it have arrived (``delay`` [s] late).
 
     Parameters
@@ -142,7 +145,7 @@ class GridSmoother:
     """
 
     def __init__(self, std: float, dt: float) -> None:
-        self.weights = gaussian_weights(std, dt)
+        self.weights = grid_gaussian(std, dt)
         self.half = (self.weights.size - 1) // 2
         self.delay = self.half * dt
         self._times: deque[float] = deque(maxlen=2 * self.half + 1)
