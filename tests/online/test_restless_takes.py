@@ -1,6 +1,7 @@
-"""Takes that hold no rest: the rest level is measured where the takes hold still, so models cut
-where the motion starts and ends get a note saying so (docs/online.md, Models cut without rests).
-Real Vive recordings, as recorded and cut at a fifth of their peak speed."""
+"""Takes that hold no rest: the rest level is measured where the takes hold still; models cut
+where the motion starts and ends have no rest to measure, so their level is a twentieth of their
+peak speed, and they get a note saying so (docs/online.md, Models cut without rests). Real Vive
+recordings, as recorded and cut at 5 % and a fifth of their peak speed."""
 
 from __future__ import annotations
 
@@ -10,9 +11,11 @@ from click.testing import CliRunner
 
 from framefree.cli import cli
 from framefree.core.trajectory import Trajectory
+from framefree.library import read_takes
 from framefree.online import RecognizerConfig
 from framefree.online.model_settings import rest_advice
-from framefree.online.segmentation import restless_takes, speed_levels, take_speeds
+from framefree.online.segmentation import holds_no_rest, restless_takes, speed_levels, take_speeds
+from framefree.replica import replica_path
 from real_data import shipped_right_controller
 
 
@@ -34,23 +37,31 @@ def vive() -> tuple[list[Trajectory], list[str]]:
 def test_real_recordings_rest_and_their_cut_copies_do_not(vive):
     trajs, _ = vive
     L = RecognizerConfig().descriptor.L
-    assert restless_takes(trajs, L).mean() <= 0.1
+    assert restless_takes(trajs, L).mean() <= 0.25
+    assert restless_takes([cut(t, 0.05) for t in trajs], L).mean() > 0.5
     assert restless_takes([cut(t, 0.2) for t in trajs], L).mean() >= 0.9
 
 
-def test_cut_takes_raise_the_rest_level_and_get_advice(vive):
+def test_noisy_takes_that_rest_are_not_restless():
+    # the replica's takes with a tracker's noise: a resting hand seems to move at up to a
+    # seventh of the peak speed, but it goes nowhere
+    takes = list(read_takes(replica_path(), "original_2").takes)
+    assert not restless_takes(takes, RecognizerConfig().descriptor.L).any()
+
+
+def test_cut_takes_get_a_twentieth_of_their_peak_and_advice(vive):
     trajs, _ = vive
     config = RecognizerConfig()
     cuts = [cut(t, 0.2) for t in trajs]
     L = config.descriptor.L
-    rest_cut = speed_levels(cuts, L).rest
-    assert rest_cut > 2 * speed_levels(trajs, L).rest  # why the note exists
-    # a cut take's slowest motion counts as a floor at most peak_fraction of the typical peak
-    # (session 29: 1.2 m/s before, against 0.22 with the rests)
+    rest_cut, rest = speed_levels(cuts, L).rest, speed_levels(trajs, L).rest
+    # no floor to measure: the level is the bound itself (session 30), not three times the
+    # cut takes' slowest motion (1.2 m/s before session 29, 0.6 before session 30)
     peaks = [v.max() for v in take_speeds(cuts, L) if v.size]
-    assert rest_cut == pytest.approx(3 * 0.05 * float(np.median(peaks)))
+    assert rest_cut == pytest.approx(0.05 * float(np.median(peaks)))
+    assert 0.5 * rest < rest_cut < 1.5 * rest  # near the level of the takes as recorded
     floors = [np.percentile(v, 10) for v in take_speeds(trajs, L) if v.size]
-    assert speed_levels(trajs, L).rest == pytest.approx(3 * float(np.median(floors)))  # no cap
+    assert rest == pytest.approx(3 * float(np.median(floors)))  # takes that rest: their floor
     assert rest_advice(trajs, config) is None
     advice = rest_advice(cuts, config)
     assert advice is not None and f"of {len(cuts)} takes hold no rest" in advice
@@ -64,7 +75,10 @@ def test_a_take_moving_from_end_to_end_is_restless_and_a_resting_one_is_not():
     s = np.clip((t - 0.5) / 1.0, 0.0, 1.0)
     bump = 0.3 * (10 * s**3 - 15 * s**4 + 6 * s**5)  # at rest, a smooth stroke, at rest
     resting = Trajectory(t, np.column_stack([bump, 0 * t, 0 * t]), q)
-    assert restless_takes([moving, resting], 0.1).tolist() == [True, False]
+    jitter = np.random.default_rng(0).normal(0.0, 0.002, (t.size, 3))  # fast, but going nowhere
+    noisy = Trajectory(t, np.column_stack([bump, 0 * t, 0 * t]) + jitter, q)
+    assert restless_takes([moving, resting, noisy], 0.1).tolist() == [True, False, False]
+    assert holds_no_rest(np.ones(3), np.zeros((4, 1, 3)), 5) is False  # too short to tell
 
 
 def test_evaluate_stream_notes_models_cut_without_rests(vive, tmp_path):
@@ -83,7 +97,7 @@ def test_evaluate_stream_notes_models_cut_without_rests(vive, tmp_path):
     assert "note: " in res.output and "hold no rest" in res.output
 
 
-def test_several_trackers_cut_without_rests_get_the_same_bound():
+def test_several_trackers_cut_without_rests_get_the_same_level():
     from framefree.core.multitrajectory import MultiTrajectory
     from framefree.datasets.people_layout import load_people
     from framefree.online.multi_stream import combined_speed, multi_speed_levels
@@ -101,6 +115,6 @@ def test_several_trackers_cut_without_rests_get_the_same_bound():
 
     cuts = [cut_both(s, 0.2) for s in samples]
     peaks = [combined_speed(s, L).max() for s in cuts]
-    assert multi_speed_levels(cuts, L).rest == pytest.approx(3 * 0.05 * float(np.median(peaks)))
+    assert multi_speed_levels(cuts, L).rest == pytest.approx(0.05 * float(np.median(peaks)))
     floors = [np.percentile(combined_speed(s, L), 10) for s in samples]
     assert multi_speed_levels(samples, L).rest == pytest.approx(3 * float(np.median(floors)))

@@ -28,7 +28,14 @@ from ..core.multitrajectory import MultiTrajectory
 from ..core.progress import screw_path_increment
 from ..core.trajectory import Trajectory
 from .limits import limits_of_units
-from .segmentation import MotionSegmenter, PoseBuffer, SpeedLevels, Unit, motion_speed
+from .segmentation import (
+    MotionSegmenter,
+    PoseBuffer,
+    SpeedLevels,
+    Unit,
+    motion_speed,
+    rest_level,
+)
 from .stop import StopDetector
 
 __all__ = [
@@ -99,11 +106,19 @@ def grid_poses(sample: MultiTrajectory, dt: float = 0.02) -> tuple[np.ndarray, n
     return grids[0][0][:n], np.stack([g[1][:n] for g in grids], axis=1)
 
 
-def combined_speed(sample: MultiTrajectory, L: float, dt: float = 0.02, lag: int = 5) -> np.ndarray:
-    """The combined motion speed (n - lag,) [m/s] of a recording on the uniform grid: the sum of
-    its trackers' :func:`~framefree.online.segmentation.motion_speed`."""
+def combined_motion(sample: MultiTrajectory, L: float, dt: float = 0.02, lag: int = 5
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """The combined motion speed (n - lag,) [m/s] of a recording on the uniform grid, the sum of
+    its trackers' :func:`~framefree.online.segmentation.motion_speed`, and their positions
+    (n, n_trackers, 3) [m] on that grid."""
     _, poses = grid_poses(sample, dt)
-    return sum(motion_speed(poses[:, j], dt, L, lag)[lag:] for j in range(poses.shape[1]))
+    v = sum(motion_speed(poses[:, j], dt, L, lag)[lag:] for j in range(poses.shape[1]))
+    return v, poses[:, :, :3, 3]
+
+
+def combined_speed(sample: MultiTrajectory, L: float, dt: float = 0.02, lag: int = 5) -> np.ndarray:
+    """The combined motion speed (n - lag,) [m/s] of a recording (:func:`combined_motion`)."""
+    return combined_motion(sample, L, dt, lag)[0]
 
 
 def multi_speed_levels(samples: Sequence[MultiTrajectory], L: float, dt: float = 0.02,
@@ -115,20 +130,14 @@ def multi_speed_levels(samples: Sequence[MultiTrajectory], L: float, dt: float =
     percentile of a recording's speed) instead of the largest: whole-body recordings such as the
     Machete Vive set often start or end in motion, and the largest floor of the six people's 330
     recordings (0.95 m/s) lies above many of their strokes' valleys; the median (0.15 m/s)
-    is a rest. The median floor counts at most ``peak_fraction`` × the median peak, as there
-    (recordings cut without rests).
+    is a rest. The median floor counts at most ``peak_fraction`` × the median peak, and where most
+    recordings hold no rest the level is that bound itself, as there
+    (:func:`~framefree.online.segmentation.rest_level`).
     """
-    floors, peaks = [], []
-    for s in samples:
-        v = combined_speed(s, L, dt, lag)
-        if v.size:
-            floors.append(float(np.percentile(v, 10)))
-            peaks.append(float(v.max()))
-    if not peaks:
+    motions = [m for m in (combined_motion(s, L, dt, lag) for s in samples) if m[0].size]
+    if not motions:
         raise ValueError("no model recording is long enough to measure its motion speed")
-    # the bound of speed_levels: a rest is slower than peak_fraction of the typical peak
-    floor = min(float(np.median(floors)), peak_fraction * float(np.median(peaks)))
-    rest = max(noise_factor * floor, peak_fraction * min(peaks))
+    rest = rest_level(motions, lag, noise_factor, peak_fraction)
     return SpeedLevels(rest=rest, move=move_factor * rest)
 
 
