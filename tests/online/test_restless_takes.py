@@ -14,7 +14,14 @@ from framefree.core.trajectory import Trajectory
 from framefree.library import read_takes
 from framefree.online import RecognizerConfig
 from framefree.online.model_settings import rest_advice
-from framefree.online.segmentation import holds_no_rest, restless_takes, speed_levels, take_speeds
+from framefree.online.segmentation import (
+    end_speed,
+    holds_no_rest,
+    restless_takes,
+    speed_levels,
+    take_motion,
+    take_speeds,
+)
 from framefree.replica import replica_path
 from real_data import shipped_right_controller
 
@@ -49,23 +56,32 @@ def test_noisy_takes_that_rest_are_not_restless():
     assert not restless_takes(takes, RecognizerConfig().descriptor.L).any()
 
 
-def test_cut_takes_get_a_twentieth_of_their_peak_and_advice(vive):
+def test_cut_takes_rest_below_the_speed_they_start_at_and_get_advice(vive):
     trajs, _ = vive
     config = RecognizerConfig()
-    cuts = [cut(t, 0.2) for t in trajs]
     L = config.descriptor.L
-    rest_cut, rest = speed_levels(cuts, L).rest, speed_levels(trajs, L).rest
-    # no floor to measure: the level is the bound itself (session 30), not three times the
-    # cut takes' slowest motion (1.2 m/s before session 29, 0.6 before session 30)
-    peaks = [v.max() for v in take_speeds(cuts, L) if v.size]
-    assert rest_cut == pytest.approx(0.05 * float(np.median(peaks)))
-    assert 0.5 * rest < rest_cut < 1.5 * rest  # near the level of the takes as recorded
+    rest = speed_levels(trajs, L).rest
     floors = [np.percentile(v, 10) for v in take_speeds(trajs, L) if v.size]
     assert rest == pytest.approx(3 * float(np.median(floors)))  # takes that rest: their floor
+    # cut at 5 % of their peak: no floor to measure, and where the cut was made the hand left its
+    # rest, so the level is the median speed the restless takes start or end at (session 30)
+    cuts = [cut(t, 0.05) for t in trajs]
+    motion = list(take_motion(cuts, L))
+    starts = [end_speed(v, 5) for v, p in motion if holds_no_rest(v, p, 5)]
+    peaks = [v.max() for v, _ in motion]
+    rest_cut = speed_levels(cuts, L).rest
+    assert rest_cut == pytest.approx(float(np.median(starts)))
+    assert rest_cut < 0.6 * 3 * 0.05 * float(np.median(peaks))  # well under session 29's level
+    assert rest_cut < 1.5 * rest  # near the level of the takes as recorded
+    # cut at a fifth they start faster than three times the bound on the floor (session 29)
+    cuts20 = [cut(t, 0.2) for t in trajs]
+    peaks20 = [v.max() for v in take_speeds(cuts20, L) if v.size]
+    assert speed_levels(cuts20, L).rest == pytest.approx(3 * 0.05 * float(np.median(peaks20)))
     assert rest_advice(trajs, config) is None
-    advice = rest_advice(cuts, config)
-    assert advice is not None and f"of {len(cuts)} takes hold no rest" in advice
-    assert "rest_speed" in advice
+    for takes in (cuts, cuts20):
+        advice = rest_advice(takes, config)
+        assert advice is not None and f"of {len(takes)} takes hold no rest" in advice
+        assert "rest_speed" in advice
 
 
 def test_a_take_moving_from_end_to_end_is_restless_and_a_resting_one_is_not():
@@ -100,7 +116,7 @@ def test_evaluate_stream_notes_models_cut_without_rests(vive, tmp_path):
 def test_several_trackers_cut_without_rests_get_the_same_level():
     from framefree.core.multitrajectory import MultiTrajectory
     from framefree.datasets.people_layout import load_people
-    from framefree.online.multi_stream import combined_speed, multi_speed_levels
+    from framefree.online.multi_stream import combined_motion, combined_speed, multi_speed_levels
     from real_data import SHIPPED_MACHETE
 
     samples = [r.sample for r in load_people(SHIPPED_MACHETE)]
@@ -115,6 +131,11 @@ def test_several_trackers_cut_without_rests_get_the_same_level():
 
     cuts = [cut_both(s, 0.2) for s in samples]
     peaks = [combined_speed(s, L).max() for s in cuts]
-    assert multi_speed_levels(cuts, L).rest == pytest.approx(0.05 * float(np.median(peaks)))
+    assert multi_speed_levels(cuts, L).rest == pytest.approx(3 * 0.05 * float(np.median(peaks)))
     floors = [np.percentile(combined_speed(s, L), 10) for s in samples]
     assert multi_speed_levels(samples, L).rest == pytest.approx(3 * float(np.median(floors)))
+    cuts5 = [cut_both(s, 0.05) for s in samples]  # the speed they start at, as for one tracker
+    motion = [combined_motion(s, L) for s in cuts5]
+    starts = [end_speed(v, 5) for v, p in motion if holds_no_rest(v, p, 5)]
+    assert 2 * len(starts) > len(cuts5)
+    assert multi_speed_levels(cuts5, L).rest == pytest.approx(float(np.median(starts)))
