@@ -28,7 +28,8 @@ from framefree.core import se3
 from framefree.datasets.layout import load_model_recordings
 from framefree.online import Recognizer, RecognizerConfig, SpottingConstants
 from framefree.online.limits import corner_limit, recording_units
-from framefree.online.segmentation import MotionSegmenter, SpeedLevels, Unit, heading, speed_levels
+from framefree.online.rest_levels import speed_levels
+from framefree.online.segmentation import MotionSegmenter, SpeedLevels, Unit, heading
 from framefree.online.span_shape import corner_count, is_corner, turn_angle
 from framefree.replica import replica_path
 from framefree.replica.people import person

@@ -10,7 +10,8 @@ import pytest
 from framefree.core.trajectory import Trajectory
 from framefree.datasets.layout import load_model_recordings
 from framefree.online.limits import recording_units
-from framefree.online.segmentation import motion_speed, speed_levels
+from framefree.online.rest_levels import speed_levels
+from framefree.online.segmentation import motion_speed
 from framefree.replica import replica_path
 
 L, DT = 0.1, 0.02

@@ -14,7 +14,7 @@ from framefree.core.trajectory import Trajectory
 from framefree.library import read_takes
 from framefree.online import RecognizerConfig
 from framefree.online.model_settings import rest_advice
-from framefree.online.segmentation import (
+from framefree.online.rest_levels import (
     end_speed,
     holds_no_rest,
     restless_takes,

@@ -160,7 +160,7 @@ def test_a_user_sets_few_things_and_every_name_still_reaches_its_place(models):
     rules = rec.learned_.provenance.rules
     assert rec.learned_.max_units == 3 and rules["max_units"] == "given"
     assert rules["gesture_thresholds"] == "given: threshold"
-    assert rules["rest_speed"] == "framefree.online.segmentation.speed_levels"
+    assert rules["rest_speed"] == "framefree.online.rest_levels.speed_levels"
     assert rec.learned_.provenance.takes == len(models[0])
     described = rec.describe()
     assert "rest_speed" not in described["config"] and described["learned"]["max_units"] == 3

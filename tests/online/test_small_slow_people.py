@@ -14,7 +14,8 @@ from framefree.core import se3
 from framefree.datasets.layout import load_model_recordings
 from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.negatives import _regrip, non_gesture_motions
-from framefree.online.segmentation import MotionSegmenter, SpeedLevels, speed_levels
+from framefree.online.rest_levels import speed_levels
+from framefree.online.segmentation import MotionSegmenter, SpeedLevels
 from framefree.online.thresholds import SegmentScores, reach_down
 from framefree.replica import replica_path
 

@@ -20,8 +20,9 @@ from ..datasets.people_layout import load_people
 from ..online.config import RecognizerConfig
 from ..online.limits import gesture_verticality, longest_corner_rest, recording_geometry
 from ..online.model_settings import segment_descriptor
+from ..online.rest_levels import speed_levels
 from ..online.segment_classifier import SegmentClassifier
-from ..online.segmentation import SpeedLevels, speed_levels
+from ..online.segmentation import SpeedLevels
 from ..online.vertical import up_vector
 
 __all__ = ["by_name", "other_peoples", "people_data_args", "take_geometry", "take_rests", "take_verticality"]

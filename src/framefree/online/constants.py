@@ -125,7 +125,7 @@ class SpottingConstants(_Group):
         the noise had cost (docs/online-history.md, *Session 28*).
     noise_factor, peak_fraction : float
         Rest level = max(noise_factor × the takes' noise floor, peak_fraction × their smallest
-        stroke peak) (3.0, 0.05; :func:`~framefree.online.segmentation.speed_levels`).
+        stroke peak) (3.0, 0.05; :func:`~framefree.online.rest_levels.speed_levels`).
     move_factor : float
         Move level = move_factor × rest level, above 1: the hysteresis of a movement unit (1.5).
     valley_ratio : float

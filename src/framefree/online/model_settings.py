@@ -43,8 +43,9 @@ from .limits import (
     travel_percentiles,
     travel_shares,
 )
+from .rest_levels import restless_takes, speed_levels
 from .segment_classifier import SegmentClassifier
-from .segmentation import SpeedLevels, restless_takes, speed_levels
+from .segmentation import SpeedLevels
 from .smoothing import GridSmoother, noise_limit, sensor_smoothing, smoothed_take
 from .spotting import Spotter
 from .stop import rotation_angle, sustained_peak_speed
@@ -235,9 +236,9 @@ def unseen_advice(unseen: Sequence[str] | None) -> str | None:
 
 def rest_advice(trajectories: Sequence[Trajectory], config: RecognizerConfig) -> str | None:
     """One line of advice when most takes hold no rest before or after the gesture
-    (:func:`~framefree.online.segmentation.restless_takes`), else ``None``: the sensor's rest
+    (:func:`~framefree.online.rest_levels.restless_takes`), else ``None``: the sensor's rest
     level cannot be measured on them, and is taken as ``peak_fraction`` of the typical take's
-    peak speed (:func:`~framefree.online.segmentation.rest_level`)."""
+    peak speed (:func:`~framefree.online.rest_levels.rest_level`)."""
     k = config.constants
     restless = restless_takes(trajectories, config.descriptor.L, k.dt, k.speed_lag, k.peak_fraction)
     if restless.size == 0 or restless.sum() * 2 <= restless.size:

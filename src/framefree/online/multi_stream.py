@@ -28,13 +28,13 @@ from ..core.multitrajectory import MultiTrajectory
 from ..core.progress import screw_path_increment
 from ..core.trajectory import Trajectory
 from .limits import limits_of_units
+from .rest_levels import rest_level
 from .segmentation import (
     MotionSegmenter,
     PoseBuffer,
     SpeedLevels,
     Unit,
     motion_speed,
-    rest_level,
 )
 from .stop import StopDetector
 
@@ -126,13 +126,13 @@ def multi_speed_levels(samples: Sequence[MultiTrajectory], L: float, dt: float =
                        move_factor: float = 1.5) -> SpeedLevels:
     """Rest and move levels [m/s] of the combined speed from model recordings.
 
-    As :func:`~framefree.online.segmentation.speed_levels`, with the **median** noise floor (10th
+    As :func:`~framefree.online.rest_levels.speed_levels`, with the **median** noise floor (10th
     percentile of a recording's speed) instead of the largest: whole-body recordings such as the
     Machete Vive set often start or end in motion, and the largest floor of the six people's 330
     recordings (0.95 m/s) lies above many of their strokes' valleys; the median (0.15 m/s)
     is a rest. The median floor counts at most ``peak_fraction`` × the median peak, and where most
     recordings hold no rest the level is that bound itself, as there
-    (:func:`~framefree.online.segmentation.rest_level`).
+    (:func:`~framefree.online.rest_levels.rest_level`).
     """
     motions = [m for m in (combined_motion(s, L, dt, lag) for s in samples) if m[0].size]
     if not motions:

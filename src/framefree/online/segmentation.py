@@ -18,8 +18,9 @@ Three stages, each small and with its own state:
   local speed minimum below ``valley_ratio`` × the stroke's peak, confirmed when the speed rises
   again by the same factor).
 
-The rest and move levels come from the model recordings (:func:`speed_levels`): the noise floor of
-their rests and the peak speeds of their strokes.
+The rest and move levels come from the model recordings
+(:func:`~framefree.online.rest_levels.speed_levels`): the noise floor of their rests and the peak
+speeds of their strokes.
 
 See ``docs/online.md`` (Segment spotting).
 """
@@ -28,33 +29,22 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..core import se3
 from ..core.progress import screw_path_increment
-from ..core.trajectory import Trajectory
 
 __all__ = [
-    "GOING_SOMEWHERE",
     "HEADING_SPEED",
     "MotionSegmenter",
     "PoseBuffer",
     "SpeedLevels",
     "UniformResampler",
     "Unit",
-    "end_speed",
-    "going_somewhere",
     "heading",
-    "holds_no_rest",
     "motion_speed",
-    "rest_level",
-    "restless_takes",
-    "speed_levels",
-    "take_motion",
-    "take_speeds",
 ]
 
 
@@ -271,154 +261,6 @@ def heading(A: np.ndarray, B: np.ndarray, L: float) -> np.ndarray:
     A = np.ascontiguousarray(A, dtype=np.float64)
     B = np.ascontiguousarray(B, dtype=np.float64)
     return np.concatenate([L * se3.rotation_increment_one(A, B), B[:3, 3] - A[:3, 3]])
-
-
-def take_speeds(trajectories: Sequence[Trajectory], L: float, dt: float = 0.02, lag: int = 5
-                ) -> Iterator[np.ndarray]:
-    """Each recording's motion speed [m/s] on the uniform grid (:func:`motion_speed`), without
-    the first ``lag`` samples that have none: what :func:`speed_levels` and
-    :func:`restless_takes` measure."""
-    for tr in trajectories:
-        _, poses = tr.uniform_poses(dt)
-        yield motion_speed(poses, dt, L, lag)[lag:]
-
-
-def take_motion(trajectories: Sequence[Trajectory], L: float, dt: float = 0.02, lag: int = 5
-                ) -> Iterator[tuple[np.ndarray, np.ndarray]]:
-    """Each recording's motion speed [m/s] as :func:`take_speeds` gives it, with its positions
-    (n, 1, 3) [m] on the same uniform grid (the speed's sample ``k`` ends at position ``k + lag``)."""
-    for tr in trajectories:
-        _, poses = tr.uniform_poses(dt)
-        yield motion_speed(poses, dt, L, lag)[lag:], poses[:, None, :3, 3]
-
-
-#: Net displacement over path length above which an end of a recording *goes somewhere*: a hand
-#: that holds still jitters about one point (the replica's noisy rests: 0.05–0.34 over 0.2 s),
-#: a hand in motion heads one way (Machete recordings cut at 5 % of their peak: 0.94 at the
-#: median).
-GOING_SOMEWHERE = 0.5
-
-
-def going_somewhere(positions: np.ndarray) -> float:
-    """How straight a stretch of positions (m, k, 3) [m] of ``k`` trackers heads one way: the sum of
-    their net displacements over the sum of their path lengths (0 for no motion)."""
-    path = float(np.linalg.norm(np.diff(positions, axis=0), axis=2).sum())
-    net = float(np.linalg.norm(positions[-1] - positions[0], axis=1).sum())
-    return net / path if path > 0 else 0.0
-
-
-def end_speed(v: np.ndarray, lag: int) -> float:
-    """The slower of a recording's mean motion speeds [m/s] over its first and its last ``lag``
-    samples of speed ``v`` (n,): where a recording cut from a stream starts or ends."""
-    return min(float(v[:lag].mean()), float(v[-lag:].mean()))
-
-
-def holds_no_rest(v: np.ndarray, positions: np.ndarray, lag: int, share: float = 0.05) -> bool:
-    """Whether a recording holds no rest at either end: over both its first and its last ``lag``
-    samples of motion speed ``v`` (n - lag,) [m/s] the hand moves faster than ``share`` × its peak
-    (:func:`end_speed`), and over the positions (n, k, 3) of those stretches it heads one way
-    (:data:`GOING_SOMEWHERE`). A hand at rest is slower than ``share`` of the gesture or, where a
-    sensor's noise makes it seem faster, goes nowhere. A recording too short to tell, or with a
-    gap, rests."""
-    if v.size < 2 * lag or not np.isfinite(v).all():
-        return False
-    if end_speed(v, lag) <= share * float(v.max()):
-        return False
-    n = 2 * lag + 1
-    return min(going_somewhere(positions[:n]), going_somewhere(positions[-n:])) > GOING_SOMEWHERE
-
-
-def rest_level(motions: Sequence[tuple[np.ndarray, np.ndarray]], lag: int = 5,
-               noise_factor: float = 3.0, peak_fraction: float = 0.05) -> float:
-    """The rest level [m/s] of model recordings from their motion (speed (n - lag,), non-empty,
-    and positions (n, k, 3), as :func:`take_motion` gives them).
-
-    ``noise_factor`` times the median noise floor (the 10th percentile of a recording's speed),
-    the floor counting at most ``peak_fraction`` × the median peak: a rest is slower than that
-    (session 29). Where most recordings hold no rest (:func:`holds_no_rest`: a benchmark's
-    examples cut where the motion starts and ends), their floor is their slowest motion, and the
-    level is at most the median speed at which those recordings start or end
-    (:func:`end_speed`, session 30): where the cut was made, the hand left its rest. Takes cut at
-    5 % of their peak speed get 0.22 m/s on the Machete right controller (0.55 before, 0.21 as
-    recorded) and 0.078 on SFINGE3D's swipes (0.10 before, 0.098 as recorded). Either way at
-    least ``peak_fraction`` × the smallest peak, so that a noiseless recording still separates
-    strokes.
-    """
-    peaks = [float(v.max()) for v, _ in motions]
-    floor = min(float(np.median([np.percentile(v, 10) for v, _ in motions])),
-                peak_fraction * float(np.median(peaks)))
-    rest = noise_factor * floor
-    restless = [end_speed(v, lag) for v, p in motions if holds_no_rest(v, p, lag, peak_fraction)]
-    if 2 * len(restless) > len(motions):
-        rest = min(rest, float(np.median(restless)))
-    return max(rest, peak_fraction * min(peaks))
-
-
-def speed_levels(
-    trajectories: Sequence[Trajectory],
-    L: float,
-    dt: float = 0.02,
-    lag: int = 5,
-    noise_factor: float = 3.0,
-    peak_fraction: float = 0.05,
-    move_factor: float = 1.5,
-) -> SpeedLevels:
-    """Rest and move levels from model recordings (each a gesture, usually between rests).
-
-    The noise floor of a recording is the 10th percentile of its motion speed (its rests make up
-    well over a tenth of it); the rest level is ``noise_factor`` × the median floor of the
-    recordings, but at least ``peak_fraction`` × the smallest stroke peak of any recording so that
-    a noiseless recording still separates strokes; the move level is ``move_factor`` × the rest
-    level (the hysteresis that keeps noise around the rest level from starting units).
-
-    The median, not the largest floor (before v17): a recording cut without a rest has no noise
-    floor, only its slowest motion, and on real data one such take put the rest level above
-    every take's peak speed (SFINGE3D's swipes: 0.58 m/s from the largest floor, 0.10 m/s from
-    the median; docs/online-history.md, *v17*). Where most takes are cut without a rest, even the
-    median floor may put the move level near the takes' peaks; the move level is then at most half
-    the median take's peak, so the typical take starts a unit. Not the slowest take's peak, nor
-    a low percentile: in a recording of two trackers one may hardly move (real Vive takes: 0.11
-    m/s, against 3.3 at the median), and leaving one person out of the Vive models put the 10th
-    percentile low enough to pull the rest level from 0.2 to 0.09 m/s, which cut real gestures
-    into pieces.
-
-    Where most takes hold no rest (:func:`restless_takes`: a benchmark's segmented examples),
-    they have no noise floor to measure, and the rest level is at most the speed at which they
-    start or end (:func:`rest_level`).
-
-    Parameters
-    ----------
-    trajectories : sequence of Trajectory
-        Model recordings.
-    L : float
-        Scale length of the screw path [m].
-    """
-    motions = [(v, p) for v, p in take_motion(trajectories, L, dt, lag) if v.size]
-    if not motions:
-        raise ValueError("no model recording is long enough to measure its motion speed")
-    rest = rest_level(motions, lag, noise_factor, peak_fraction)
-    typical_peak = float(np.median([v.max() for v, _ in motions]))
-    if move_factor * rest > 0.5 * typical_peak:  # most takes cut without a rest: the typical take
-        rest = 0.5 * typical_peak / move_factor  # must reach twice the move level to start a unit
-    return SpeedLevels(rest=rest, move=move_factor * rest)
-
-
-def restless_takes(
-    trajectories: Sequence[Trajectory], L: float, dt: float = 0.02, lag: int = 5,
-    share: float = 0.05,
-) -> np.ndarray:
-    """Which model recordings hold no rest (N,) bool (:func:`holds_no_rest`): at both ends the
-    hand moves faster than ``share`` × the recording's peak motion speed and heads one way.
-
-    :func:`speed_levels` measures the noise floor where the takes hold still; a recording cut
-    where the motion starts and ends (a benchmark's segmented example) has only its slowest
-    motion. Restless: 75 % of the Machete right controller's recordings cut at 5 % of their peak
-    speed, 98 % cut at 20 %, 15 % as recorded; SFINGE3D's swipes 29 %; none of the replica's
-    takes in any context, whose noise makes a resting hand seem to move at up to a seventh of
-    its peak speed (docs/online-history.md, *Session 30*).
-    """
-    return np.array([holds_no_rest(v, p, lag, share)
-                     for v, p in take_motion(trajectories, L, dt, lag)], dtype=bool)
 
 
 class MotionSegmenter:
