@@ -131,8 +131,9 @@ def multi_speed_levels(samples: Sequence[MultiTrajectory], L: float, dt: float =
     Machete Vive set often start or end in motion, and the largest floor of the six people's 330
     recordings (0.95 m/s) lies above many of their strokes' valleys; the median (0.15 m/s)
     is a rest. The median floor counts at most ``peak_fraction`` × the median peak, and where most
-    recordings hold no rest the level is that bound itself, as there
-    (:func:`~framefree.online.rest_levels.rest_level`).
+    recordings hold no rest the level is at most the speed at which they start or end, as there
+    (:func:`~framefree.online.rest_levels.rest_level`; the trackers' positions tell whether an
+    end heads one way).
     """
     motions = [m for m in (combined_motion(s, L, dt, lag) for s in samples) if m[0].size]
     if not motions:

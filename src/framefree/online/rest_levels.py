@@ -35,17 +35,17 @@ __all__ = [
 def take_speeds(trajectories: Sequence[Trajectory], L: float, dt: float = 0.02, lag: int = 5
                 ) -> Iterator[np.ndarray]:
     """Each recording's motion speed [m/s] on the uniform grid (:func:`motion_speed`), without
-    the first ``lag`` samples that have none: what :func:`speed_levels` and
-    :func:`restless_takes` measure."""
-    for tr in trajectories:
-        _, poses = tr.uniform_poses(dt)
-        yield motion_speed(poses, dt, L, lag)[lag:]
+    the first ``lag`` samples that have none: what :func:`speed_levels` measures."""
+    for v, _ in take_motion(trajectories, L, dt, lag):
+        yield v
 
 
 def take_motion(trajectories: Sequence[Trajectory], L: float, dt: float = 0.02, lag: int = 5
                 ) -> Iterator[tuple[np.ndarray, np.ndarray]]:
-    """Each recording's motion speed [m/s] as :func:`take_speeds` gives it, with its positions
-    (n, 1, 3) [m] on the same uniform grid (the speed's sample ``k`` ends at position ``k + lag``)."""
+    """Each recording's motion speed (n - lag,) [m/s] on the uniform grid
+    (:func:`~framefree.online.segmentation.motion_speed`, without the first ``lag`` samples that
+    have none), with its positions (n, 1, 3) [m] on the same grid (the speed's sample ``k`` ends
+    at position ``k + lag``)."""
     for tr in trajectories:
         _, poses = tr.uniform_poses(dt)
         yield motion_speed(poses, dt, L, lag)[lag:], poses[:, None, :3, 3]
@@ -97,11 +97,11 @@ def rest_level(motions: Sequence[tuple[np.ndarray, np.ndarray]], lag: int = 5,
     (session 29). Where most recordings hold no rest (:func:`holds_no_rest`: a benchmark's
     examples cut where the motion starts and ends), their floor is their slowest motion, and the
     level is at most the median speed at which those recordings start or end
-    (:func:`end_speed`, session 30): where the cut was made, the hand left its rest. Takes cut at
-    5 % of their peak speed get 0.22 m/s on the Machete right controller (0.55 before, 0.21 as
-    recorded) and 0.078 on SFINGE3D's swipes (0.10 before, 0.098 as recorded). Either way at
-    least ``peak_fraction`` × the smallest peak, so that a noiseless recording still separates
-    strokes.
+    (:func:`end_speed`, session 30): where the cut was made, the hand left its rest. The Machete
+    right controller's takes cut at 5 % of their peak speed get 0.27 m/s (all eleven gestures;
+    about 0.5 before, 0.21 as recorded); SFINGE3D's dictionary cut the same way keeps its level. Either
+    way at least ``peak_fraction`` × the smallest peak, so that a noiseless recording still
+    separates strokes.
     """
     peaks = [float(v.max()) for v, _ in motions]
     floor = min(float(np.median([np.percentile(v, 10) for v, _ in motions])),
