@@ -99,9 +99,9 @@ def rest_level(motions: Sequence[tuple[np.ndarray, np.ndarray]], lag: int = 5,
     level is at most the median speed at which those recordings start or end
     (:func:`end_speed`, session 30): where the cut was made, the hand left its rest. The Machete
     right controller's takes cut at 5 % of their peak speed get 0.27 m/s (all eleven gestures;
-    about 0.5 before, 0.21 as recorded); SFINGE3D's dictionary cut the same way keeps its level. Either
-    way at least ``peak_fraction`` × the smallest peak, so that a noiseless recording still
-    separates strokes.
+    about 0.5 before, 0.21 as recorded), SFINGE3D's dictionary cut the same way 0.094 (0.098 as
+    recorded). Either way at least ``peak_fraction`` × the smallest peak, so that a noiseless
+    recording still separates strokes.
     """
     peaks = [float(v.max()) for v, _ in motions]
     floor = min(float(np.median([np.percentile(v, 10) for v, _ in motions])),
