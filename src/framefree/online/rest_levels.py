@@ -34,8 +34,8 @@ __all__ = [
 
 def take_speeds(trajectories: Sequence[Trajectory], L: float, dt: float = 0.02, lag: int = 5
                 ) -> Iterator[np.ndarray]:
-    """Each recording's motion speed [m/s] on the uniform grid (:func:`motion_speed`), without
-    the first ``lag`` samples that have none: what :func:`speed_levels` measures."""
+    """Each recording's motion speed [m/s] on the uniform grid, as :func:`take_motion` gives it
+    (without the positions): what :func:`speed_levels` measures."""
     for v, _ in take_motion(trajectories, L, dt, lag):
         yield v
 
@@ -172,7 +172,7 @@ def restless_takes(
     :func:`speed_levels` measures the noise floor where the takes hold still; a recording cut
     where the motion starts and ends (a benchmark's segmented example) has only its slowest
     motion. Restless: 75 % of the Machete right controller's recordings cut at 5 % of their peak
-    speed, 98 % cut at 20 %, 15 % as recorded; SFINGE3D's swipes 29 %; none of the replica's
+    speed, 98 % cut at 20 %, 15 % as recorded; SFINGE3D's swipes 30 %; none of the replica's
     takes in any context, whose noise makes a resting hand seem to move at up to a seventh of
     its peak speed (docs/online-history.md, *Session 30*).
     """
