@@ -15,17 +15,25 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import TypeVar
 
+import numpy as np
+
 from ..core.trajectory import Trajectory
 from ..datasets.people_layout import load_people
 from ..online.config import RecognizerConfig
-from ..online.limits import gesture_verticality, longest_corner_rest, recording_geometry
+from ..online.limits import (
+    gesture_proportions,
+    gesture_verticality,
+    longest_corner_rest,
+    recording_geometry,
+)
 from ..online.model_settings import segment_descriptor
 from ..online.rest_levels import speed_levels
 from ..online.segment_classifier import SegmentClassifier
 from ..online.segmentation import SpeedLevels
 from ..online.vertical import up_vector
 
-__all__ = ["by_name", "other_peoples", "people_data_args", "take_geometry", "take_rests", "take_verticality"]
+__all__ = ["by_name", "other_peoples", "people_data_args", "take_geometry", "take_proportions",
+           "take_rests", "take_verticality"]
 
 #: (tracker index, person, gesture)
 TakeKey = tuple[int, str, str]
@@ -112,6 +120,17 @@ def take_rests(data: str | Path, config: RecognizerConfig | None = None) -> dict
     L, k = config.descriptor.L, config.constants
     return _per_take(data, config, lambda tr, levels, gesture: [
         r for r in [longest_corner_rest(tr, levels, L, k.dt, k.corner_angle)] if r is not None])
+
+
+def take_proportions(data: str | Path, config: RecognizerConfig | None = None
+                     ) -> dict[TakeKey, list[np.ndarray]]:
+    """The :func:`~framefree.online.proportions.proportions` of every take (K,) for its K
+    corners, per tracker, person and gesture, cut as :func:`take_geometry` cuts them; a take
+    with no movement unit is left out."""
+    config = config or RecognizerConfig()
+    L, k = config.descriptor.L, config.constants
+    return _per_take(data, config, lambda tr, levels, gesture: gesture_proportions(
+        [tr], [gesture], levels, L, k.dt, k.corner_angle).get(gesture, []))
 
 
 def take_verticality(data: str | Path, up: str = "+z", config: RecognizerConfig | None = None

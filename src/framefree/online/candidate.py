@@ -61,6 +61,10 @@ class Candidate:
         Whether it starts after a brief dip and is the tail of the candidate one unit longer,
         which starts after a full rest and is nearest the same gesture
         (:func:`refuse_tails`): refused.
+    proportions : tuple of float
+        The natural log of each stroke's length over the next one's, between its corners
+        (:func:`~framefree.online.proportions.proportions`; empty when no gesture's proportions
+        are limited).
     """
 
     start: int
@@ -82,6 +86,7 @@ class Candidate:
     returning: bool = False
     after_rest: bool = True
     tail: bool = False
+    proportions: tuple[float, ...] = ()
 
 
 def candidate_spans(

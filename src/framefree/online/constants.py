@@ -185,6 +185,10 @@ class SpottingConstants(_Group):
         Smallest turn [deg] of the hand's heading, in [0, 180], that counts as a corner (60).
     corner_slack : int
         Corners a candidate may have beyond the number its gesture's takes agree on (2).
+    proportion_factor, proportion_corners : float, int
+        How much longer or shorter, against the next stroke, another person may draw a stroke
+        between two corners than the takes (2.0), for a gesture whose takes agree on at most
+        ``proportion_corners`` corners (1; :mod:`~framefree.online.proportions`; 0: none).
     slack_corners : int or None
         Only a gesture whose takes agree on at most this many corners gets ``corner_slack``
         (None: every gesture).
@@ -248,6 +252,8 @@ class SpottingConstants(_Group):
     return_error: float = 0.05
     corner_angle: float = 60.0
     corner_slack: int = 2
+    proportion_factor: float = 2.0
+    proportion_corners: int = 1
     slack_corners: int | None = None
     vertical_margin: float = VERTICAL_MARGIN
     size_factor: float = 1.5
@@ -266,6 +272,9 @@ class SpottingConstants(_Group):
     stop_instant: float = 1.6
 
     def __post_init__(self) -> None:
+        if not 1 <= self.proportion_factor < float("inf"):
+            raise ValueError(f"proportion_factor must be a finite number >= 1, got "
+                             f"{self.proportion_factor}")
         _positive(self, ("dt", "span_factor", "pause_factor", "size_factor", "size_growth",
                          "stop_margin", "stop_floor", "stop_window"))
         for name in ("still_speed", "noisy_smoothing"):

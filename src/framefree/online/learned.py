@@ -92,6 +92,8 @@ _CASTS: dict[str, Callable[[Any], Any]] = {
     "opening_limits": _per_gesture(float), "size_limits": _per_gesture(tuple),
     "travel_limits": _per_gesture(float),
     "corner_limits": _per_gesture(int), "forbidden_turns": _per_gesture(int),
+    "proportion_limits": lambda d: {str(g): [(float(lo), float(hi)) for lo, hi in v]
+                                    for g, v in d.items()},
     "vertical_limits": _per_gesture(tuple), "gesture_thresholds": _per_gesture(float),
     "unseen": lambda v: [str(g) for g in v], "stop_threshold": float,
     "continuations": _per_gesture(float), "smoothing": float,
@@ -132,6 +134,12 @@ class LearnedSettings:
         from its takes when it is loaded.
     corner_limits : dict of str to int
         Most corners accepted, for each gesture whose takes agree on their number.
+    proportion_limits : dict of str to list of (float, float)
+        For each gesture whose takes agree on their number of corners, the smallest and largest
+        length ratio of each stroke to the next that a candidate with as many corners may have
+        (:func:`~framefree.online.proportions.proportion_limits`; used with
+        ``RecognizerConfig.corners``). A library saved before they were learned gets them from
+        its takes when it is loaded.
     forbidden_turns : dict of str to int
         :func:`~framefree.online.span_shape.turn_kinds` bits a candidate may not show, per
         gesture (used with ``RecognizerConfig.turns``).
@@ -176,6 +184,7 @@ class LearnedSettings:
     size_limits: dict[str, tuple[float, float]] | None = None
     travel_limits: dict[str, float] | None = None
     corner_limits: dict[str, int] | None = None
+    proportion_limits: dict[str, list[tuple[float, float]]] | None = None
     forbidden_turns: dict[str, int] | None = None
     vertical_limits: dict[str, tuple[float, float]] | None = None
     gesture_thresholds: dict[str, float] | None = None

@@ -8,7 +8,9 @@ Every limit is measured on the model recordings as the live recognizer measures 
   gesture pauses at its corners or is drawn in one go (:func:`one_go_gestures`);
 * how far it ends from its start (:func:`closure_limit`, :func:`opening_limit`,
   :func:`pooled_closures`), how large it is (:func:`size_limits`);
-* how many corners (:func:`corner_limit`) and which way they turn (:func:`forbidden_turns`);
+* how many corners (:func:`corner_limit`), which way they turn (:func:`forbidden_turns`) and
+  how long the strokes between them are, one against the next (:func:`gesture_proportions`,
+  :mod:`framefree.online.proportions`);
 * with a known vertical, how vertically it moves (:func:`gesture_verticality`).
 
 The constants that widen them (how much slower, larger, or more broken up another person may
@@ -26,6 +28,7 @@ import numpy as np
 
 from ..core.progress import cumulative_progress
 from ..core.trajectory import Trajectory
+from .proportions import proportions
 from .segment_classifier import SegmentClassifier
 from .segmentation import MotionSegmenter, SpeedLevels, Unit
 from .span_shape import (
@@ -45,6 +48,7 @@ __all__ = [
     "corner_limit",
     "forbidden_turns",
     "gesture_geometry",
+    "gesture_proportions",
     "gesture_travels",
     "gesture_verticality",
     "limits_of_units",
@@ -76,6 +80,21 @@ def recording_units(traj: Trajectory, levels: SpeedLevels, L: float, dt: float
     return seg, units
 
 
+
+
+def gesture_proportions(
+    trajectories: Sequence[Trajectory], labels: Sequence[str], levels: SpeedLevels, L: float,
+    dt: float = 0.02, corner_angle: float = 60.0,
+) -> dict[str, list[np.ndarray]]:
+    """The :func:`~framefree.online.proportions.proportions` of each gesture's recordings, cut
+    into units as the live segmenter cuts them: ``{g: [(K,) of each recording]}``; a recording
+    with no movement unit is left out."""
+    out: dict[str, list[np.ndarray]] = {}
+    for tr, g in zip(trajectories, labels, strict=True):
+        _, units = recording_units(tr, levels, L, dt)
+        if units:
+            out.setdefault(g, []).append(proportions(units, corner_angle))
+    return out
 
 
 def recording_geometry(

@@ -33,6 +33,7 @@ from .limits import (
     corner_limit,
     forbidden_turns,
     gesture_geometry,
+    gesture_proportions,
     gesture_travels,
     gesture_verticality,
     one_go_gestures,
@@ -43,6 +44,7 @@ from .limits import (
     travel_percentiles,
     travel_shares,
 )
+from .proportions import proportion_limits
 from .rest_levels import restless_takes, speed_levels
 from .segment_classifier import SegmentClassifier
 from .segmentation import SpeedLevels
@@ -291,7 +293,8 @@ def _geometry_limits(trajectories: Sequence[Trajectory], labels: Sequence[str],
     """Derive the closure, opening, size, corner and turn limits ``draft`` lacks from the
     geometry of the takes (:func:`~framefree.online.limits.gesture_geometry`); return each
     gesture's (smallest, largest) take size [m] it measured (``None``: nothing was missing)."""
-    names = ("closure_limits", "size_limits", "opening_limits", "corner_limits", "forbidden_turns")
+    names = ("closure_limits", "size_limits", "opening_limits", "corner_limits", "forbidden_turns",
+             "proportion_limits")
     if not draft.missing(*names):
         return None
     k = config.constants
@@ -302,6 +305,13 @@ def _geometry_limits(trajectories: Sequence[Trajectory], labels: Sequence[str],
     limits = {g: corner_limit(corners.get(g, []), k.corner_slack, k.slack_corners)
               for g in gestures}
     draft.fill(corner_limit, corner_limits={g: n for g, n in limits.items() if n is not None})
+    if config.corners and draft.missing("proportion_limits"):
+        shares = gesture_proportions(trajectories, labels, levels, config.descriptor.L, k.dt,
+                                     k.corner_angle)
+        kept = {g: proportion_limits(shares.get(g, []), k.proportion_factor,
+                                     k.proportion_corners) for g in gestures}
+        draft.fill(proportion_limits,
+                   proportion_limits={g: x for g, x in kept.items() if x is not None})
     never = {g: forbidden_turns(turns.get(g, [])) for g in gestures}
     draft.fill(forbidden_turns, forbidden_turns={g: n for g, n in never.items() if n})
     largest = {g: hi for g, (_, hi) in closed.items()}
@@ -404,6 +414,9 @@ def make_spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray,
         travels = np.array([s.travel_limits.get(g, 0.0) for g in labels])
     if c.corners and s.corner_limits is not None:
         corners = np.array([s.corner_limits.get(g, np.inf) for g in labels], dtype=float)
+    shares = None
+    if c.corners and s.proportion_limits:
+        shares = [s.proportion_limits.get(g) for g in labels]
     if c.turns and s.forbidden_turns is not None:
         turns = np.array([s.forbidden_turns.get(g, 0) for g in labels], dtype=np.int64)
     if c.gesture_pauses and s.one_go is not None:
@@ -418,4 +431,5 @@ def make_spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray,
                    math.inf if s.pause_ratio is None else s.pause_ratio, k.min_pause,
                    k.return_error if c.closure else 0.0, openings, k.fire_on_motion,
                    k.rest_before, corners, k.corner_angle, turns, up, vertical, one_go,
-                   travels, c.descriptor.presmooth, labels, unseen, k.returns, k.brief_starts)
+                   travels, c.descriptor.presmooth, labels, unseen, k.returns, k.brief_starts,
+                   shares)

@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from .candidate import Candidate, candidate_spans, refuse_tails
+from .proportions import ProportionTable, proportions
 from .returns import ReturnGuard
 from .segment_classifier import SegmentClassifier
 from .segmentation import PoseBuffer, Unit
@@ -121,6 +122,10 @@ class Spotter:
         the rest level): they are accepted only where no candidate after a full rest is, and
         fire only after the hand rests (``confirm``), never after ``max_wait`` alone (default:
         off).
+    proportion_limits : sequence of (list of (float, float)) or None, shape (M,), optional
+        Per model, the length ratios of consecutive strokes a candidate with as many corners as
+        its gesture's takes agree on must keep (:mod:`~framefree.online.proportions`; default:
+        no limit).
     """
 
     def __init__(
@@ -154,11 +159,13 @@ class Spotter:
         unseen: np.ndarray | None = None,
         returns: bool = False,
         brief_starts: bool = False,
+        proportion_limits: Sequence[Sequence[tuple[float, float]] | None] | None = None,
     ) -> None:
         self.classifier = classifier
         #: the way back after a fired gesture is refused as that gesture (None: not watched)
         self.returns = ReturnGuard() if returns else None
         n_models = len(classifier.models)
+        self.proportions = ProportionTable(proportion_limits or [None] * n_models)
         self.unseen = (np.zeros(n_models, dtype=bool) if unseen is None
                        else np.asarray(unseen, dtype=bool).reshape(n_models))
         #: index of each model's gesture (M,), or None (every model a gesture of its own)
@@ -259,16 +266,21 @@ class Spotter:
             c = closure(inside, self.L)
             corners, turns = self.corners_and_turns(n)
             v = math.nan if self.up is None else verticality(inside, self.up)
-            pause = corner_rest(list(self.units)[len(self.units) - n:], self.corner_angle)
+            span = list(self.units)[len(self.units) - n:]
+            pause = corner_rest(span, self.corner_angle)
             moved = travel(inside, self.presmooth) if self.travel_limits.any() else math.inf
+            shares = (proportions(span, self.corner_angle) if self.proportions.active
+                      else np.zeros(0))
             tier = bar if full else brief_bar
-            d, size = self._classify(times, poses, c, tier, corners, turns, v, pause, moved)
+            d, size = self._classify(times, poses, c, tier, corners, turns, v, pause, moved,
+                                     shares)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
             ratio = float(d[j] / self.model_thresholds[j])
             ok = ratio < tier and bool(self.admissible(j, np.array([c]), np.array([size]),
-                                                       corners, turns, v, pause, moved)[0])
+                                                       corners, turns, v, pause, moved,
+                                                       [shares])[0])
             back = (self.returns is not None
                     and self.returns.is_return(self._gesture(j), first.start, inside))
             ok = ok and not back
@@ -282,7 +294,7 @@ class Spotter:
                 bar, brief_bar = (ratio, brief_bar) if full else (bar, ratio)
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
                                  ratio, n, c, size, ok, corners, turns, v, pause, moved, back,
-                                 full))
+                                 full, proportions=tuple(shares.tolist())))
         return refuse_tails(out, self._gesture)
 
     def needs_exact_nearest(self, batch: list[Candidate], n: int) -> bool:
@@ -308,7 +320,8 @@ class Spotter:
 
     def _classify(self, times: np.ndarray, poses: np.ndarray, closure_: float, bar: float = 1.0,
                   corners: int = 0, turns: int = 0, vertical: float = math.nan,
-                  pause: float = 0.0, moved: float = math.inf) -> tuple[np.ndarray, float]:
+                  pause: float = 0.0, moved: float = math.inf,
+                  shares: np.ndarray | None = None) -> tuple[np.ndarray, float]:
         """Distances (M,) of a candidate to the models and its size [m]. Pruned, only models
         whose gesture admits the candidate's closure, size and corners can accept it, so the others get
         threshold 0, the others ``bar`` times theirs, and a candidate that no gesture admits is
@@ -320,23 +333,28 @@ class Spotter:
         if out is None:
             return np.full(len(clf.models), math.inf), 0.0
         descriptor, size = out
-        admits = self.admitting_models(closure_, size, corners, turns, vertical, pause, moved)
+        admits = self.admitting_models(closure_, size, corners, turns, vertical, pause, moved,
+                                       shares)
         accept_below = np.where(admits, bar * self.model_thresholds, 0.0)
         return clf.search_described(descriptor, accept_below), size
 
     def admitting_models(self, closure_: float, size: float, corners: int = 0, turns: int = 0,
-                         vertical: float = math.nan, pause: float = 0.0, moved: float = math.inf
-                         ) -> np.ndarray:
+                         vertical: float = math.nan, pause: float = 0.0, moved: float = math.inf,
+                         shares: np.ndarray | None = None) -> np.ndarray:
         """Which models' gestures admit a segment of this closure, size [m], number of corners,
-        turn kinds, verticality, longest rest at a corner [s] and travel [m] (M,) bool: the rule
-        of :meth:`admissible`, for every model at once."""
-        return self._admits(slice(None), closure_, size, corners, turns, vertical, pause, moved)
+        turn kinds, verticality, longest rest at a corner [s], travel [m] and
+        :func:`~framefree.online.proportions.proportions` (K,) (M,) bool: the rule of
+        :meth:`admissible`, for every model at once."""
+        padded = None if shares is None else self.proportions.padded(np.asarray(shares, float))
+        return self._admits(slice(None), closure_, size, corners, turns, vertical, pause, moved,
+                            padded)
 
     def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray,
                    corners: np.ndarray | int = 0, turns: np.ndarray | int = 0,
                    vertical: np.ndarray | float = math.nan,
                    pauses: np.ndarray | float = 0.0,
-                   travels: np.ndarray | float = math.inf) -> np.ndarray:
+                   travels: np.ndarray | float = math.inf,
+                   shares: Sequence[np.ndarray] | None = None) -> np.ndarray:
         """Which segments (closures (n,), sizes (n,) [m], corners (n,), turn kinds (n,),
         verticality (n,) and longest rests at a corner (n,) [s], :attr:`Candidate.pause`) may be
         model ``j``'s gesture:
@@ -345,25 +363,33 @@ class Spotter:
         corners than its corner limit, no turn its gesture never makes, a rest at a corner of
         at most ``min_pause`` if it is drawn in one go (:attr:`one_go`), travelling at least its
         travel limit (travels (n,) [m]; ``inf``: not measured, passes), where a vertical is
-        known, within its verticality range (NaN: unknown, passes), and not a gesture the
-        tracker does not follow (:attr:`unseen`)."""
+        known, within its verticality range (NaN: unknown, passes), with as many corners as
+        its takes agree on, within their proportions (``shares``: each segment's
+        :func:`~framefree.online.proportions.proportions`; None: not measured, passes), and
+        not a gesture the tracker does not follow (:attr:`unseen`)."""
+        padded = None if shares is None else self.proportions.padded(list(shares))
         return self._admits(j, np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float),
                             np.asarray(corners, dtype=float), np.asarray(turns, dtype=np.int64),
                             np.asarray(vertical, dtype=float), np.asarray(pauses, dtype=float),
-                            np.asarray(travels, dtype=float))
+                            np.asarray(travels, dtype=float), padded)
 
     def _admits(self, j: int | slice, closures: Any, sizes: Any, corners: Any, turns: Any = 0,
-                vertical: Any = math.nan, pauses: Any = 0.0, travels: Any = math.inf
-                ) -> np.ndarray:
+                vertical: Any = math.nan, pauses: Any = 0.0, travels: Any = math.inf,
+                padded: np.ndarray | None = None) -> np.ndarray:
         """The admissibility rule for model(s) ``j`` (broadcast against the segments)."""
-        passes = self._limits(j, closures, sizes, corners, turns, vertical, pauses, travels)
+        passes = self._limits(j, closures, sizes, corners, turns, vertical, pauses, travels,
+                              padded)
         return functools.reduce(operator.and_, passes.values())
 
     def _limits(self, j: int | slice, closures: Any, sizes: Any, corners: Any, turns: Any = 0,
-                vertical: Any = math.nan, pauses: Any = 0.0, travels: Any = math.inf
-                ) -> dict[str, np.ndarray]:
-        """Each limit of model(s) ``j`` on its own: ``{limit: passes}``."""
+                vertical: Any = math.nan, pauses: Any = 0.0, travels: Any = math.inf,
+                padded: np.ndarray | None = None) -> dict[str, np.ndarray]:
+        """Each limit of model(s) ``j`` on its own: ``{limit: passes}`` (``padded``:
+        :meth:`ProportionTable.padded <framefree.online.proportions.ProportionTable.padded>`
+        proportions, or None: not measured)."""
         closes = (closures <= self.closure_limits[j]) | (closures * sizes <= self.return_error)
+        kept = (True if padded is None
+                else self.proportions.passes(j, np.asarray(corners), padded))
         v_lo, v_hi = self.vertical_limits[j, 0], self.vertical_limits[j, 1]
         return {
             "closure": closes,
@@ -371,6 +397,7 @@ class Spotter:
             "size": (sizes >= self.size_limits[j, 0]) & (sizes <= self.size_limits[j, 1]),
             "travel": travels >= self.travel_limits[j],
             "corners": corners <= self.corner_limits[j],
+            "proportions": kept,
             "turns": (np.asarray(turns, dtype=np.int64) & self.forbidden_turns[j]) == 0,
             "vertical": ~((vertical < v_lo) | (vertical > v_hi)),  # NaN: no vertical known
             "one go": ~(self.one_go[j] & (pauses > self.min_pause)),
@@ -380,9 +407,10 @@ class Spotter:
     def refusals(self, candidate: Candidate) -> list[str]:
         """The limits of its nearest model's gesture that refuse ``candidate`` (empty: none
         does; :mod:`framefree.online.diagnosis` says so for a missed gesture)."""
+        padded = self.proportions.padded(np.asarray(candidate.proportions, dtype=float))
         passes = self._limits(candidate.model, candidate.closure, candidate.size,
                               candidate.corners, candidate.turns, candidate.vertical,
-                              candidate.pause, candidate.travel)
+                              candidate.pause, candidate.travel, padded)
         passes["return"] = not candidate.returning
         passes["tail"] = not candidate.tail
         return [name for name, ok in passes.items() if not bool(ok)]

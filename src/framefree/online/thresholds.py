@@ -43,6 +43,7 @@ import numpy as np
 from ..core.trajectory import Trajectory
 from .limits import recording_units
 from .negatives import non_gesture_motions
+from .proportions import proportions
 from .segment_classifier import SegmentClassifier
 from .segmentation import SpeedLevels
 from .span_shape import closure, corner_count, corner_rest, turn_kinds
@@ -116,6 +117,9 @@ class SegmentScores(NamedTuple):
     pauses: np.ndarray
     """(C,) [s]: the longest rest at a corner (:func:`~framefree.online.span_shape.corner_rest`),
     which the spotter's one-go limit judges."""
+    proportions: list[np.ndarray] | None = None
+    """(C,) of (K,): each candidate's :func:`~framefree.online.proportions.proportions`, which
+    the spotter's proportion limits judge (None: not measured, no limit applies)."""
 
 
 def segment_distances(
@@ -127,7 +131,8 @@ def segment_distances(
     dt: float = 0.02,
 ) -> SegmentScores:
     """Distances (C, M) of every candidate segment of a recording to every model, and the closure,
-    size [m], corners, turn kinds and longest rest at a corner [s] (C,) of each candidate.
+    size [m], corners, turn kinds, longest rest at a corner [s] and proportions (C,) of each
+    candidate.
 
     The recording is resampled on the uniform grid, cut by :class:`MotionSegmenter` and its
     candidates formed with the limits of ``spotter`` (no threshold is applied).
@@ -139,6 +144,7 @@ def segment_distances(
     corners: list[int] = []
     turns: list[int] = []
     pauses: list[float] = []
+    shares: list[np.ndarray] = []
     for k in range(len(units)):
         for first, n in candidate_spans(units[: k + 1], spotter.max_units, spotter.max_duration,
                                         spotter.max_pause, -1, spotter.pause_ratio,
@@ -154,12 +160,13 @@ def segment_distances(
             corners.append(corner_count(units[i:k + 1], spotter.corner_angle))
             turns.append(turn_kinds(units[i:k + 1], spotter.corner_angle))
             pauses.append(corner_rest(units[i:k + 1], spotter.corner_angle))
+            shares.append(proportions(units[i:k + 1], spotter.corner_angle))
     if not rows:
         empty = np.zeros(0)
         return SegmentScores(np.full((0, len(classifier.models)), np.inf), empty, empty, empty,
-                             np.zeros(0, dtype=np.int64), empty)
+                             np.zeros(0, dtype=np.int64), empty, [])
     return SegmentScores(np.vstack(rows), np.array(closures), np.array(sizes), np.array(corners),
-                         np.array(turns, dtype=np.int64), np.array(pauses))
+                         np.array(turns, dtype=np.int64), np.array(pauses), shares)
 
 
 def reach_down(
@@ -191,15 +198,21 @@ def reach_down(
     if not (reach > 1.0 and lo > 0.0):
         return None
     floor = lo / reach
-    for D, c, size, corners, turns, pauses in records:
+    for D, c, size, corners, turns, pauses, shares in records:
         band = (size >= floor) & (size < lo)
         if not band.any():
             continue
         shaped = spotter.admissible(model, c[band], np.full(int(band.sum()), lo), corners[band],
-                                    turns[band], pauses=pauses[band])
+                                    turns[band], pauses=pauses[band],
+                                    shares=_selected(shares, band))
         if shaped.any() and float(D[band][shaped][:, own].min()) < threshold:
             return None
     return floor
+
+
+def _selected(values: list[np.ndarray] | None, mask: np.ndarray) -> list[np.ndarray] | None:
+    """The entries of ``values`` (C,) where ``mask`` (C,) is True (None stays None)."""
+    return None if values is None else [v for v, m in zip(values, mask, strict=True) if m]
 
 
 def _quantile(values: list[float], q: float) -> float:
@@ -259,9 +272,9 @@ def take_scores(
         else:
             copies = [tr]
         for copy in copies:
-            D, c, size, corners, turns, pauses = segment_distances(copy, classifier, levels,
-                                                                   spotter, L)
-            ok = spotter.admissible(r, c, size, corners, turns, pauses=pauses)
+            D, c, size, corners, turns, pauses, shares = segment_distances(copy, classifier,
+                                                                           levels, spotter, L)
+            ok = spotter.admissible(r, c, size, corners, turns, pauses=pauses, shares=shares)
             positives[labels[r]].append(float(D[ok][:, same].min()) if ok.any() else np.inf)
     return positives
 
@@ -382,13 +395,14 @@ def _episode_scores(
     for kind, neg in non_gesture_motions(trajectories, labels, L, seed=seed,
                                          kinds=(*kinds, "regrip") if regrips else kinds):
         scores = segment_distances(neg, classifier, levels, spotter, L)
-        D, c, size, corners, turns, pauses = scores
+        D, c, size, corners, turns, pauses, shares = scores
         if regrips:
             records.append(scores)
         if kind == "regrip":
             continue
         for g in gestures:
-            ok = spotter.admissible(first[g], c, size, corners, turns, pauses=pauses)
+            ok = spotter.admissible(first[g], c, size, corners, turns, pauses=pauses,
+                                    shares=shares)
             if ok.any():
                 episodes[g].append(float(D[ok][:, labels_arr == g].min()))
             elif gated:
