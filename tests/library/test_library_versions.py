@@ -56,9 +56,10 @@ def test_a_format_3_library_loads_with_what_enrolling_again_learns(old, enrolled
     assert old.recognizer_config() == enrolled_again.recognizer_config()
     stored, learned = old.learned_settings().values(), enrolled_again.learned_settings().values()
     # newer than format 3: learned when it is loaded (the smoothing as it was built: none)
-    for newer in ("travel_limits", "unseen", "smoothing"):
+    for newer in ("travel_limits", "unseen", "smoothing", "proportion_limits"):
         assert stored.pop(newer) is None
     learned.pop("travel_limits")
+    assert set(learned.pop("proportion_limits")) <= set(enrolled_again.takes.labels)
     assert learned.pop("unseen") == []  # the replica's takes are all found
     assert learned.pop("smoothing") == 0.0  # the replica's tracker is precise
     # the thresholds are sums of DTW costs: another CPU may add them in another order
