@@ -65,6 +65,8 @@ RULES: dict[str, tuple[str, dict[str, Any]]] = {
     "size": ("size limits (and the travel limit, which uses them)", {"size": False}),
     "travel": ("the travel limit alone", {"travel_limits": {}}),
     "corners": ("no more corners than the takes agree on", {"corners": False}),
+    "proportions": ("a one-corner gesture keeps the ratio of its two strokes (v25)",
+                    {"proportion_limits": {}}),
     "unseen": ("a gesture the tracker does not follow never fires", {"unseen": []}),
     "drawn": ("shapes drawn in the air among the calibration's negatives",
               {"drawn_negatives": False}),
