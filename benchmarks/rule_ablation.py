@@ -67,6 +67,8 @@ RULES: dict[str, tuple[str, dict[str, Any]]] = {
     "corners": ("no more corners than the takes agree on", {"corners": False}),
     "proportions": ("a one-corner gesture keeps the ratio of its two strokes (v25)",
                     {"proportion_limits": {}}),
+    "turns_back": ("a gesture whose takes always turn back refuses corners turning the same way "
+                   "(v25)", {"forbidden_turns": {}}),
     "unseen": ("a gesture the tracker does not follow never fires", {"unseen": []}),
     "drawn": ("shapes drawn in the air among the calibration's negatives",
               {"drawn_negatives": False}),

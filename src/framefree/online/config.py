@@ -59,9 +59,11 @@ class RecognizerConfig:
     closure, size, corners, turns, gesture_pauses : bool
         Each shape rule on or off: a candidate must come back to its start as its gesture's
         takes do (closure and opening limits, True); lie within their size range (True); have
-        no more corners than they agree on and, where they agree on one, keep the proportions of
-        its two strokes (True); turn at its corners only as they do (False);
-        and, for a gesture the takes draw in one go, not rest at a corner (True).
+        no more corners than they agree on, keep the proportions of its two strokes where they
+        agree on one, and not turn the same way at two corners where they always turn back, as
+        a Z does (True); not turn back where they always turn the same way, as a triangle does
+        (``turns``, False: real people's swings break it); and, for a gesture the takes draw in
+        one go, not rest at a corner (True).
     max_bridge : float
         Longest dropout [s] of the tracker bridged by interpolation instead of restarting, > 0
         (0.5).

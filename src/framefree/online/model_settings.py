@@ -49,6 +49,7 @@ from .rest_levels import restless_takes, speed_levels
 from .segment_classifier import SegmentClassifier
 from .segmentation import SpeedLevels
 from .smoothing import GridSmoother, noise_limit, sensor_smoothing, smoothed_take
+from .span_shape import ALTERNATING, SAME_SENSE
 from .spotting import Spotter
 from .stop import rotation_angle, sustained_peak_speed
 from .thresholds import (
@@ -417,8 +418,12 @@ def make_spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray,
     shares = None
     if c.corners and s.proportion_limits:
         shares = [s.proportion_limits.get(g) for g in labels]
-    if c.turns and s.forbidden_turns is not None:
-        turns = np.array([s.forbidden_turns.get(g, 0) for g in labels], dtype=np.int64)
+    if s.forbidden_turns is not None and (c.turns or c.corners):
+        # with ``corners``, a gesture that always turns back (a Z) refuses corners that turn
+        # the same way; the other way (takes that always turn one way) only with ``turns``:
+        # real people's swings break it (v25)
+        kept = (ALTERNATING | SAME_SENSE if c.turns else 0) | (SAME_SENSE if c.corners else 0)
+        turns = np.array([s.forbidden_turns.get(g, 0) & kept for g in labels], dtype=np.int64)
     if c.gesture_pauses and s.one_go is not None:
         one_go = np.array([g in s.one_go for g in labels])
     unseen = None if not s.unseen else np.array([g in s.unseen for g in labels])
