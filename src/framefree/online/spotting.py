@@ -123,9 +123,8 @@ class Spotter:
         fire only after the hand rests (``confirm``), never after ``max_wait`` alone (default:
         off).
     proportion_limits : sequence of (list of (float, float)) or None, shape (M,), optional
-        Per model, the length ratios of consecutive strokes a candidate with as many corners as
-        its gesture's takes agree on must keep (:mod:`~framefree.online.proportions`; default:
-        no limit).
+        Per model, the stroke length ratios a candidate with its takes' corners must keep
+        (:class:`~framefree.online.proportions.ProportionTable`; default: no limit).
     """
 
     def __init__(
@@ -346,8 +345,7 @@ class Spotter:
         :func:`~framefree.online.proportions.proportions` (K,) (M,) bool: the rule of
         :meth:`admissible`, for every model at once."""
         padded = None if shares is None else self.proportions.padded(np.asarray(shares, float))
-        return self._admits(slice(None), closure_, size, corners, turns, vertical, pause, moved,
-                            padded)
+        return self._admits(slice(None), closure_, size, corners, turns, vertical, pause, moved, padded)
 
     def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray,
                    corners: np.ndarray | int = 0, turns: np.ndarray | int = 0,
