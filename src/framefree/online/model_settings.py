@@ -306,7 +306,7 @@ def _geometry_limits(trajectories: Sequence[Trajectory], labels: Sequence[str],
     limits = {g: corner_limit(corners.get(g, []), k.corner_slack, k.slack_corners)
               for g in gestures}
     draft.fill(corner_limit, corner_limits={g: n for g, n in limits.items() if n is not None})
-    if config.corners and draft.missing("proportion_limits"):
+    if draft.missing("proportion_limits"):
         shares = gesture_proportions(trajectories, labels, levels, config.descriptor.L, k.dt,
                                      k.corner_angle)
         kept = {g: proportion_limits(shares.get(g, []), k.proportion_factor,
