@@ -23,7 +23,7 @@ __all__ = ["check_trackers", "library_multi_recognizer", "match_trackers", "mult
            "n_trackers"]
 
 #: Settings of the command line that a recognizer of several trackers does not use.
-_UNUSED = ("resolution", "latency_min", "ds_scale")
+_UNUSED = ("resolution", "latency_min", "ds_scale", "hand_frame")
 
 
 def n_trackers(rec: Any) -> int:

@@ -65,6 +65,10 @@ class Candidate:
         The natural log of each stroke's length over the next one's, between its corners
         (:func:`~framefree.online.proportions.proportions`; empty when no gesture's proportions
         are limited).
+    direction : tuple of float
+        Its hand direction (3,) in the tracker's frame
+        (:func:`~framefree.online.hand_direction.hand_direction`; empty when no gesture's
+        direction is limited or it does not move).
     """
 
     start: int
@@ -87,6 +91,7 @@ class Candidate:
     after_rest: bool = True
     tail: bool = False
     proportions: tuple[float, ...] = ()
+    direction: tuple[float, ...] = ()
 
 
 def candidate_spans(

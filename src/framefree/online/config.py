@@ -43,6 +43,14 @@ class RecognizerConfig:
         and nothing depends on one (default). When set, a candidate must move about as
         vertically as its gesture's takes, so a Z is no N; a world tilted against this axis
         then breaks recognition.
+    hand_frame : bool
+        Whether the tracker's frame sits on every hand the same way, in the takes and live: the
+        palm pose of a hand tracker, a controller held by its handle (default False: the
+        tracker may sit in the hand any way, and nothing depends on how). When set, a gesture
+        whose takes move the same way in that frame (many takes that agree more than random
+        directions would) refuses a candidate that moves another way
+        (:mod:`framefree.online.hand_direction`); a tracker turned in the hand then breaks
+        recognition.
     threshold : float or None
         One decision threshold τ for every gesture, > 0 [DTW distance]; None: each gesture's is
         calibrated on the takes.
@@ -81,6 +89,7 @@ class RecognizerConfig:
     """
 
     up: str | None = None
+    hand_frame: bool = False
     threshold: float | None = None
     gesture_thresholds: dict[str, float] | None = None
     stop_threshold: float | None = None

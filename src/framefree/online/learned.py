@@ -95,6 +95,7 @@ _CASTS: dict[str, Callable[[Any], Any]] = {
     "proportion_limits": lambda d: {str(g): [(float(lo), float(hi)) for lo, hi in v]
                                     for g, v in d.items()},
     "vertical_limits": _per_gesture(tuple), "gesture_thresholds": _per_gesture(float),
+    "direction_limits": lambda d: {str(g): tuple(float(x) for x in v) for g, v in d.items()},
     "unseen": lambda v: [str(g) for g in v], "stop_threshold": float,
     "continuations": _per_gesture(float), "smoothing": float,
 }
@@ -145,6 +146,11 @@ class LearnedSettings:
         gesture (used with ``RecognizerConfig.turns``).
     vertical_limits : dict of str to (float, float)
         Smallest and largest verticality per gesture (only with ``RecognizerConfig.up``).
+    direction_limits : dict of str to (float, float, float, float)
+        Per gesture whose takes agree on it, the mean direction (x, y, z) in which the hand
+        moves in the tracker's frame and the largest angle [deg] from it a candidate may have
+        (:func:`~framefree.online.hand_direction.direction_limit`; only with
+        ``RecognizerConfig.hand_frame``).
     gesture_thresholds : dict of str to float
         Decision threshold τ_g per gesture [DTW distance].
     unseen : list of str
@@ -187,6 +193,7 @@ class LearnedSettings:
     proportion_limits: dict[str, list[tuple[float, float]]] | None = None
     forbidden_turns: dict[str, int] | None = None
     vertical_limits: dict[str, tuple[float, float]] | None = None
+    direction_limits: dict[str, tuple[float, float, float, float]] | None = None
     gesture_thresholds: dict[str, float] | None = None
     unseen: list[str] | None = None
     stop_threshold: float | None = None

@@ -28,6 +28,7 @@ import numpy as np
 
 from ..core.progress import cumulative_progress
 from ..core.trajectory import Trajectory
+from .hand_direction import hand_direction
 from .proportions import proportions
 from .segment_classifier import SegmentClassifier
 from .segmentation import MotionSegmenter, SpeedLevels, Unit
@@ -47,6 +48,7 @@ __all__ = [
     "closure_limit",
     "corner_limit",
     "forbidden_turns",
+    "gesture_directions",
     "gesture_geometry",
     "gesture_proportions",
     "gesture_travels",
@@ -150,6 +152,23 @@ def gesture_verticality(
     """:func:`~framefree.online.vertical.verticality` of each gesture's recordings
     (:func:`measure_gestures`): ``{g: [verticality of each recording]}``."""
     return measure_gestures(trajectories, labels, levels, L, dt, lambda P: verticality(P, up))
+
+
+def gesture_directions(
+    trajectories: Sequence[Trajectory], labels: Sequence[str], levels: SpeedLevels, L: float,
+    dt: float = 0.02,
+) -> dict[str, list[np.ndarray]]:
+    """:func:`~framefree.online.hand_direction.hand_direction` (3,) of each gesture's recordings,
+    taken on the whole gesture as :func:`measure_gestures` takes its measures (a recording
+    without a movement unit, or whose hand direction is undefined, is left out)."""
+    out: dict[str, list[np.ndarray]] = {}
+    for tr, g in zip(trajectories, labels, strict=True):
+        seg, units = recording_units(tr, levels, L, dt)
+        if units:
+            way = hand_direction(seg.buffer.slice(units[0].start, units[-1].end)[1])
+            if way is not None:
+                out.setdefault(g, []).append(way)
+    return out
 
 
 def measure_gestures(

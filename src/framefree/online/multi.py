@@ -279,6 +279,9 @@ class MultiRecognizer(Recognizer):
         if len(counts) != 1:
             raise ValueError(f"model recordings with different numbers of trackers: {sorted(counts)}")
         config, given = split_settings(overrides, config)
+        if config.hand_frame:
+            raise ValueError("hand_frame applies to one tracker: several trackers' directions in "
+                             "their frames are not learned")
         draft = LearnedDraft({**(learned.values() if learned is not None else {}), **given})
         if learned is not None:  # what a library learned keeps its rules
             draft.rules.update({n: r for n, r in learned.provenance.rules.items()

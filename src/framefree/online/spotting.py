@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from .candidate import Candidate, candidate_spans, refuse_tails
+from .hand_direction import DirectionTable, hand_direction
 from .proportions import ProportionTable, proportions
 from .returns import ReturnGuard
 from .segment_classifier import SegmentClassifier
@@ -122,6 +123,10 @@ class Spotter:
         the rest level): they are accepted only where no candidate after a full rest is, and
         fire only after the hand rests (``confirm``), never after ``max_wait`` alone (default:
         off).
+    direction_limits : ndarray, shape (M, 4), optional
+        Each model's cone of hand directions (:mod:`~framefree.online.hand_direction`): mean
+        direction (3,) in the tracker's frame and largest angle [deg], NaN for none (default:
+        no limit).
     proportion_limits : sequence of (list of (float, float)) or None, shape (M,), optional
         Per model, the stroke length ratios a candidate with its takes' corners must keep
         (:class:`~framefree.online.proportions.ProportionTable`; default: no limit).
@@ -159,8 +164,10 @@ class Spotter:
         returns: bool = False,
         brief_starts: bool = False,
         proportion_limits: Sequence[Sequence[tuple[float, float]] | None] | None = None,
+        direction_limits: np.ndarray | None = None,
     ) -> None:
         self.classifier = classifier
+        self.directions = DirectionTable(direction_limits, len(classifier.models))
         #: the way back after a fired gesture is refused as that gesture (None: not watched)
         self.returns = ReturnGuard() if returns else None
         n_models = len(classifier.models)
@@ -270,16 +277,17 @@ class Spotter:
             moved = travel(inside, self.presmooth) if self.travel_limits.any() else math.inf
             shares = (proportions(span, self.corner_angle) if self.proportions.active
                       else np.zeros(0))
+            way = hand_direction(inside) if self.directions.active else None
             tier = bar if full else brief_bar
             d, size = self._classify(times, poses, c, tier, corners, turns, v, pause, moved,
-                                     shares)
+                                     shares, way)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
             ratio = float(d[j] / self.model_thresholds[j])
             ok = ratio < tier and bool(self.admissible(j, np.array([c]), np.array([size]),
                                                        corners, turns, v, pause, moved,
-                                                       [shares])[0])
+                                                       [shares], way)[0])
             back = (self.returns is not None
                     and self.returns.is_return(self._gesture(j), first.start, inside))
             ok = ok and not back
@@ -293,7 +301,8 @@ class Spotter:
                 bar, brief_bar = (ratio, brief_bar) if full else (bar, ratio)
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
                                  ratio, n, c, size, ok, corners, turns, v, pause, moved, back,
-                                 full, proportions=tuple(shares.tolist())))
+                                 full, proportions=tuple(shares.tolist()),
+                                 direction=() if way is None else tuple(way.tolist())))
         return refuse_tails(out, self._gesture)
 
     def needs_exact_nearest(self, batch: list[Candidate], n: int) -> bool:
@@ -320,7 +329,8 @@ class Spotter:
     def _classify(self, times: np.ndarray, poses: np.ndarray, closure_: float, bar: float = 1.0,
                   corners: int = 0, turns: int = 0, vertical: float = math.nan,
                   pause: float = 0.0, moved: float = math.inf,
-                  shares: np.ndarray | None = None) -> tuple[np.ndarray, float]:
+                  shares: np.ndarray | None = None, way: np.ndarray | None = None
+                  ) -> tuple[np.ndarray, float]:
         """Distances (M,) of a candidate to the models and its size [m]. Pruned, only models
         whose gesture admits the candidate's closure, size and corners can accept it, so the others get
         threshold 0, the others ``bar`` times theirs, and a candidate that no gesture admits is
@@ -333,26 +343,29 @@ class Spotter:
             return np.full(len(clf.models), math.inf), 0.0
         descriptor, size = out
         admits = self.admitting_models(closure_, size, corners, turns, vertical, pause, moved,
-                                       shares)
+                                       shares, way)
         accept_below = np.where(admits, bar * self.model_thresholds, 0.0)
         return clf.search_described(descriptor, accept_below), size
 
     def admitting_models(self, closure_: float, size: float, corners: int = 0, turns: int = 0,
                          vertical: float = math.nan, pause: float = 0.0, moved: float = math.inf,
-                         shares: np.ndarray | None = None) -> np.ndarray:
+                         shares: np.ndarray | None = None, way: np.ndarray | None = None
+                         ) -> np.ndarray:
         """Which models' gestures admit a segment of this closure, size [m], number of corners,
-        turn kinds, verticality, longest rest at a corner [s], travel [m] and
-        :func:`~framefree.online.proportions.proportions` (K,) (M,) bool: the rule of
-        :meth:`admissible`, for every model at once."""
+        turn kinds, verticality, longest rest at a corner [s], travel [m],
+        :func:`~framefree.online.proportions.proportions` (K,) and hand direction (3,)
+        (M,) bool: the rule of :meth:`admissible`, for every model at once."""
         padded = None if shares is None else self.proportions.padded(np.asarray(shares, float))
-        return self._admits(slice(None), closure_, size, corners, turns, vertical, pause, moved, padded)
+        return self._admits(slice(None), closure_, size, corners, turns, vertical, pause, moved,
+                            padded, way)
 
     def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray,
                    corners: np.ndarray | int = 0, turns: np.ndarray | int = 0,
                    vertical: np.ndarray | float = math.nan,
                    pauses: np.ndarray | float = 0.0,
                    travels: np.ndarray | float = math.inf,
-                   shares: Sequence[np.ndarray] | None = None) -> np.ndarray:
+                   shares: Sequence[np.ndarray] | None = None,
+                   way: np.ndarray | None = None) -> np.ndarray:
         """Which segments (closures (n,), sizes (n,) [m], corners (n,), turn kinds (n,),
         verticality (n,) and longest rests at a corner (n,) [s], :attr:`Candidate.pause`) may be
         model ``j``'s gesture:
@@ -363,25 +376,27 @@ class Spotter:
         travel limit (travels (n,) [m]; ``inf``: not measured, passes), where a vertical is
         known, within its verticality range (NaN: unknown, passes), with as many corners as
         its takes agree on, within their proportions (``shares``: each segment's
-        :func:`~framefree.online.proportions.proportions`; None: not measured, passes), and
-        not a gesture the tracker does not follow (:attr:`unseen`)."""
+        :func:`~framefree.online.proportions.proportions`; None: not measured, passes), moving
+        within its cone of hand directions (``way``: one direction (3,) for all segments; None:
+        not measured, passes), and not a gesture the tracker does not follow (:attr:`unseen`)."""
         padded = None if shares is None else self.proportions.padded(list(shares))
         return self._admits(j, np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float),
                             np.asarray(corners, dtype=float), np.asarray(turns, dtype=np.int64),
                             np.asarray(vertical, dtype=float), np.asarray(pauses, dtype=float),
-                            np.asarray(travels, dtype=float), padded)
+                            np.asarray(travels, dtype=float), padded, way)
 
     def _admits(self, j: int | slice, closures: Any, sizes: Any, corners: Any, turns: Any = 0,
                 vertical: Any = math.nan, pauses: Any = 0.0, travels: Any = math.inf,
-                padded: np.ndarray | None = None) -> np.ndarray:
+                padded: np.ndarray | None = None, way: np.ndarray | None = None) -> np.ndarray:
         """The admissibility rule for model(s) ``j`` (broadcast against the segments)."""
         passes = self._limits(j, closures, sizes, corners, turns, vertical, pauses, travels,
-                              padded)
+                              padded, way)
         return functools.reduce(operator.and_, passes.values())
 
     def _limits(self, j: int | slice, closures: Any, sizes: Any, corners: Any, turns: Any = 0,
                 vertical: Any = math.nan, pauses: Any = 0.0, travels: Any = math.inf,
-                padded: np.ndarray | None = None) -> dict[str, np.ndarray]:
+                padded: np.ndarray | None = None, way: np.ndarray | None = None
+                ) -> dict[str, np.ndarray]:
         """Each limit of model(s) ``j`` on its own: ``{limit: passes}`` (``padded``:
         :meth:`ProportionTable.padded <framefree.online.proportions.ProportionTable.padded>`
         proportions, or None: not measured)."""
@@ -398,6 +413,7 @@ class Spotter:
             "proportions": kept,
             "turns": (np.asarray(turns, dtype=np.int64) & self.forbidden_turns[j]) == 0,
             "vertical": ~((vertical < v_lo) | (vertical > v_hi)),  # NaN: no vertical known
+            "direction": self.directions.passes(j, way),
             "one go": ~(self.one_go[j] & (pauses > self.min_pause)),
             "unseen": ~self.unseen[j],
         }
@@ -408,7 +424,8 @@ class Spotter:
         padded = self.proportions.padded(np.asarray(candidate.proportions, dtype=float))
         passes = self._limits(candidate.model, candidate.closure, candidate.size,
                               candidate.corners, candidate.turns, candidate.vertical,
-                              candidate.pause, candidate.travel, padded)
+                              candidate.pause, candidate.travel, padded,
+                              np.asarray(candidate.direction) if candidate.direction else None)
         passes["return"] = not candidate.returning
         passes["tail"] = not candidate.tail
         return [name for name, ok in passes.items() if not bool(ok)]

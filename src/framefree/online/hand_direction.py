@@ -1,0 +1,135 @@
+"""Which way the hand moves in its own frame, when every tracker sits on the hand the same way.
+
+Frame-free recognition does not see how the tracker sits in the hand, and so cannot see which way
+the hand moves relative to itself: a straight stroke to the palm's side and one to the back of the
+hand are the same motion to it. Where every take and every live stream put the tracker's frame on
+the hand the same way — the palm pose of a hand tracker, a controller held by its handle — that
+direction is a property of the gesture. On real continuous hand tracking (SFINGE3D) it is what
+tells a swipe from a free stroke of the same shape: the dictionary's *swipe left*s all move
+within 60° of one direction of the palm, and the free strokes that passed for swipes moved 70–120°
+away from it, while the descriptor's distance does not separate them (docs/online-history.md, v26).
+
+*The hand direction* of a motion is the sum of its position steps expressed in the tracker's frame
+at each step, ``Σ R_kᵀ Δp_k``, over the steps at least :data:`FAST_STEP` times as long as its
+longest one (the stroke, not the noise of the rests around it), as a unit vector. A change of the
+world frame (``T → W T``) leaves it unchanged; a change of the tracker's place in the hand
+(``T → T G``) turns it by ``Gᵀ``: that is why it is used only when the user says the frame is the
+hand's (``RecognizerConfig.hand_frame``).
+
+*A gesture's limit* is a cone around the mean direction of its takes, learned only where the takes
+agree more than random directions would: the Rayleigh test of uniformity on the sphere
+(``3 n R̄²`` is χ² with 3 degrees of freedom for ``n`` uniform directions with mean resultant
+length ``R̄``) must reject at :data:`SIGNIFICANCE`. Five takes never can (the most they reach is
+p = 0.0018), so one person's few takes set no limit; a benchmark's dictionary of many people's
+examples does. The cone's half-angle is the one that holds :data:`COVERAGE` of a von Mises–Fisher
+distribution fitted to the takes (concentration κ from ``R̄``, Banerjee et al. 2005), so a
+gesture performed more loosely gets a wider cone than its takes' spread alone would give.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+__all__ = ["COVERAGE", "FAST_STEP", "SIGNIFICANCE", "DirectionTable", "direction_limit",
+           "hand_direction", "rayleigh_p"]
+
+#: Steps at least this fraction of a motion's longest step make its hand direction (chosen on
+#: SFINGE3D's sequences 1–18 among 0, 0.3 and 0.5: docs/online-history.md, v26).
+FAST_STEP = 0.3
+#: The Rayleigh test's level: takes whose directions a uniform distribution would give with
+#: higher probability set no limit.
+SIGNIFICANCE = 1e-3
+#: Fraction of the fitted von Mises–Fisher distribution inside a gesture's cone.
+COVERAGE = 0.99
+
+
+def hand_direction(poses: np.ndarray, fast_step: float = FAST_STEP) -> np.ndarray | None:
+    """The direction (3,) in which a motion moves in the tracker's frame, or None (no motion).
+
+    Parameters
+    ----------
+    poses : ndarray, shape (n, 4, 4)
+        The motion's poses (world from tracker), uniformly sampled.
+    fast_step : float
+        Steps shorter than this fraction of the longest one are left out.
+
+    Returns
+    -------
+    ndarray of shape (3,) or None
+        Unit vector ``Σ R_kᵀ Δp_k / |Σ R_kᵀ Δp_k|`` over the kept steps; None when the motion
+        has fewer than two poses, does not move, or comes back exactly along its way.
+    """
+    poses = np.asarray(poses, dtype=np.float64)
+    if poses.ndim != 3 or poses.shape[0] < 2:
+        return None
+    steps = np.diff(poses[:, :3, 3], axis=0)
+    lengths = np.linalg.norm(steps, axis=1)
+    longest = float(lengths.max())
+    if not longest > 0.0:
+        return None
+    kept = lengths >= fast_step * longest
+    in_hand = np.einsum("nji,nj->i", poses[:-1][kept, :3, :3], steps[kept])
+    norm = float(np.linalg.norm(in_hand))
+    return in_hand / norm if norm > 1e-12 * longest else None
+
+
+def rayleigh_p(n: int, mean_length: float) -> float:
+    """P-value of the Rayleigh test of uniformity on the sphere: the probability that ``n``
+    uniform unit vectors have a mean resultant length of at least ``mean_length``
+    (``3 n R̄²`` ~ χ²₃, its survival function)."""
+    z = 3.0 * n * mean_length**2
+    return float(math.erfc(math.sqrt(z / 2.0)) + math.sqrt(2.0 * z / math.pi) * math.exp(-z / 2.0))
+
+
+def direction_limit(directions: Sequence[np.ndarray], significance: float = SIGNIFICANCE,
+                    coverage: float = COVERAGE) -> tuple[np.ndarray, float] | None:
+    """A gesture's cone: the mean direction (3,) of its takes' hand directions and the largest
+    angle [deg] from it that a candidate may have, or None where the takes do not agree.
+
+    Parameters
+    ----------
+    directions : sequence of ndarray, shape (3,)
+        Unit hand directions of the gesture's takes (:func:`hand_direction`).
+    significance : float
+        Level of the Rayleigh test (:func:`rayleigh_p`) the takes must pass.
+    coverage : float
+        Fraction of the von Mises–Fisher distribution fitted to them that the cone holds.
+    """
+    if len(directions) < 2:
+        return None
+    D = np.asarray(directions, dtype=np.float64).reshape(-1, 3)
+    total = D.sum(axis=0)
+    resultant = float(np.linalg.norm(total)) / D.shape[0]
+    if resultant >= 1.0 - 1e-9:
+        return total / np.linalg.norm(total), 0.0
+    if rayleigh_p(D.shape[0], resultant) >= significance:
+        return None
+    kappa = resultant * (3.0 - resultant**2) / (1.0 - resultant**2)
+    # P(cos θ < c) = (e^{κc} − e^{−κ}) / (e^{κ} − e^{−κ}) for a vMF on the sphere; solved for
+    # 1 − coverage in a form that does not overflow for a large κ
+    c = 1.0 + math.log((1.0 - coverage) * (1.0 - math.exp(-2.0 * kappa))
+                       + math.exp(-2.0 * kappa)) / kappa
+    return total / np.linalg.norm(total), math.degrees(math.acos(max(-1.0, min(1.0, c))))
+
+
+class DirectionTable:
+    """Every model's cone, for the spotter: ``limits`` (M, 4) holds each model's mean direction
+    and largest angle [deg] (NaN angle: no limit)."""
+
+    def __init__(self, limits: np.ndarray | None, n_models: int) -> None:
+        table = (np.full((n_models, 4), np.nan) if limits is None
+                 else np.asarray(limits, dtype=np.float64).reshape(n_models, 4))
+        self.mean = np.nan_to_num(table[:, :3])
+        self.cos = np.where(np.isnan(table[:, 3]), -2.0, np.cos(np.radians(table[:, 3])))
+        #: whether any model is limited (else no candidate's direction needs measuring)
+        self.active = bool(np.isfinite(table[:, 3]).any())
+
+    def passes(self, j: int | slice, direction: np.ndarray | None) -> np.ndarray | bool:
+        """Whether a candidate moving along ``direction`` (3,) lies in the cone of model(s)
+        ``j`` (None: not measured, passes)."""
+        if direction is None:
+            return True
+        return self.mean[j] @ np.asarray(direction, dtype=np.float64) >= self.cos[j]
