@@ -20,7 +20,9 @@ import numpy as np
 from ..core.trajectory import Trajectory
 from ..datasets.people_layout import load_people
 from ..online.config import RecognizerConfig
+from ..online.hand_direction import direction_limit
 from ..online.limits import (
+    gesture_directions,
     gesture_proportions,
     gesture_verticality,
     longest_corner_rest,
@@ -32,8 +34,8 @@ from ..online.segment_classifier import SegmentClassifier
 from ..online.segmentation import SpeedLevels
 from ..online.vertical import up_vector
 
-__all__ = ["by_name", "other_peoples", "people_data_args", "take_geometry", "take_proportions",
-           "take_rests", "take_verticality"]
+__all__ = ["by_name", "cone_coverage", "other_peoples", "people_data_args", "take_directions",
+           "take_geometry", "take_proportions", "take_rests", "take_verticality"]
 
 #: (tracker index, person, gesture)
 TakeKey = tuple[int, str, str]
@@ -155,3 +157,35 @@ def take_verticality(data: str | Path, up: str = "+z", config: RecognizerConfig 
     return _per_take(data, config, lambda tr, levels, gesture: gesture_verticality(
         [tr], [gesture], levels, config.descriptor.L, vertical, config.constants.dt
     ).get(gesture, []))
+
+
+def take_directions(data: str | Path, config: RecognizerConfig | None = None
+                    ) -> dict[TakeKey, list[np.ndarray]]:
+    """The :func:`~framefree.online.hand_direction.hand_direction` (3,) of every take, per
+    tracker, person and gesture, measured as the live recognizer measures its demonstrations
+    (:func:`~framefree.online.limits.gesture_directions`; speed levels as in
+    :func:`take_geometry`)."""
+    config = config or RecognizerConfig()
+    return _per_take(data, config, lambda tr, levels, gesture: gesture_directions(
+        [tr], [gesture], levels, config.descriptor.L, config.constants.dt).get(gesture, []))
+
+
+def cone_coverage(directions: Mapping[TakeKey, Sequence[np.ndarray]], coverage: float
+                  ) -> dict[str, int]:
+    """How many of a person's takes lie in the cone learned from every other person's takes of
+    the same gesture and tracker (:func:`~framefree.online.hand_direction.direction_limit` at
+    ``coverage``), over every person, gesture and tracker: ``{"cones", "checked", "inside"}``
+    (a gesture whose other people's takes do not agree has no cone and is not checked)."""
+    cones = checked = inside = 0
+    for (tracker, person, gesture), own in directions.items():
+        others = [v for (t, p, g), vs in directions.items()
+                  if (t, g) == (tracker, gesture) and p != person for v in vs]
+        cone = direction_limit(others, coverage=coverage)
+        if cone is None:
+            continue
+        mean, angle = cone
+        angles = np.degrees(np.arccos(np.clip(np.asarray(own) @ mean, -1.0, 1.0)))
+        cones += 1
+        checked += len(own)
+        inside += int((angles <= angle).sum())
+    return {"cones": cones, "checked": checked, "inside": inside}
