@@ -129,7 +129,9 @@ class DirectionTable:
 
     def passes(self, j: int | slice, direction: np.ndarray | None) -> np.ndarray | bool:
         """Whether a candidate moving along ``direction`` (3,) lies in the cone of model(s)
-        ``j`` (None: not measured, passes)."""
+        ``j``, or, for one model, each of several candidates (n, 3) (None or a NaN row: not
+        measured, passes)."""
         if direction is None:
             return True
-        return self.mean[j] @ np.asarray(direction, dtype=np.float64) >= self.cos[j]
+        cosines = np.asarray(direction, dtype=np.float64) @ self.mean[j].T
+        return np.isnan(cosines) | (cosines >= self.cos[j])

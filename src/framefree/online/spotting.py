@@ -377,8 +377,9 @@ class Spotter:
         known, within its verticality range (NaN: unknown, passes), with as many corners as
         its takes agree on, within their proportions (``shares``: each segment's
         :func:`~framefree.online.proportions.proportions`; None: not measured, passes), moving
-        within its cone of hand directions (``way``: one direction (3,) for all segments; None:
-        not measured, passes), and not a gesture the tracker does not follow (:attr:`unseen`)."""
+        within its cone of hand directions (``way``: each segment's (n, 3), or one for all (3,);
+        None or NaN: not measured, passes), and not a gesture the tracker does not follow
+        (:attr:`unseen`)."""
         padded = None if shares is None else self.proportions.padded(list(shares))
         return self._admits(j, np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float),
                             np.asarray(corners, dtype=float), np.asarray(turns, dtype=np.int64),

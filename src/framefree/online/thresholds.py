@@ -41,6 +41,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..core.trajectory import Trajectory
+from .hand_direction import hand_direction
 from .limits import recording_units
 from .negatives import non_gesture_motions
 from .proportions import proportions
@@ -120,6 +121,9 @@ class SegmentScores(NamedTuple):
     proportions: list[np.ndarray] | None = None
     """(C,) of (K,): each candidate's :func:`~framefree.online.proportions.proportions`, which
     the spotter's proportion limits judge (None: not measured, no limit applies)."""
+    ways: np.ndarray | None = None
+    """(C, 3): each candidate's :func:`~framefree.online.hand_direction.hand_direction` (NaN
+    where it has none), which the spotter's cones judge (None: not measured, no limit applies)."""
 
 
 def segment_distances(
@@ -145,6 +149,7 @@ def segment_distances(
     turns: list[int] = []
     pauses: list[float] = []
     shares: list[np.ndarray] = []
+    ways: list[np.ndarray] = []
     for k in range(len(units)):
         for first, n in candidate_spans(units[: k + 1], spotter.max_units, spotter.max_duration,
                                         spotter.max_pause, -1, spotter.pause_ratio,
@@ -161,12 +166,16 @@ def segment_distances(
             turns.append(turn_kinds(units[i:k + 1], spotter.corner_angle))
             pauses.append(corner_rest(units[i:k + 1], spotter.corner_angle))
             shares.append(proportions(units[i:k + 1], spotter.corner_angle))
+            if spotter.directions.active:
+                way = hand_direction(P[spotter.margin:P.shape[0] - spotter.margin])
+                ways.append(np.full(3, np.nan) if way is None else way)
     if not rows:
         empty = np.zeros(0)
         return SegmentScores(np.full((0, len(classifier.models)), np.inf), empty, empty, empty,
                              np.zeros(0, dtype=np.int64), empty, [])
     return SegmentScores(np.vstack(rows), np.array(closures), np.array(sizes), np.array(corners),
-                         np.array(turns, dtype=np.int64), np.array(pauses), shares)
+                         np.array(turns, dtype=np.int64), np.array(pauses), shares,
+                         np.array(ways) if ways else None)
 
 
 def reach_down(
@@ -198,13 +207,14 @@ def reach_down(
     if not (reach > 1.0 and lo > 0.0):
         return None
     floor = lo / reach
-    for D, c, size, corners, turns, pauses, shares in records:
+    for D, c, size, corners, turns, pauses, shares, ways in records:
         band = (size >= floor) & (size < lo)
         if not band.any():
             continue
         shaped = spotter.admissible(model, c[band], np.full(int(band.sum()), lo), corners[band],
                                     turns[band], pauses=pauses[band],
-                                    shares=_selected(shares, band))
+                                    shares=_selected(shares, band),
+                                    way=None if ways is None else ways[band])
         if shaped.any() and float(D[band][shaped][:, own].min()) < threshold:
             return None
     return floor
@@ -272,9 +282,10 @@ def take_scores(
         else:
             copies = [tr]
         for copy in copies:
-            D, c, size, corners, turns, pauses, shares = segment_distances(copy, classifier,
-                                                                           levels, spotter, L)
-            ok = spotter.admissible(r, c, size, corners, turns, pauses=pauses, shares=shares)
+            D, c, size, corners, turns, pauses, shares, ways = segment_distances(
+                copy, classifier, levels, spotter, L)
+            ok = spotter.admissible(r, c, size, corners, turns, pauses=pauses, shares=shares,
+                                    way=ways)
             positives[labels[r]].append(float(D[ok][:, same].min()) if ok.any() else np.inf)
     return positives
 
@@ -395,14 +406,14 @@ def _episode_scores(
     for kind, neg in non_gesture_motions(trajectories, labels, L, seed=seed,
                                          kinds=(*kinds, "regrip") if regrips else kinds):
         scores = segment_distances(neg, classifier, levels, spotter, L)
-        D, c, size, corners, turns, pauses, shares = scores
+        D, c, size, corners, turns, pauses, shares, ways = scores
         if regrips:
             records.append(scores)
         if kind == "regrip":
             continue
         for g in gestures:
             ok = spotter.admissible(first[g], c, size, corners, turns, pauses=pauses,
-                                    shares=shares)
+                                    shares=shares, way=ways)
             if ok.any():
                 episodes[g].append(float(D[ok][:, labels_arr == g].min()))
             elif gated:
