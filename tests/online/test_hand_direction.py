@@ -37,6 +37,8 @@ frames = st.builds(lambda xi: se3.pose_from_twist(np.asarray(xi)),
                    st.lists(st.floats(-3.0, 3.0), min_size=6, max_size=6))
 #: a straight stroke of 30 cm along the tracker's x axis, with rests
 STROKE = np.array([[0.0, 0.0, 0.0], [0.30, 0.0, 0.0]])
+#: the same, bent a little (its takes differ in shape, so their distances are not zero)
+BENT = np.array([[0.0, 0.0, 0.0], [0.15, 0.04, 0.0], [0.30, 0.0, 0.0]])
 
 
 def _turning_stroke(n: int = 60) -> np.ndarray:
@@ -114,9 +116,9 @@ def test_the_table_limits_only_models_with_a_cone():
     assert not DirectionTable(None, 3).active
 
 
-def _stroke_in(X: np.ndarray, G: np.ndarray) -> Trajectory:
+def _stroke_in(X: np.ndarray, G: np.ndarray, shape: np.ndarray = STROKE) -> Trajectory:
     """The stroke performed in world frame ``X`` with the tracker placed ``G`` in the hand."""
-    take = drawn_takes(STROKE, 1, np.random.default_rng(9))[0]
+    take = drawn_takes(shape, 1, np.random.default_rng(9))[0]
     _, P = take.uniform_poses(DT)
     return Trajectory.from_poses(DT * np.arange(P.shape[0]), X @ P @ G)
 
@@ -164,3 +166,32 @@ def test_a_cone_from_five_people_holds_a_sixth_persons_performances():
     found = cone_coverage(take_directions(MACHETE), COVERAGE)
     assert found["checked"] >= 400
     assert found["inside"] / found["checked"] >= 0.88
+
+
+@pytest.fixture(scope="module")
+def two_way_recognizers():
+    """Strokes to the tracker's +x and to its −x, eight takes each in their own world frames:
+    the same motion to a frame-free descriptor. Calibrated without and with ``hand_frame``."""
+    rng = np.random.default_rng(5)
+    takes, labels = [], []
+    for label, G in (("out", np.eye(4)), ("back", np.diag([-1.0, -1.0, 1.0, 1.0]))):
+        for take in drawn_takes(BENT, 8, rng):
+            _, P = take.uniform_poses(DT)
+            X = se3.pose_from_twist(rng.uniform(-3.0, 3.0, 6))
+            takes.append(Trajectory.from_poses(DT * np.arange(P.shape[0]), X @ P @ G))
+            labels.append(label)
+    return [Recognizer.from_trajectories(takes, labels, hand_frame=flag) for flag in (False, True)]
+
+
+def test_a_rival_moving_the_other_way_does_not_bound_the_threshold(two_way_recognizers):
+    """Without ``hand_frame`` each gesture's threshold is held below the other's takes, which lie
+    as near as its own; with it, the other's takes move outside its cone, so they bound nothing,
+    and a stroke fires as the way it moves in the hand."""
+    without, with_frame = two_way_recognizers
+    for g in ("out", "back"):
+        assert with_frame.gesture_thresholds[g] > 1.5 * without.gesture_thresholds[g]
+    turned = np.diag([-1.0, -1.0, 1.0, 1.0])
+    X = se3.pose_from_twist(np.array([0.3, -1.0, 2.0, 0.5, 0.1, -0.2]))
+    fired = [[e.label for e in run_stream(with_frame, _stroke_in(X, G, BENT))[0]]
+             for G in (np.eye(4), turned)]
+    assert fired == [["out"], ["back"]]

@@ -59,6 +59,7 @@ __all__ = [
     "one_go_gestures",
     "opening_limit",
     "pooled_closures",
+    "recording_direction",
     "recording_geometry",
     "recording_units",
     "size_limits",
@@ -163,12 +164,19 @@ def gesture_directions(
     without a movement unit, or whose hand direction is undefined, is left out)."""
     out: dict[str, list[np.ndarray]] = {}
     for tr, g in zip(trajectories, labels, strict=True):
-        seg, units = recording_units(tr, levels, L, dt)
-        if units:
-            way = hand_direction(seg.buffer.slice(units[0].start, units[-1].end)[1])
-            if way is not None:
-                out.setdefault(g, []).append(way)
+        if (way := recording_direction(tr, levels, L, dt)) is not None:
+            out.setdefault(g, []).append(way)
     return out
+
+
+def recording_direction(traj: Trajectory, levels: SpeedLevels, L: float, dt: float = 0.02
+                        ) -> np.ndarray | None:
+    """A recording's :func:`~framefree.online.hand_direction.hand_direction` (3,) from its first
+    movement unit's start to its last one's end (None without a unit or a direction)."""
+    seg, units = recording_units(traj, levels, L, dt)
+    if not units:
+        return None
+    return hand_direction(seg.buffer.slice(units[0].start, units[-1].end)[1])
 
 
 def measure_gestures(

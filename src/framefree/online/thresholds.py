@@ -15,7 +15,9 @@ candidate segment of it is classified against the *other* recordings of its gest
   scores infinity (*gated*). Their ``negative_quantile`` (5 %) quantile is the generic part;
 * *rivals*: the other gestures. The distance (the classifier's, between whole recordings) of the
   nearest pair of a recording of ``g`` and a recording of another gesture bounds ``N_g`` from
-  above: a segment that far from ``g`` may as well be the other gesture. With
+  above: a segment that far from ``g`` may as well be the other gesture. A recording that moves
+  outside ``g``'s cone of hand directions (``hand_frame``) cannot be taken for ``g`` and bounds
+  nothing. With
   ``rival_quantile`` > 0 the bound is that quantile, over the other gestures' recordings, of
   each one's distance to its nearest recording of ``g``, so that one stray pair does not set it.
 
@@ -42,7 +44,7 @@ import numpy as np
 
 from ..core.trajectory import Trajectory
 from .hand_direction import hand_direction
-from .limits import recording_units
+from .limits import recording_direction, recording_units
 from .negatives import non_gesture_motions
 from .proportions import proportions
 from .segment_classifier import SegmentClassifier
@@ -362,13 +364,17 @@ def calibrate_segment_thresholds(
     thresholds, separated, negatives = {}, {}, {}
     between = (classifier.descriptor.distance_matrix(classifier.models, classifier.models)
                if rivals else None)
+    ways = ([recording_direction(tr, levels, L) for tr in trajectories]
+            if rivals and spotter.directions.active else [None] * len(labels))
     for g in gestures:
         finite = [p for p in positives[g] if np.isfinite(p)]
         P = max(finite) if finite else np.inf
         N = _quantile(episodes[g], negative_quantile)
         own = labels_arr == g
-        if between is not None and (~own).any():
-            nearest_of_g = between[np.ix_(own, ~own)].min(axis=0)  # per take of another gesture
+        rival = ~own & np.array([w is None or bool(spotter.directions.passes(first[g], w))
+                                 for w in ways])
+        if between is not None and rival.any():
+            nearest_of_g = between[np.ix_(own, rival)].min(axis=0)  # per take of another gesture
             N = min(N, float(np.quantile(nearest_of_g, rival_quantile)))
         negatives[g] = N
         separated[g] = bool(P < N)
