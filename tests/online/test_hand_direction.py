@@ -116,6 +116,24 @@ def test_the_table_limits_only_models_with_a_cone():
     assert not DirectionTable(None, 3).active
 
 
+def test_a_motion_is_compared_only_with_the_gestures_that_move_its_way():
+    table = DirectionTable(np.array([[1.0, 0, 0, 30.0], [-1.0, 0, 0, 30.0], [0, 0, 0, np.nan]]), 3)
+    way = np.array([1.0, 0, 0])
+    calls = []
+
+    def exact():
+        calls.append(1)
+        return np.array([0.2, 0.3, 0.5])
+
+    # the nearest model moves the other way: a pruned search's values may be bounds, so the
+    # distances are searched in full, and that model is left out
+    assert list(table.compared(np.array([0.4, 0.1, 0.6]), way, True, exact)) == [0.2, np.inf, 0.5]
+    assert calls == [1]
+    # the nearest moves this way: nothing more is searched
+    assert list(table.compared(np.array([0.1, 0.2, 0.6]), way, True, exact)) == [0.1, np.inf, 0.6]
+    assert calls == [1]
+
+
 def _stroke_in(X: np.ndarray, G: np.ndarray, shape: np.ndarray = STROKE) -> Trajectory:
     """The stroke performed in world frame ``X`` with the tracker placed ``G`` in the hand."""
     take = drawn_takes(shape, 1, np.random.default_rng(9))[0]

@@ -29,7 +29,7 @@ gesture performed more loosely gets a wider cone than its takes' spread alone wo
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -135,3 +135,17 @@ class DirectionTable:
             return True
         cosines = np.asarray(direction, dtype=np.float64) @ self.mean[j].T
         return np.isnan(cosines) | (cosines >= self.cos[j])
+
+    def compared(self, distances: np.ndarray, direction: np.ndarray, pruned: bool,
+                 exact: Callable[[], np.ndarray]) -> np.ndarray:
+        """A candidate's distances (M,) with every model whose cone does not hold its hand
+        ``direction`` (3,) left out (inf): a motion is compared only with the gestures that move
+        its way, which a frame-free descriptor cannot tell from those that move another. Where a
+        ``pruned`` search's nearest model is left out, the other values may be lower bounds, so
+        ``exact()`` gives every model's distance instead."""
+        inside = np.asarray(self.passes(slice(None), direction), dtype=bool)
+        if inside.all():
+            return distances
+        if pruned and not inside[int(np.argmin(distances))]:
+            distances = exact()
+        return np.where(inside, distances, np.inf)

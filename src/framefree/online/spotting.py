@@ -282,7 +282,9 @@ class Spotter:
             d, size = self._classify(times, poses, c, tier, corners, turns, v, pause, moved,
                                      shares, way)
             if way is not None:
-                d = self._within_cones(d, way, times, poses)
+                d = self.directions.compared(
+                    d, way, self.classifier.pruning,
+                    lambda t=times, P=poses: self.classifier.distances(t, P)[0])
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
@@ -306,20 +308,6 @@ class Spotter:
                                  full, proportions=tuple(shares.tolist()),
                                  direction=() if way is None else tuple(way.tolist())))
         return refuse_tails(out, self._gesture)
-
-    def _within_cones(self, d: np.ndarray, way: np.ndarray, times: np.ndarray,
-                      poses: np.ndarray) -> np.ndarray:
-        """Distances ``d`` (M,) with every model whose cone does not hold the hand direction
-        ``way`` left out (inf): a motion is compared only with the gestures that move its way,
-        which a frame-free descriptor cannot tell from those that move another. Where a pruned
-        search's nearest model is left out, the others' values may be bounds: they are
-        searched in full."""
-        inside = np.asarray(self.directions.passes(slice(None), way), dtype=bool)
-        if inside.all():
-            return d
-        if self.classifier.pruning and not inside[int(np.argmin(d))]:
-            d = self.classifier.distances(times, poses)[0]
-        return np.where(inside, d, np.inf)
 
     def needs_exact_nearest(self, batch: list[Candidate], n: int) -> bool:
         """Whether the candidate of ``n`` units, refused, needs its exact nearest model: the
