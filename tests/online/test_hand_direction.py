@@ -11,6 +11,7 @@ from five other people holds.
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -22,7 +23,7 @@ from hypothesis import strategies as st
 from framefree.benchmark.take_geometry import cone_coverage, take_directions
 from framefree.core import se3
 from framefree.core.trajectory import Trajectory
-from framefree.online import Recognizer
+from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.evaluation import run_stream
 from framefree.online.hand_direction import (
     COVERAGE,
@@ -31,6 +32,7 @@ from framefree.online.hand_direction import (
     hand_direction,
     rayleigh_p,
 )
+from framefree.online.learned import LearnedSettings
 from real_data import MACHETE
 
 frames = st.builds(lambda xi: se3.pose_from_twist(np.asarray(xi)),
@@ -163,6 +165,14 @@ def test_the_recognizer_learns_a_cone_only_with_hand_frame(stroke_recognizers):
     assert 0 < angle < 45
     assert with_frame.learned_.provenance.rules["direction_limits"].endswith("direction_limit")
     assert without.learned_.direction_limits is None
+
+
+def test_the_cones_go_to_json_and_back_as_a_library_keeps_them(stroke_recognizers):
+    rec = stroke_recognizers[0]
+    config = RecognizerConfig.from_dict(json.loads(json.dumps(rec.config.to_dict())))
+    learned = LearnedSettings.from_dict(json.loads(json.dumps(rec.learned_.to_dict())))
+    assert config.hand_frame
+    assert learned.direction_limits == rec.learned_.direction_limits
 
 
 @settings(max_examples=3, deadline=None)
