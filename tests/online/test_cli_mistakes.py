@@ -98,3 +98,15 @@ def test_latency_min_help_states_the_real_default():
     res = run("live", "--help")
     assert "smallest latency searched (default: 0)" in " ".join(res.output.split())
     assert "issue" not in res.output.lower()
+
+
+def test_hand_frame_is_refused_where_it_does_not_apply(data):
+    res = run("evaluate-stream", "--models", data["ds"], "--stream", data["stream"],
+              "--hand-frame", "--method", "paper")
+    one_line_error(res, "--hand-frame applies to --method segments")
+
+
+def test_evaluate_stream_runs_with_hand_frame(data):
+    res = run("evaluate-stream", "--models", data["ds"], "--stream", data["stream"], "--hand-frame")
+    assert res.exit_code == 0, res.output
+    assert "F1" in res.output

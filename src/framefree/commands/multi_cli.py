@@ -43,7 +43,8 @@ def multi_recognizer(found: Any, method: str, gestures: list[str] | None,
     given = [k for k in _UNUSED if k in overrides]
     if given:
         names = ", ".join("--" + k.replace("_", "-") for k in given)
-        raise FramefreeError(f"{names} do not apply to models of several trackers")
+        verb = "does" if len(given) == 1 else "do"
+        raise FramefreeError(f"{names} {verb} not apply to models of several trackers")
     samples, labels = found.samples, found.labels
     if gestures:
         missing = [g for g in gestures if g not in set(labels)]
