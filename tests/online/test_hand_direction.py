@@ -129,10 +129,11 @@ def test_a_motion_is_compared_only_with_the_gestures_that_move_its_way():
 
     # the nearest model moves the other way: a pruned search's values may be bounds, so the
     # distances are searched in full, and that model is left out
-    assert list(table.compared(np.array([0.4, 0.1, 0.6]), way, True, exact)) == [0.2, np.inf, 0.5]
+    assert list(table.compared(np.array([0.4, 0.1, 0.6]), way, exact)) == [0.2, np.inf, 0.5]
     assert calls == [1]
     # the nearest moves this way: nothing more is searched
-    assert list(table.compared(np.array([0.1, 0.2, 0.6]), way, True, exact)) == [0.1, np.inf, 0.6]
+    assert list(table.compared(np.array([0.1, 0.2, 0.6]), way, exact)) == [0.1, np.inf, 0.6]
+    assert list(table.compared(np.array([0.4, 0.1, 0.6]), way)) == [0.4, np.inf, 0.6]  # exact
     assert calls == [1]
 
 

@@ -136,16 +136,16 @@ class DirectionTable:
         cosines = np.asarray(direction, dtype=np.float64) @ self.mean[j].T
         return np.isnan(cosines) | (cosines >= self.cos[j])
 
-    def compared(self, distances: np.ndarray, direction: np.ndarray, pruned: bool,
-                 exact: Callable[[], np.ndarray]) -> np.ndarray:
+    def compared(self, distances: np.ndarray, direction: np.ndarray,
+                 exact: Callable[[], np.ndarray] | None = None) -> np.ndarray:
         """A candidate's distances (M,) with every model whose cone does not hold its hand
         ``direction`` (3,) left out (inf): a motion is compared only with the gestures that move
-        its way, which a frame-free descriptor cannot tell from those that move another. Where a
-        ``pruned`` search's nearest model is left out, the other values may be lower bounds, so
-        ``exact()`` gives every model's distance instead."""
+        its way, which a frame-free descriptor cannot tell from those that move another. With
+        ``exact``, the distances are a pruned search's: where its nearest model is left out, the
+        other values may be lower bounds, so ``exact()`` gives every model's distance instead."""
         inside = np.asarray(self.passes(slice(None), direction), dtype=bool)
         if inside.all():
             return distances
-        if pruned and not inside[int(np.argmin(distances))]:
+        if exact is not None and not inside[int(np.argmin(distances))]:
             distances = exact()
         return np.where(inside, distances, np.inf)

@@ -282,9 +282,9 @@ class Spotter:
             d, size = self._classify(times, poses, c, tier, corners, turns, v, pause, moved,
                                      shares, way)
             if way is not None:
-                d = self.directions.compared(
-                    d, way, self.classifier.pruning,
-                    lambda t=times, P=poses: self.classifier.distances(t, P)[0])
+                d = self.directions.compared(d, way, (
+                    lambda t=times, P=poses: self.classifier.distances(t, P)[0]
+                ) if self.classifier.pruning else None)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
@@ -299,6 +299,8 @@ class Spotter:
                 # its nearest gesture decides whether the part before it is a tail: a refused
                 # candidate's pruned values are bounds, so search it in full
                 d = self.classifier.distances(times, poses)[0]
+                if way is not None:
+                    d = self.directions.compared(d, way)
                 j = int(np.argmin(d))
                 ratio = float(d[j] / self.model_thresholds[j])
             if ok and self.tighten and not self.fire_on_motion:
