@@ -6,8 +6,9 @@ hand are the same motion to it. Where every take and every live stream put the t
 the hand the same way — the palm pose of a hand tracker, a controller held by its handle — that
 direction is a property of the gesture. On real continuous hand tracking (SFINGE3D) it is what
 tells a swipe from a free stroke of the same shape: the dictionary's *swipe left*s all move
-within 60° of one direction of the palm, and the free strokes that passed for swipes moved 70–120°
-away from it, while the descriptor's distance does not separate them (docs/online-history.md, v26).
+within 58° of one direction of the palm, and the free strokes that passed for swipes moved 72–123°
+away from their class's direction, while the descriptor's distance does not separate them
+(docs/online-history.md, v26).
 
 *The hand direction* of a motion is the sum of its position steps expressed in the tracker's frame
 at each step, ``Σ R_kᵀ Δp_k``, over the steps at least :data:`FAST_STEP` times as long as its
@@ -37,7 +38,8 @@ __all__ = ["COVERAGE", "FAST_STEP", "SIGNIFICANCE", "DirectionTable", "direction
            "hand_direction", "rayleigh_p"]
 
 #: Steps at least this fraction of a motion's longest step make its hand direction (chosen on
-#: SFINGE3D's sequences 1–18 among 0, 0.3 and 0.5: docs/online-history.md, v26).
+#: SFINGE3D's sequences 1–18 and the Machete development people among 0, 0.3 and 0.5:
+#: docs/online-history.md, v26).
 FAST_STEP = 0.3
 #: The Rayleigh test's level: takes whose directions a uniform distribution would give with
 #: higher probability set no limit.
@@ -103,10 +105,10 @@ def direction_limit(directions: Sequence[np.ndarray], significance: float = SIGN
     D = np.asarray(directions, dtype=np.float64).reshape(-1, 3)
     total = D.sum(axis=0)
     resultant = float(np.linalg.norm(total)) / D.shape[0]
-    if resultant >= 1.0 - 1e-9:
-        return total / np.linalg.norm(total), 0.0
     if rayleigh_p(D.shape[0], resultant) >= significance:
         return None
+    if resultant >= 1.0 - 1e-9:  # identical directions: a cone of no width
+        return total / np.linalg.norm(total), 0.0
     kappa = resultant * (3.0 - resultant**2) / (1.0 - resultant**2)
     # P(cos θ < c) = (e^{κc} − e^{−κ}) / (e^{κ} − e^{−κ}) for a vMF on the sphere; solved for
     # 1 − coverage in a form that does not overflow for a large κ
