@@ -13,6 +13,8 @@ Rows:
 ``sfinge``
     SFINGE3D's 36 development sequences, the four swipes, the dictionary as models
     (``framefree evaluate-stream``; needs ``../shared/data/sfinge_dev``).
+``sfinge_hand_frame``
+    The same with ``--hand-frame`` (the palm's frame is the hand's: v26, opt-in).
 ``machete_one``
     The Machete sessions, right controller only, each of the six people against models of the
     five others (``benchmarks/one_controller_streams.py --people all``).
@@ -29,7 +31,7 @@ Rows:
     pentagons, letter Ms and Cs (``benchmarks/eighth_gesture.py --gesture G --people 10
     --distractors fresh``): the new gesture's counts.
 
-A row whose data is missing is skipped with one line. About six minutes for all seven on a
+A row whose data is missing is skipped with one line. About ten minutes for all eight on a
 2-core machine.
 
     python benchmarks/live_figures.py                  # measure, compare with the record
@@ -65,12 +67,14 @@ def _run(args: Sequence[str]) -> None:
         raise RuntimeError(f"{' '.join(args[:2])} failed: {tail}")
 
 
-def _sfinge(out: Path) -> dict[str, Any]:
-    streams = sorted(str(p) for p in (DATA / "sfinge_dev" / "streams").glob("seq_??.csv"))
-    _run(["-c", "from framefree.cli import main; main()", "evaluate-stream",
-          "--models", str(DATA / "sfinge_dev" / "templates"), "--gestures", SWIPES, *streams,
-          "--json", str(out)])
-    return json.loads(out.read_text())["total"]
+def _sfinge(*extra: str) -> Callable[[Path], dict[str, Any]]:
+    def measure(out: Path) -> dict[str, Any]:
+        streams = sorted(str(p) for p in (DATA / "sfinge_dev" / "streams").glob("seq_??.csv"))
+        _run(["-c", "from framefree.cli import main; main()", "evaluate-stream",
+              "--models", str(DATA / "sfinge_dev" / "templates"), "--gestures", SWIPES, *streams,
+              *extra, "--json", str(out)])
+        return json.loads(out.read_text())["total"]
+    return measure
 
 
 def _machete_one(*extra: str) -> Callable[[Path], dict[str, Any]]:
@@ -102,7 +106,9 @@ def _new_gesture(gesture: str) -> Callable[[Path], dict[str, Any]]:
 
 #: row name: (what it measures, the data it needs, how to measure it)
 ROWS: dict[str, tuple[str, Path | None, Callable[[Path], dict[str, Any]]]] = {
-    "sfinge": ("SFINGE3D dev, 36 sequences, four swipes", DATA / "sfinge_dev", _sfinge),
+    "sfinge": ("SFINGE3D dev, 36 sequences, four swipes", DATA / "sfinge_dev", _sfinge()),
+    "sfinge_hand_frame": ("the same with --hand-frame", DATA / "sfinge_dev",
+                          _sfinge("--hand-frame")),
     "machete_one": ("Machete sessions, right controller, six people held out in turn",
                     DATA / "machete_streams", _machete_one()),
     "machete_right_hand": ("Machete sessions, right controller, the right hand's eight gestures",
