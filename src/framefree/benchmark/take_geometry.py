@@ -42,13 +42,16 @@ TakeKey = tuple[int, str, str]
 V = TypeVar("V")
 
 
-def people_data_args(doc: str | None) -> argparse.Namespace:
+def people_data_args(doc: str | None, figure: bool = False) -> argparse.Namespace:
     """The command line of a ``benchmarks/real_*.py`` script: ``--data`` (a people data set,
     default ``../shared/data/machete_vive``) and ``--json`` (where to write the results, if
-    anywhere); ``doc`` is the script's docstring, shown by ``--help``."""
+    anywhere), and with ``figure`` ``--figure`` (where to draw one); ``doc`` is the script's
+    docstring, shown by ``--help``."""
     ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--data", type=Path, default=Path("../shared/data/machete_vive"))
     ap.add_argument("--json", type=Path)
+    if figure:
+        ap.add_argument("--figure", type=Path, help="draw the figure here (PNG)")
     return ap.parse_args()
 
 
@@ -174,9 +177,12 @@ def cone_coverage(directions: Mapping[TakeKey, Sequence[np.ndarray]], coverage: 
                   ) -> dict[str, int]:
     """How many of a person's takes lie in the cone learned from every other person's takes of
     the same gesture and tracker (:func:`~framefree.online.hand_direction.direction_limit` at
-    ``coverage``), over every person, gesture and tracker: ``{"cones", "checked", "inside"}``
-    (a gesture whose other people's takes do not agree has no cone and is not checked)."""
+    ``coverage``), over every person, gesture and tracker: ``{"cones", "checked", "inside",
+    "angles"}``, ``angles`` holding each checked take's angle from its cone's axis and the
+    cone's half-angle [deg] (a gesture whose other people's takes do not agree has no cone and
+    is not checked)."""
     cones = checked = inside = 0
+    pairs: list[tuple[float, float]] = []
     for (tracker, person, gesture), own in directions.items():
         others = [v for (t, p, g), vs in directions.items()
                   if (t, g) == (tracker, gesture) and p != person for v in vs]
@@ -188,4 +194,5 @@ def cone_coverage(directions: Mapping[TakeKey, Sequence[np.ndarray]], coverage: 
         cones += 1
         checked += len(own)
         inside += int((angles <= angle).sum())
-    return {"cones": cones, "checked": checked, "inside": inside}
+        pairs += [(float(a), float(angle)) for a in angles]
+    return {"cones": cones, "checked": checked, "inside": inside, "angles": pairs}
