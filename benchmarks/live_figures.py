@@ -13,8 +13,9 @@ Rows:
 ``sfinge``
     SFINGE3D's 36 development sequences, the four swipes, the dictionary as models
     (``framefree evaluate-stream``; needs ``../shared/data/sfinge_dev``).
-``sfinge_hand_frame``
-    The same with ``--hand-frame`` (the palm's frame is the hand's: v26, opt-in).
+``sfinge_no_hand_frame``
+    The same with ``--no-hand-frame`` (nothing depends on how the tracker sits in the hand: the
+    defaults before v27).
 ``machete_one``
     The Machete sessions, right controller only, each of the six people against models of the
     five others (``benchmarks/one_controller_streams.py --people all``).
@@ -107,8 +108,8 @@ def _new_gesture(gesture: str) -> Callable[[Path], dict[str, Any]]:
 #: row name: (what it measures, the data it needs, how to measure it)
 ROWS: dict[str, tuple[str, Path | None, Callable[[Path], dict[str, Any]]]] = {
     "sfinge": ("SFINGE3D dev, 36 sequences, four swipes", DATA / "sfinge_dev", _sfinge()),
-    "sfinge_hand_frame": ("the same with --hand-frame", DATA / "sfinge_dev",
-                          _sfinge("--hand-frame")),
+    "sfinge_no_hand_frame": ("the same with --no-hand-frame", DATA / "sfinge_dev",
+                             _sfinge("--no-hand-frame")),
     "machete_one": ("Machete sessions, right controller, six people held out in turn",
                     DATA / "machete_streams", _machete_one()),
     "machete_right_hand": ("Machete sessions, right controller, the right hand's eight gestures",

@@ -29,6 +29,12 @@ without orientation*). ``--set NAME=JSON`` passes a recognizer setting by name (
 ``--set seen_fraction=0`` for the recognizer before v20). ``--explain`` prints why each gesture
 was missed and what each false positive was (``framefree evaluate-stream --explain``'s diagnosis),
 counted by gesture over the people.
+
+``--turned AXIS:DEG`` (e.g. ``x:90``) turns the controller in the hand in every stream, by DEG
+degrees about its own AXIS, and leaves the models as recorded: a tracker held another way than
+when the takes were recorded. Frame-free recognition does not see it; the cones of hand
+directions (``hand_frame``) weigh the turned performances as moving another way
+(docs/online-history.md, v27).
 """
 
 from __future__ import annotations
@@ -43,6 +49,7 @@ import numpy as np
 from online_people import _parse_set
 from tqdm import tqdm
 
+from framefree.core.se3 import quaternion_multiply
 from framefree.core.trajectory import Trajectory
 from framefree.datasets.people_layout import load_people
 from framefree.datasets.stream_files import load_stream
@@ -72,9 +79,30 @@ def without_orientation(traj: Trajectory) -> Trajectory:
     return Trajectory(traj.t, traj.p, q, source=traj.source)
 
 
+def turned_in_hand(traj: Trajectory, turn: np.ndarray | None) -> Trajectory:
+    """``traj`` with the tracker turned by the unit quaternion ``turn`` (4,) (w, x, y, z) in the
+    hand: each pose ``T`` becomes ``T G``, ``G`` the turn about the tracker's own origin
+    (``None``: unchanged)."""
+    if turn is None:
+        return traj
+    q = quaternion_multiply(traj.q, np.broadcast_to(turn, traj.q.shape))
+    return Trajectory(traj.t, traj.p, q, source=traj.source)
+
+
+def turn_quaternion(text: str) -> np.ndarray:
+    """The unit quaternion of ``AXIS:DEG`` (``x:90``: 90° about the x axis)."""
+    axis, _, degrees = text.partition(":")
+    if axis not in ("x", "y", "z"):
+        raise ValueError(f"{text!r}: expected AXIS:DEG with AXIS x, y or z")
+    half = np.radians(float(degrees)) / 2.0
+    q = np.zeros(4)
+    q[0], q["xyz".index(axis) + 1] = np.cos(half), np.sin(half)
+    return q
+
+
 def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim: float,
                 positions_only: bool = False, settings: dict | None = None,
-                gestures: set[str] | None = None
+                gestures: set[str] | None = None, turn: np.ndarray | None = None
                 ) -> tuple[StreamResult, float, list[str], dict[str, list]]:
     """Counts for one held-out person (models from everyone else, that person's sessions), the
     rest level [m/s] learned from those models, the gestures the tracker does not follow, and
@@ -83,7 +111,8 @@ def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim
 
     ``gestures``: the vocabulary (``None``: all); the other gestures' models are left out and
     their performances in the sessions count as non-gesture motion, as ``evaluate-stream
-    --gestures`` counts them."""
+    --gestures`` counts them. ``turn``: the streams' tracker turned in the hand
+    (:func:`turned_in_hand`), the models as recorded."""
     others = [r for r in recordings
               if r.person != person and (gestures is None or r.gesture in gestures)]
     sensor = without_orientation if positions_only else (lambda traj: traj)
@@ -99,7 +128,7 @@ def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim
         multi, segments = load_stream(path)
         if gestures is not None:
             segments = [s for s in segments if s.label in gestures]
-        traj = sensor(multi.trackers[tracker])
+        traj = turned_in_hand(sensor(multi.trackers[tracker]), turn)
         rec.reset()
         res, explained = explain_stream(rec, traj, segments)
         results.append(res)
@@ -160,9 +189,17 @@ def main(argv: list[str] | None = None) -> dict:
                          "non-gesture motion ('right-hand': those the right hand performs)")
     ap.add_argument("--explain", action="store_true",
                     help="print why each gesture was missed and what each false positive was")
+    ap.add_argument("--turned", default=None, metavar="AXIS:DEG",
+                    help="turn the tracker in the hand in every stream (e.g. x:90), not in the "
+                         "models")
     ap.add_argument("--out", type=Path, default=None, help="write the results as JSON here")
     args = ap.parse_args(argv)
     settings = _parse_set(args.sets)
+    try:
+        turn = None if args.turned is None else turn_quaternion(args.turned)
+    except ValueError as err:
+        print(f"error: --turned: {err}", file=sys.stderr)
+        raise SystemExit(2) from None
 
     recordings = load_people(args.models)
     people = (sorted({r.person for r in recordings}) if args.people == "all"
@@ -173,7 +210,7 @@ def main(argv: list[str] | None = None) -> dict:
         print(f"error: --gestures: {err}", file=sys.stderr)
         raise SystemExit(2) from None
     folds = {p: person_fold(p, recordings, args.streams, args.tracker, args.trim,
-                            args.no_orientation, settings, gestures)
+                            args.no_orientation, settings, gestures, turn)
              for p in tqdm(people, desc="people")}
     rows = {p: {**res.summary(), "rest_speed": rest, "unseen": unseen}
             for p, (res, rest, unseen, _) in folds.items()}
@@ -188,6 +225,7 @@ def main(argv: list[str] | None = None) -> dict:
     if args.explain:
         print_reasons(why)
     out = {"tracker": args.tracker, "trim": args.trim, "positions_only": args.no_orientation,
+           "turned": args.turned,
            "settings": settings, "gestures": None if gestures is None else sorted(gestures),
            "misses_by_reason": dict(Counter(m["reason"] for m in why["missed"])),
            "false_positives": dict(Counter(f["label"] for f in why["false_positives"])),

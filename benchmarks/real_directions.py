@@ -1,8 +1,8 @@
 """Does a gesture's cone of hand directions hold another person? Cones from five people, checked on the sixth.
 
-With ``RecognizerConfig.hand_frame`` (the tracker's frame sits on every hand the same way, as a
-Vive controller held by its handle does), a gesture whose takes move the same way in the
-tracker's frame refuses a candidate that moves outside a cone around that way
+With ``RecognizerConfig.hand_frame`` (the default since v27), a gesture whose takes move the same
+way in the tracker's frame counts a candidate that moves outside a cone around that way 1.5 times
+farther from it
 (:mod:`framefree.online.hand_direction`: a von Mises–Fisher distribution fitted to the takes,
 the cone holding ``coverage`` of it). This script asks the real recordings of ``machete_vive``
 (six people, two controllers, 11 whole-body gestures × 5) how many of a person's takes lie inside

@@ -47,7 +47,7 @@ def test_an_unknown_row_is_one_line_and_exit_2():
                           capture_output=True, text=True)
     assert proc.returncode == 2
     assert proc.stderr.strip().splitlines() == [
-        "--only: unknown row 'nope' (rows: sfinge, sfinge_hand_frame, machete_one, "
+        "--only: unknown row 'nope' (rows: sfinge, sfinge_no_hand_frame, machete_one, "
         "machete_right_hand, machete_two, replica, zigzag, check_mark)"]
 
 
@@ -60,7 +60,7 @@ def test_a_row_without_its_data_is_skipped(monkeypatch, tmp_path, capsys):
     assert not record.exists()
 
 
-@pytest.mark.parametrize("row", ["sfinge", "sfinge_hand_frame", "machete_two"])
+@pytest.mark.parametrize("row", ["sfinge", "sfinge_no_hand_frame", "machete_two"])
 def test_the_reported_figures_still_hold(row, capsys):
     """The real streams' rows that take under half a minute, run as the docs say: a change of the
     recognizer that moves one fails here until the figures are measured again (``python

@@ -52,11 +52,11 @@ def _model_options(f):
                      help="paper: screw-path resolution [m] (default: automatic)."),
         click.option("--latency-min", type=click.Choice(["0", "1"]), default=None,
                      help="paper: smallest latency searched (default: 0)."),
-        click.option("--hand-frame", "hand_frame", is_flag=True, default=None,
-                     help="segments, one tracker: the tracker's frame sits on every hand the same "
-                     "way (a hand tracker's palm, a controller held by its handle), so each "
-                     "gesture may learn which way it moves in that frame. Default: the tracker "
-                     "may sit in the hand any way."),
+        click.option("--hand-frame/--no-hand-frame", "hand_frame", default=None,
+                     help="segments, one tracker: whether the way the hand moves in the "
+                     "tracker's frame counts as evidence (default: it does; a motion that moves "
+                     "outside the cone of a gesture's takes must match it more closely). "
+                     "--no-hand-frame: nothing depends on how the tracker sits in the hand."),
         click.option("--invariance", type=click.Choice(INVARIANCES), default=None,
                      help="Models of several trackers only: what the offline classifier's "
                      "comparison ignores, as in evaluate-people (default: gravity, which needs "
@@ -102,10 +102,12 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
     from ..online.paper import PaperRecognizer
     from ..online.window_baseline import WindowSpotter
 
-    overrides = {k: v for k, v in kw.items() if v is not None and v is not False}
+    overrides = {k: v for k, v in kw.items()
+                 if v is not None and (v is not False or k == "hand_frame")}
     invariance = overrides.pop("invariance", None)
-    if overrides.get("hand_frame") and method != "segments":
-        raise FramefreeError("--hand-frame applies to --method segments")
+    if "hand_frame" in overrides and method != "segments":
+        flag = "--hand-frame" if overrides["hand_frame"] else "--no-hand-frame"
+        raise FramefreeError(f"{flag} applies to --method segments")
     if method == "window":
         given = [k for k in overrides if k not in ("threshold", "stop_threshold")]
         if given:

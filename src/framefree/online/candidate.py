@@ -69,6 +69,10 @@ class Candidate:
         Its hand direction (3,) in the tracker's frame
         (:func:`~framefree.online.hand_direction.hand_direction`; empty when no gesture's
         direction is limited or it does not move).
+    outranked : bool
+        Whether the model nearest by the descriptor alone, before the cones of hand directions
+        weigh the distances, is another gesture's whose limits refuse this candidate: refused
+        (the cones relabel only a motion whose shape that gesture admits).
     """
 
     start: int
@@ -92,6 +96,7 @@ class Candidate:
     tail: bool = False
     proportions: tuple[float, ...] = ()
     direction: tuple[float, ...] = ()
+    outranked: bool = False
 
 
 def candidate_spans(

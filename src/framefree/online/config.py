@@ -44,13 +44,16 @@ class RecognizerConfig:
         vertically as its gesture's takes, so a Z is no N; a world tilted against this axis
         then breaks recognition.
     hand_frame : bool
-        Whether the tracker's frame sits on every hand the same way, in the takes and live: the
-        palm pose of a hand tracker, a controller held by its handle (default False: the
-        tracker may sit in the hand any way, and nothing depends on how). When set, a gesture
-        whose takes move the same way in that frame (many takes that agree more than random
-        directions would) refuses a candidate that moves another way
-        (:mod:`framefree.online.hand_direction`); a tracker turned in the hand then breaks
-        recognition.
+        Whether the way the hand moves in the tracker's frame counts as evidence (default
+        True). A gesture whose takes move the same way in that frame (many takes that agree
+        more than random directions would: a dictionary of many people's examples, not one
+        person's five takes) learns a cone of directions, and a candidate that moves outside
+        it must match ``OFF_CONE_FACTOR`` (1.5) times more closely to be taken for it
+        (:mod:`framefree.online.hand_direction`). It pays where the tracker's frame sits on
+        every hand about the same way (a hand tracker's palm, a controller held by its
+        handle); a tracker turned in the hand since the takes costs only the performances near
+        their threshold. False: nothing depends on how the tracker sits in the hand. One
+        tracker only: the recognizer of several trackers does not use it.
     threshold : float or None
         One decision threshold τ for every gesture, > 0 [DTW distance]; None: each gesture's is
         calibrated on the takes.
@@ -89,7 +92,7 @@ class RecognizerConfig:
     """
 
     up: str | None = None
-    hand_frame: bool = False
+    hand_frame: bool = True
     threshold: float | None = None
     gesture_thresholds: dict[str, float] | None = None
     stop_threshold: float | None = None

@@ -1,11 +1,11 @@
-"""Which way the hand moves in its own frame, when every tracker sits on the hand the same way.
+"""Which way the hand moves in the tracker's frame: evidence a frame-free descriptor cannot see.
 
 Frame-free recognition does not see how the tracker sits in the hand, and so cannot see which way
 the hand moves relative to itself: a straight stroke to the palm's side and one to the back of the
 hand are the same motion to it. Where every take and every live stream put the tracker's frame on
-the hand the same way — the palm pose of a hand tracker, a controller held by its handle — that
-direction is a property of the gesture. On real continuous hand tracking (SFINGE3D) it is what
-tells a swipe from a free stroke of the same shape: the dictionary's *swipe left*s all move
+the hand about the same way — the palm pose of a hand tracker, a controller held by its handle —
+that direction is a property of the gesture. On real continuous hand tracking (SFINGE3D) it is
+what tells a swipe from a free stroke of the same shape: the dictionary's *swipe left*s all move
 within 58° of one direction of the palm, and the free strokes that passed for swipes moved 72–123°
 away from their class's direction, while the descriptor's distance does not separate them
 (docs/online-history.md, v26).
@@ -14,17 +14,22 @@ away from their class's direction, while the descriptor's distance does not sepa
 at each step, ``Σ R_kᵀ Δp_k``, over the steps at least :data:`FAST_STEP` times as long as its
 longest one (the stroke, not the noise of the rests around it), as a unit vector. A change of the
 world frame (``T → W T``) leaves it unchanged; a change of the tracker's place in the hand
-(``T → T G``) turns it by ``Gᵀ``: that is why it is used only when the user says the frame is the
-hand's (``RecognizerConfig.hand_frame``).
+(``T → T G``) turns it by ``Gᵀ``.
 
-*A gesture's limit* is a cone around the mean direction of its takes, learned only where the takes
+*A gesture's cone* lies around the mean direction of its takes, learned only where the takes
 agree more than random directions would: the Rayleigh test of uniformity on the sphere
 (``3 n R̄²`` is χ² with 3 degrees of freedom for ``n`` uniform directions with mean resultant
 length ``R̄``) must reject at :data:`SIGNIFICANCE`. Five takes never can (the most they reach is
-p = 0.0018), so one person's few takes set no limit; a benchmark's dictionary of many people's
+p = 0.0018), so one person's few takes set no cone; a benchmark's dictionary of many people's
 examples does. The cone's half-angle is the one that holds :data:`COVERAGE` of a von Mises–Fisher
 distribution fitted to the takes (concentration κ from ``R̄``, Banerjee et al. 2005), so a
 gesture performed more loosely gets a wider cone than its takes' spread alone would give.
+
+*The cone is evidence, not a gate* (v27): a motion that moves outside a gesture's cone counts as
+:data:`OFF_CONE_FACTOR` times farther from that gesture's models, so it is taken for the gesture
+only where it matches that much more closely. A tracker turned in the hand since the takes then
+costs only the performances near their threshold, where a hard limit (v26) lost half of them; a
+free stroke that merely has a swipe's shape, the other way in the hand, no longer passes.
 """
 
 from __future__ import annotations
@@ -34,8 +39,8 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-__all__ = ["COVERAGE", "FAST_STEP", "SIGNIFICANCE", "DirectionTable", "direction_limit",
-           "hand_direction", "rayleigh_p"]
+__all__ = ["COVERAGE", "FAST_STEP", "OFF_CONE_FACTOR", "SIGNIFICANCE", "DirectionTable",
+           "direction_limit", "hand_direction", "rayleigh_p"]
 
 #: Steps at least this fraction of a motion's longest step make its hand direction (chosen on
 #: SFINGE3D's sequences 1–18 and the Machete development people among 0, 0.3 and 0.5:
@@ -46,6 +51,10 @@ FAST_STEP = 0.3
 SIGNIFICANCE = 1e-3
 #: Fraction of the fitted von Mises–Fisher distribution inside a gesture's cone.
 COVERAGE = 0.99
+#: A motion outside a gesture's cone counts this many times farther from its models, so it must
+#: match 1 / OFF_CONE_FACTOR of the gesture's threshold (chosen on SFINGE3D's sequences 1–18 and
+#: the Machete development people: docs/online-history.md, v27).
+OFF_CONE_FACTOR = 1.5
 
 
 def hand_direction(poses: np.ndarray, fast_step: float = FAST_STEP) -> np.ndarray | None:
@@ -118,15 +127,18 @@ def direction_limit(directions: Sequence[np.ndarray], significance: float = SIGN
 
 
 class DirectionTable:
-    """Every model's cone, for the spotter: ``limits`` (M, 4) holds each model's mean direction
-    and largest angle [deg] (NaN angle: no limit)."""
+    """Every model's cone, for the spotter and its calibration: ``limits`` (M, 4) holds each
+    model's mean direction and largest angle [deg] (NaN angle: no cone); a motion outside a
+    model's cone counts ``factor`` times farther from it."""
 
-    def __init__(self, limits: np.ndarray | None, n_models: int) -> None:
+    def __init__(self, limits: np.ndarray | None, n_models: int,
+                 factor: float = OFF_CONE_FACTOR) -> None:
         table = (np.full((n_models, 4), np.nan) if limits is None
                  else np.asarray(limits, dtype=np.float64).reshape(n_models, 4))
         self.mean = np.nan_to_num(table[:, :3])
         self.cos = np.where(np.isnan(table[:, 3]), -2.0, np.cos(np.radians(table[:, 3])))
-        #: whether any model is limited (else no candidate's direction needs measuring)
+        self.factor = float(factor)
+        #: whether any model has a cone (else no candidate's direction needs measuring)
         self.active = bool(np.isfinite(table[:, 3]).any())
 
     def passes(self, j: int | slice, direction: np.ndarray | None) -> np.ndarray | bool:
@@ -138,16 +150,22 @@ class DirectionTable:
         cosines = np.asarray(direction, dtype=np.float64) @ self.mean[j].T
         return np.isnan(cosines) | (cosines >= self.cos[j])
 
+    def factors(self, direction: np.ndarray | None) -> np.ndarray:
+        """How many times farther (M,) a candidate moving along ``direction`` (3,) counts from
+        each model: 1 inside its cone, ``factor`` outside."""
+        inside = np.broadcast_to(np.asarray(self.passes(slice(None), direction), dtype=bool),
+                                 self.cos.shape)
+        return np.where(inside, 1.0, self.factor)
+
     def compared(self, distances: np.ndarray, direction: np.ndarray,
                  exact: Callable[[], np.ndarray] | None = None) -> np.ndarray:
-        """A candidate's distances (M,) with every model whose cone does not hold its hand
-        ``direction`` (3,) left out (inf): a motion is compared only with the gestures that move
-        its way, which a frame-free descriptor cannot tell from those that move another. With
-        ``exact``, the distances are a pruned search's: where its nearest model is left out, the
-        other values may be lower bounds, so ``exact()`` gives every model's distance instead."""
-        inside = np.asarray(self.passes(slice(None), direction), dtype=bool)
-        if inside.all():
+        """A candidate's distances (M,), those to the models whose cone does not hold its hand
+        ``direction`` (3,) ``factor`` times farther. With ``exact``, the distances are a pruned
+        search's, exact for the nearest model only: where that model lies outside its cone,
+        another may be nearest once weighed, so ``exact()`` gives every model's distance."""
+        scale = self.factors(direction)
+        if (scale == 1.0).all():
             return distances
-        if exact is not None and not inside[int(np.argmin(distances))]:
+        if exact is not None and scale[int(np.argmin(distances))] != 1.0:
             distances = exact()
-        return np.where(inside, distances, np.inf)
+        return distances * scale

@@ -148,9 +148,10 @@ class LearnedSettings:
         Smallest and largest verticality per gesture (only with ``RecognizerConfig.up``).
     direction_limits : dict of str to (float, float, float, float)
         Per gesture whose takes agree on it, the mean direction (x, y, z) in which the hand
-        moves in the tracker's frame and the largest angle [deg] from it a candidate may have
+        moves in the tracker's frame and the cone's half-angle [deg] around it; a candidate
+        outside counts ``OFF_CONE_FACTOR`` times farther from the gesture
         (:func:`~framefree.online.hand_direction.direction_limit`; only with
-        ``RecognizerConfig.hand_frame``).
+        ``RecognizerConfig.hand_frame``, the default).
     gesture_thresholds : dict of str to float
         Decision threshold τ_g per gesture [DTW distance].
     unseen : list of str

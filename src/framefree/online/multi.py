@@ -278,10 +278,10 @@ class MultiRecognizer(Recognizer):
         counts = {s.n_trackers for s in samples}
         if len(counts) != 1:
             raise ValueError(f"model recordings with different numbers of trackers: {sorted(counts)}")
-        config, given = split_settings(overrides, config)
-        if config.hand_frame:
+        if overrides.get("hand_frame"):
             raise ValueError("hand_frame applies to one tracker: several trackers' directions in "
                              "their frames are not learned")
+        config, given = split_settings(overrides, config)
         draft = LearnedDraft({**(learned.values() if learned is not None else {}), **given})
         if learned is not None:  # what a library learned keeps its rules
             draft.rules.update({n: r for n, r in learned.provenance.rules.items()

@@ -125,8 +125,9 @@ class Spotter:
         off).
     direction_limits : ndarray, shape (M, 4), optional
         Each model's cone of hand directions (:mod:`~framefree.online.hand_direction`): mean
-        direction (3,) in the tracker's frame and largest angle [deg], NaN for none (default:
-        no limit).
+        direction (3,) in the tracker's frame and largest angle [deg], NaN for none; a candidate
+        outside a model's cone counts ``OFF_CONE_FACTOR`` times farther from it (default: no
+        cone).
     proportion_limits : sequence of (list of (float, float)) or None, shape (M,), optional
         Per model, the stroke length ratios a candidate with its takes' corners must keep
         (:class:`~framefree.online.proportions.ProportionTable`; default: no limit).
@@ -291,7 +292,14 @@ class Spotter:
             ratio = float(d[j] / self.model_thresholds[j])
             ok = ratio < tier and bool(self.admissible(j, np.array([c]), np.array([size]),
                                                        corners, turns, v, pause, moved,
-                                                       [shares], way)[0])
+                                                       [shares])[0])
+            # the cones relabel only what the descriptor's own nearest gesture admits: a motion
+            # whose nearest model's limits refuse its shape is no gesture, whichever way it moves
+            unweighed = -1 if way is None else int(np.argmin(d / self.directions.factors(way)))
+            outranked = ok and unweighed not in (-1, j) and not bool(self.admissible(
+                unweighed, np.array([c]), np.array([size]), corners, turns, v, pause, moved,
+                [shares])[0])
+            ok = ok and not outranked
             back = (self.returns is not None
                     and self.returns.is_return(self._gesture(j), first.start, inside))
             ok = ok and not back
@@ -308,7 +316,8 @@ class Spotter:
             out.append(Candidate(first.start, last.end, first.start_t, last.end_t, j, float(d[j]),
                                  ratio, n, c, size, ok, corners, turns, v, pause, moved, back,
                                  full, proportions=tuple(shares.tolist()),
-                                 direction=() if way is None else tuple(way.tolist())))
+                                 direction=() if way is None else tuple(way.tolist()),
+                                 outranked=outranked))
         return refuse_tails(out, self._gesture)
 
     def needs_exact_nearest(self, batch: list[Candidate], n: int) -> bool:
@@ -339,8 +348,9 @@ class Spotter:
                   ) -> tuple[np.ndarray, float]:
         """Distances (M,) of a candidate to the models and its size [m]. Pruned, only models
         whose gesture admits the candidate's closure, size and corners can accept it, so the others get
-        threshold 0, the others ``bar`` times theirs, and a candidate that no gesture admits is
-        not searched at all (distances ``inf``). Either way the decision is the full search's."""
+        threshold 0, the others ``bar`` times theirs (over their cone's factor for ``way``, the
+        candidate's hand direction), and a candidate that no gesture admits is not searched at
+        all (distances ``inf``). Either way the decision is the full search's."""
         clf = self.classifier
         if not clf.pruning:
             return clf.distances(times, poses)
@@ -349,29 +359,29 @@ class Spotter:
             return np.full(len(clf.models), math.inf), 0.0
         descriptor, size = out
         admits = self.admitting_models(closure_, size, corners, turns, vertical, pause, moved,
-                                       shares, way)
-        accept_below = np.where(admits, bar * self.model_thresholds, 0.0)
+                                       shares)
+        # a model whose cone does not hold the candidate's direction must be that much nearer
+        accept_below = np.where(admits, bar * self.model_thresholds
+                                / self.directions.factors(way), 0.0)
         return clf.search_described(descriptor, accept_below), size
 
     def admitting_models(self, closure_: float, size: float, corners: int = 0, turns: int = 0,
                          vertical: float = math.nan, pause: float = 0.0, moved: float = math.inf,
-                         shares: np.ndarray | None = None, way: np.ndarray | None = None
-                         ) -> np.ndarray:
+                         shares: np.ndarray | None = None) -> np.ndarray:
         """Which models' gestures admit a segment of this closure, size [m], number of corners,
         turn kinds, verticality, longest rest at a corner [s], travel [m],
-        :func:`~framefree.online.proportions.proportions` (K,) and hand direction (3,)
+        and :func:`~framefree.online.proportions.proportions` (K,)
         (M,) bool: the rule of :meth:`admissible`, for every model at once."""
         padded = None if shares is None else self.proportions.padded(np.asarray(shares, float))
         return self._admits(slice(None), closure_, size, corners, turns, vertical, pause, moved,
-                            padded, way)
+                            padded)
 
     def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray,
                    corners: np.ndarray | int = 0, turns: np.ndarray | int = 0,
                    vertical: np.ndarray | float = math.nan,
                    pauses: np.ndarray | float = 0.0,
                    travels: np.ndarray | float = math.inf,
-                   shares: Sequence[np.ndarray] | None = None,
-                   way: np.ndarray | None = None) -> np.ndarray:
+                   shares: Sequence[np.ndarray] | None = None) -> np.ndarray:
         """Which segments (closures (n,), sizes (n,) [m], corners (n,), turn kinds (n,),
         verticality (n,) and longest rests at a corner (n,) [s], :attr:`Candidate.pause`) may be
         model ``j``'s gesture:
@@ -382,28 +392,26 @@ class Spotter:
         travel limit (travels (n,) [m]; ``inf``: not measured, passes), where a vertical is
         known, within its verticality range (NaN: unknown, passes), with as many corners as
         its takes agree on, within their proportions (``shares``: each segment's
-        :func:`~framefree.online.proportions.proportions`; None: not measured, passes), moving
-        within its cone of hand directions (``way``: each segment's (n, 3), or one for all (3,);
-        None or NaN: not measured, passes), and not a gesture the tracker does not follow
+        :func:`~framefree.online.proportions.proportions`; None: not measured, passes), and not
+        a gesture the tracker does not follow
         (:attr:`unseen`)."""
         padded = None if shares is None else self.proportions.padded(list(shares))
         return self._admits(j, np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float),
                             np.asarray(corners, dtype=float), np.asarray(turns, dtype=np.int64),
                             np.asarray(vertical, dtype=float), np.asarray(pauses, dtype=float),
-                            np.asarray(travels, dtype=float), padded, way)
+                            np.asarray(travels, dtype=float), padded)
 
     def _admits(self, j: int | slice, closures: Any, sizes: Any, corners: Any, turns: Any = 0,
                 vertical: Any = math.nan, pauses: Any = 0.0, travels: Any = math.inf,
-                padded: np.ndarray | None = None, way: np.ndarray | None = None) -> np.ndarray:
+                padded: np.ndarray | None = None) -> np.ndarray:
         """The admissibility rule for model(s) ``j`` (broadcast against the segments)."""
         passes = self._limits(j, closures, sizes, corners, turns, vertical, pauses, travels,
-                              padded, way)
+                              padded)
         return functools.reduce(operator.and_, passes.values())
 
     def _limits(self, j: int | slice, closures: Any, sizes: Any, corners: Any, turns: Any = 0,
                 vertical: Any = math.nan, pauses: Any = 0.0, travels: Any = math.inf,
-                padded: np.ndarray | None = None, way: np.ndarray | None = None
-                ) -> dict[str, np.ndarray]:
+                padded: np.ndarray | None = None) -> dict[str, np.ndarray]:
         """Each limit of model(s) ``j`` on its own: ``{limit: passes}`` (``padded``:
         :meth:`ProportionTable.padded <framefree.online.proportions.ProportionTable.padded>`
         proportions, or None: not measured)."""
@@ -420,7 +428,6 @@ class Spotter:
             "proportions": kept,
             "turns": (np.asarray(turns, dtype=np.int64) & self.forbidden_turns[j]) == 0,
             "vertical": ~((vertical < v_lo) | (vertical > v_hi)),  # NaN: no vertical known
-            "direction": self.directions.passes(j, way),
             "one go": ~(self.one_go[j] & (pauses > self.min_pause)),
             "unseen": ~self.unseen[j],
         }
@@ -431,10 +438,10 @@ class Spotter:
         padded = self.proportions.padded(np.asarray(candidate.proportions, dtype=float))
         passes = self._limits(candidate.model, candidate.closure, candidate.size,
                               candidate.corners, candidate.turns, candidate.vertical,
-                              candidate.pause, candidate.travel, padded,
-                              np.asarray(candidate.direction) if candidate.direction else None)
+                              candidate.pause, candidate.travel, padded)
         passes["return"] = not candidate.returning
         passes["tail"] = not candidate.tail
+        passes["nearest's limits"] = not candidate.outranked
         return [name for name, ok in passes.items() if not bool(ok)]
 
     def add_unit(self, unit: Unit) -> None:

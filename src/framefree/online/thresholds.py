@@ -16,8 +16,9 @@ candidate segment of it is classified against the *other* recordings of its gest
 * *rivals*: the other gestures. The distance (the classifier's, between whole recordings) of the
   nearest pair of a recording of ``g`` and a recording of another gesture bounds ``N_g`` from
   above: a segment that far from ``g`` may as well be the other gesture. A recording that moves
-  outside ``g``'s cone of hand directions (``hand_frame``) cannot be taken for ``g`` and bounds
-  nothing. With
+  outside ``g``'s cone of hand directions (``hand_frame``) counts as the cone's factor farther
+  from ``g``, as the live spotter counts it (:mod:`framefree.online.hand_direction`). Nothing
+  else here sees the cones. With
   ``rival_quantile`` > 0 the bound is that quantile, over the other gestures' recordings, of
   each one's distance to its nearest recording of ``g``, so that one stray pair does not set it.
 
@@ -43,7 +44,6 @@ from typing import NamedTuple
 import numpy as np
 
 from ..core.trajectory import Trajectory
-from .hand_direction import hand_direction
 from .limits import recording_direction, recording_units
 from .negatives import non_gesture_motions
 from .proportions import proportions
@@ -123,9 +123,6 @@ class SegmentScores(NamedTuple):
     proportions: list[np.ndarray] | None = None
     """(C,) of (K,): each candidate's :func:`~framefree.online.proportions.proportions`, which
     the spotter's proportion limits judge (None: not measured, no limit applies)."""
-    ways: np.ndarray | None = None
-    """(C, 3): each candidate's :func:`~framefree.online.hand_direction.hand_direction` (NaN
-    where it has none), which the spotter's cones judge (None: not measured, no limit applies)."""
 
 
 def segment_distances(
@@ -151,7 +148,6 @@ def segment_distances(
     turns: list[int] = []
     pauses: list[float] = []
     shares: list[np.ndarray] = []
-    ways: list[np.ndarray] = []
     for k in range(len(units)):
         for first, n in candidate_spans(units[: k + 1], spotter.max_units, spotter.max_duration,
                                         spotter.max_pause, -1, spotter.pause_ratio,
@@ -168,16 +164,12 @@ def segment_distances(
             turns.append(turn_kinds(units[i:k + 1], spotter.corner_angle))
             pauses.append(corner_rest(units[i:k + 1], spotter.corner_angle))
             shares.append(proportions(units[i:k + 1], spotter.corner_angle))
-            if spotter.directions.active:
-                way = hand_direction(P[spotter.margin:P.shape[0] - spotter.margin])
-                ways.append(np.full(3, np.nan) if way is None else way)
     if not rows:
         empty = np.zeros(0)
         return SegmentScores(np.full((0, len(classifier.models)), np.inf), empty, empty, empty,
                              np.zeros(0, dtype=np.int64), empty, [])
     return SegmentScores(np.vstack(rows), np.array(closures), np.array(sizes), np.array(corners),
-                         np.array(turns, dtype=np.int64), np.array(pauses), shares,
-                         np.array(ways) if ways else None)
+                         np.array(turns, dtype=np.int64), np.array(pauses), shares)
 
 
 def reach_down(
@@ -209,14 +201,13 @@ def reach_down(
     if not (reach > 1.0 and lo > 0.0):
         return None
     floor = lo / reach
-    for D, c, size, corners, turns, pauses, shares, ways in records:
+    for D, c, size, corners, turns, pauses, shares in records:
         band = (size >= floor) & (size < lo)
         if not band.any():
             continue
         shaped = spotter.admissible(model, c[band], np.full(int(band.sum()), lo), corners[band],
                                     turns[band], pauses=pauses[band],
-                                    shares=_selected(shares, band),
-                                    way=None if ways is None else ways[band])
+                                    shares=_selected(shares, band))
         if shaped.any() and float(D[band][shaped][:, own].min()) < threshold:
             return None
     return floor
@@ -284,10 +275,9 @@ def take_scores(
         else:
             copies = [tr]
         for copy in copies:
-            D, c, size, corners, turns, pauses, shares, ways = segment_distances(
+            D, c, size, corners, turns, pauses, shares = segment_distances(
                 copy, classifier, levels, spotter, L)
-            ok = spotter.admissible(r, c, size, corners, turns, pauses=pauses, shares=shares,
-                                    way=ways)
+            ok = spotter.admissible(r, c, size, corners, turns, pauses=pauses, shares=shares)
             positives[labels[r]].append(float(D[ok][:, same].min()) if ok.any() else np.inf)
     return positives
 
@@ -371,10 +361,13 @@ def calibrate_segment_thresholds(
         P = max(finite) if finite else np.inf
         N = _quantile(episodes[g], negative_quantile)
         own = labels_arr == g
-        rival = ~own & np.array([w is None or bool(spotter.directions.passes(first[g], w))
-                                 for w in ways])
+        rival = ~own
         if between is not None and rival.any():
-            nearest_of_g = between[np.ix_(own, rival)].min(axis=0)  # per take of another gesture
+            # per take of another gesture; one that moves outside g's cone counts farther, as the
+            # live spotter counts it
+            farther = np.array([spotter.directions.factors(w)[first[g]]
+                                for w, r in zip(ways, rival, strict=True) if r])
+            nearest_of_g = between[np.ix_(own, rival)].min(axis=0) * farther
             N = min(N, float(np.quantile(nearest_of_g, rival_quantile)))
         negatives[g] = N
         separated[g] = bool(P < N)
@@ -412,14 +405,14 @@ def _episode_scores(
     for kind, neg in non_gesture_motions(trajectories, labels, L, seed=seed,
                                          kinds=(*kinds, "regrip") if regrips else kinds):
         scores = segment_distances(neg, classifier, levels, spotter, L)
-        D, c, size, corners, turns, pauses, shares, ways = scores
+        D, c, size, corners, turns, pauses, shares = scores
         if regrips:
             records.append(scores)
         if kind == "regrip":
             continue
         for g in gestures:
             ok = spotter.admissible(first[g], c, size, corners, turns, pauses=pauses,
-                                    shares=shares, way=ways)
+                                    shares=shares)
             if ok.any():
                 episodes[g].append(float(D[ok][:, labels_arr == g].min()))
             elif gated:
