@@ -18,15 +18,13 @@ candidate, or at the latest ``max_wait`` seconds after its end.
 
 from __future__ import annotations
 
-import functools
 import math
-import operator
 from collections import deque
 from collections.abc import Sequence
-from typing import Any
 
 import numpy as np
 
+from .admission import GestureLimits
 from .candidate import Candidate, candidate_spans, refuse_tails
 from .hand_direction import DirectionTable, hand_direction
 from .proportions import ProportionTable, proportions
@@ -39,7 +37,7 @@ from .vertical import verticality
 __all__ = ["Candidate", "SegmentClassifier", "Spotter", "candidate_spans"]
 
 
-class Spotter:
+class Spotter(GestureLimits):
     """Candidate generation, classification and the pending/fire decision.
 
     Parameters
@@ -293,12 +291,8 @@ class Spotter:
             ok = ratio < tier and bool(self.admissible(j, np.array([c]), np.array([size]),
                                                        corners, turns, v, pause, moved,
                                                        [shares])[0])
-            # the cones relabel only what the descriptor's own nearest gesture admits: a motion
-            # whose nearest model's limits refuse its shape is no gesture, whichever way it moves
-            unweighed = -1 if way is None else int(np.argmin(d / self.directions.factors(way)))
-            outranked = ok and unweighed not in (-1, j) and not bool(self.admissible(
-                unweighed, np.array([c]), np.array([size]), corners, turns, v, pause, moved,
-                [shares])[0])
+            outranked = ok and self.outranked(j, d, way, c, size, corners, turns, v, pause,
+                                              moved, shares)
             ok = ok and not outranked
             back = (self.returns is not None
                     and self.returns.is_return(self._gesture(j), first.start, inside))
@@ -364,85 +358,6 @@ class Spotter:
         accept_below = np.where(admits, bar * self.model_thresholds
                                 / self.directions.factors(way), 0.0)
         return clf.search_described(descriptor, accept_below), size
-
-    def admitting_models(self, closure_: float, size: float, corners: int = 0, turns: int = 0,
-                         vertical: float = math.nan, pause: float = 0.0, moved: float = math.inf,
-                         shares: np.ndarray | None = None) -> np.ndarray:
-        """Which models' gestures admit a segment of this closure, size [m], number of corners,
-        turn kinds, verticality, longest rest at a corner [s], travel [m],
-        and :func:`~framefree.online.proportions.proportions` (K,)
-        (M,) bool: the rule of :meth:`admissible`, for every model at once."""
-        padded = None if shares is None else self.proportions.padded(np.asarray(shares, float))
-        return self._admits(slice(None), closure_, size, corners, turns, vertical, pause, moved,
-                            padded)
-
-    def admissible(self, j: int, closures: np.ndarray, sizes: np.ndarray,
-                   corners: np.ndarray | int = 0, turns: np.ndarray | int = 0,
-                   vertical: np.ndarray | float = math.nan,
-                   pauses: np.ndarray | float = 0.0,
-                   travels: np.ndarray | float = math.inf,
-                   shares: Sequence[np.ndarray] | None = None) -> np.ndarray:
-        """Which segments (closures (n,), sizes (n,) [m], corners (n,), turn kinds (n,),
-        verticality (n,) and longest rests at a corner (n,) [s], :attr:`Candidate.pause`) may be
-        model ``j``'s gesture:
-        within its size range, no more closed than its opening limit, within its closure limit
-        or ending within :attr:`return_error` of their start (closure × size), with no more
-        corners than its corner limit, no turn its gesture never makes, a rest at a corner of
-        at most ``min_pause`` if it is drawn in one go (:attr:`one_go`), travelling at least its
-        travel limit (travels (n,) [m]; ``inf``: not measured, passes), where a vertical is
-        known, within its verticality range (NaN: unknown, passes), with as many corners as
-        its takes agree on, within their proportions (``shares``: each segment's
-        :func:`~framefree.online.proportions.proportions`; None: not measured, passes), and not
-        a gesture the tracker does not follow
-        (:attr:`unseen`)."""
-        padded = None if shares is None else self.proportions.padded(list(shares))
-        return self._admits(j, np.asarray(closures, dtype=float), np.asarray(sizes, dtype=float),
-                            np.asarray(corners, dtype=float), np.asarray(turns, dtype=np.int64),
-                            np.asarray(vertical, dtype=float), np.asarray(pauses, dtype=float),
-                            np.asarray(travels, dtype=float), padded)
-
-    def _admits(self, j: int | slice, closures: Any, sizes: Any, corners: Any, turns: Any = 0,
-                vertical: Any = math.nan, pauses: Any = 0.0, travels: Any = math.inf,
-                padded: np.ndarray | None = None) -> np.ndarray:
-        """The admissibility rule for model(s) ``j`` (broadcast against the segments)."""
-        passes = self._limits(j, closures, sizes, corners, turns, vertical, pauses, travels,
-                              padded)
-        return functools.reduce(operator.and_, passes.values())
-
-    def _limits(self, j: int | slice, closures: Any, sizes: Any, corners: Any, turns: Any = 0,
-                vertical: Any = math.nan, pauses: Any = 0.0, travels: Any = math.inf,
-                padded: np.ndarray | None = None) -> dict[str, np.ndarray]:
-        """Each limit of model(s) ``j`` on its own: ``{limit: passes}`` (``padded``:
-        :meth:`ProportionTable.padded <framefree.online.proportions.ProportionTable.padded>`
-        proportions, or None: not measured)."""
-        closes = (closures <= self.closure_limits[j]) | (closures * sizes <= self.return_error)
-        kept = (True if padded is None
-                else self.proportions.passes(j, np.asarray(corners), padded))
-        v_lo, v_hi = self.vertical_limits[j, 0], self.vertical_limits[j, 1]
-        return {
-            "closure": closes,
-            "opening": closures >= self.opening_limits[j],
-            "size": (sizes >= self.size_limits[j, 0]) & (sizes <= self.size_limits[j, 1]),
-            "travel": travels >= self.travel_limits[j],
-            "corners": corners <= self.corner_limits[j],
-            "proportions": kept,
-            "turns": (np.asarray(turns, dtype=np.int64) & self.forbidden_turns[j]) == 0,
-            "vertical": ~((vertical < v_lo) | (vertical > v_hi)),  # NaN: no vertical known
-            "one go": ~(self.one_go[j] & (pauses > self.min_pause)),
-            "unseen": ~self.unseen[j],
-        }
-
-    def refusals(self, candidate: Candidate) -> list[str]:
-        """The limits of its nearest model's gesture that refuse ``candidate`` (empty: none
-        does; :mod:`framefree.online.diagnosis` says so for a missed gesture)."""
-        padded = self.proportions.padded(np.asarray(candidate.proportions, dtype=float))
-        passes = self._limits(candidate.model, candidate.closure, candidate.size,
-                              candidate.corners, candidate.turns, candidate.vertical,
-                              candidate.pause, candidate.travel, padded)
-        passes["return"] = not candidate.returning
-        passes["tail"] = not candidate.tail
-        passes["nearest's limits"] = not candidate.outranked
-        return [name for name, ok in passes.items() if not bool(ok)]
 
     def add_unit(self, unit: Unit) -> None:
         """Keep a unit that ended, with the rest [s] the hand held before it."""
