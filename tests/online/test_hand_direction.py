@@ -153,17 +153,22 @@ def _stroke_in(X: np.ndarray, G: np.ndarray, shape: np.ndarray = STROKE) -> Traj
     return Trajectory.from_poses(DT * np.arange(P.shape[0]), X @ P @ G)
 
 
+def _takes_in_world_frames(shape: np.ndarray, seed: int, n: int = 12) -> list[Trajectory]:
+    """``n`` takes of ``shape``, moving along the tracker's x axis, each in its own world frame."""
+    rng = np.random.default_rng(seed)
+    takes = []
+    for take in drawn_takes(shape, n, rng):
+        _, P = take.uniform_poses(DT)
+        X = se3.pose_from_twist(rng.uniform(-3.0, 3.0, 6))
+        takes.append(Trajectory.from_poses(DT * np.arange(P.shape[0]), X @ P))
+    return takes
+
+
 @pytest.fixture(scope="module")
 def stroke_recognizers():
     """Twelve strokes along the tracker's x axis, each in its own world frame, enrolled with one
     loose threshold, with and without ``hand_frame``."""
-    rng = np.random.default_rng(4)
-    takes = []
-    for take in drawn_takes(STROKE, 12, rng):
-        _, P = take.uniform_poses(DT)
-        X = se3.pose_from_twist(rng.uniform(-3.0, 3.0, 6))
-        takes.append(Trajectory.from_poses(DT * np.arange(P.shape[0]), X @ P))
-    labels = ["stroke"] * 12
+    takes, labels = _takes_in_world_frames(STROKE, 4), ["stroke"] * 12
     return [Recognizer.from_trajectories(takes, labels, threshold=0.2, hand_frame=flag)
             for flag in (True, False)]
 
@@ -194,16 +199,9 @@ def _fired_and_nearest(rec: Recognizer, traj: Trajectory) -> tuple[list[str], fl
 
 @pytest.fixture(scope="module")
 def bent_recognizers():
-    """Twelve bent strokes moving along the tracker's x axis, each in its own world frame,
-    enrolled with a loose threshold with ``hand_frame`` and without, and a second time with a
-    tight one (the takes, labels and settings to build it from)."""
-    rng = np.random.default_rng(6)
-    takes = []
-    for take in drawn_takes(BENT, 12, rng):
-        _, P = take.uniform_poses(DT)
-        X = se3.pose_from_twist(rng.uniform(-3.0, 3.0, 6))
-        takes.append(Trajectory.from_poses(DT * np.arange(P.shape[0]), X @ P))
-    labels = ["bent"] * 12
+    """Twelve bent strokes along the tracker's x axis, each in its own world frame, their labels,
+    and the recognizers enrolled with one loose threshold, with and without ``hand_frame``."""
+    takes, labels = _takes_in_world_frames(BENT, 6), ["bent"] * 12
     return takes, labels, [Recognizer.from_trajectories(takes, labels, threshold=0.5,
                                                         hand_frame=flag) for flag in (True, False)]
 
