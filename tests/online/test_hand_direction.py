@@ -35,6 +35,7 @@ from framefree.online.hand_direction import (
     direction_limit,
     hand_direction,
     rayleigh_p,
+    weighed,
 )
 from framefree.online.learned import LearnedSettings
 from framefree.online.segmentation import Unit
@@ -136,13 +137,14 @@ def test_a_motion_outside_a_cone_counts_farther_from_its_models():
         calls.append(1)
         return np.array([0.3, 0.1, 0.5])
 
+    scale = table.factors(way)
     # the nearest model moves the other way: a pruned search's values other than the nearest's
     # may be bounds, so the distances are searched in full before they are weighed
-    assert list(table.compared(np.array([0.4, 0.1, 0.6]), way, exact)) == [0.3, 0.2, 0.5]
+    assert list(weighed(np.array([0.4, 0.1, 0.6]), scale, exact)) == [0.3, 0.2, 0.5]
     assert calls == [1]
     # the nearest moves this way: weighing cannot make another one nearer, nothing is searched
-    assert list(table.compared(np.array([0.1, 0.2, 0.6]), way, exact)) == [0.1, 0.4, 0.6]
-    assert list(table.compared(np.array([0.4, 0.1, 0.6]), way)) == [0.4, 0.2, 0.6]  # exact
+    assert list(weighed(np.array([0.1, 0.2, 0.6]), scale, exact)) == [0.1, 0.4, 0.6]
+    assert list(weighed(np.array([0.4, 0.1, 0.6]), scale)) == [0.4, 0.2, 0.6]  # exact
     assert calls == [1]
 
 

@@ -92,7 +92,7 @@ class _Limits:
 
     size_limits = np.array([[0.3, 1.0]])
 
-    def admissible(self, j, closures, sizes, corners, turns, pauses=0.0, shares=None, way=None):
+    def admissible(self, j, closures, sizes, corners, turns, pauses=0.0, shares=None):
         return np.ones(len(closures), dtype=bool)
 
 

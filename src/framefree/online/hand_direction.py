@@ -40,7 +40,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 __all__ = ["COVERAGE", "FAST_STEP", "OFF_CONE_FACTOR", "SIGNIFICANCE", "DirectionTable",
-           "direction_limit", "hand_direction", "rayleigh_p"]
+           "direction_limit", "hand_direction", "rayleigh_p", "weighed"]
 
 #: Steps at least this fraction of a motion's longest step make its hand direction (chosen on
 #: SFINGE3D's sequences 1–18 and the Machete development people among 0, 0.3 and 0.5:
@@ -143,12 +143,10 @@ class DirectionTable:
 
     def passes(self, j: int | slice, direction: np.ndarray | None) -> np.ndarray | bool:
         """Whether a candidate moving along ``direction`` (3,) lies in the cone of model(s)
-        ``j``, or, for one model, each of several candidates (n, 3) (None or a NaN row: not
-        measured, passes)."""
+        ``j`` (None: not measured, passes)."""
         if direction is None:
             return True
-        cosines = np.asarray(direction, dtype=np.float64) @ self.mean[j].T
-        return np.isnan(cosines) | (cosines >= self.cos[j])
+        return self.mean[j] @ np.asarray(direction, dtype=np.float64) >= self.cos[j]
 
     def factors(self, direction: np.ndarray | None) -> np.ndarray:
         """How many times farther (M,) a candidate moving along ``direction`` (3,) counts from
@@ -157,15 +155,15 @@ class DirectionTable:
                                  self.cos.shape)
         return np.where(inside, 1.0, self.factor)
 
-    def compared(self, distances: np.ndarray, direction: np.ndarray,
-                 exact: Callable[[], np.ndarray] | None = None) -> np.ndarray:
-        """A candidate's distances (M,), those to the models whose cone does not hold its hand
-        ``direction`` (3,) ``factor`` times farther. With ``exact``, the distances are a pruned
-        search's, exact for the nearest model only: where that model lies outside its cone,
-        another may be nearest once weighed, so ``exact()`` gives every model's distance."""
-        scale = self.factors(direction)
-        if (scale == 1.0).all():
-            return distances
-        if exact is not None and scale[int(np.argmin(distances))] != 1.0:
-            distances = exact()
-        return distances * scale
+
+def weighed(distances: np.ndarray, scale: np.ndarray,
+            exact: Callable[[], np.ndarray] | None = None) -> np.ndarray:
+    """A candidate's distances (M,) to the models, each times its cone's factor ``scale`` (M,)
+    (:meth:`DirectionTable.factors`). With ``exact``, the distances are a pruned search's, exact
+    for the nearest model only: where that model lies outside its cone, another may be nearest
+    once weighed, so ``exact()`` gives every model's distance first."""
+    if (scale == 1.0).all():
+        return distances
+    if exact is not None and scale[int(np.argmin(distances))] != 1.0:
+        distances = exact()
+    return distances * scale

@@ -26,7 +26,7 @@ import numpy as np
 
 from .admission import GestureLimits
 from .candidate import Candidate, candidate_spans, refuse_tails
-from .hand_direction import DirectionTable, hand_direction
+from .hand_direction import DirectionTable, hand_direction, weighed
 from .proportions import ProportionTable, proportions
 from .returns import ReturnGuard
 from .segment_classifier import SegmentClassifier
@@ -277,13 +277,12 @@ class Spotter(GestureLimits):
             shares = (proportions(span, self.corner_angle) if self.proportions.active
                       else np.zeros(0))
             way = hand_direction(inside) if self.directions.active else None
+            scale = self.directions.factors(way)  # each model's cone's factor (M,)
             tier = bar if full else brief_bar
             d, size = self._classify(times, poses, c, tier, corners, turns, v, pause, moved,
-                                     shares, way)
-            if way is not None:
-                d = self.directions.compared(d, way, (
-                    lambda t=times, P=poses: self.classifier.distances(t, P)[0]
-                ) if self.classifier.pruning else None)
+                                     shares, scale)
+            d = weighed(d, scale, (lambda t=times, P=poses: self.classifier.distances(t, P)[0])
+                        if self.classifier.pruning else None)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
@@ -291,7 +290,7 @@ class Spotter(GestureLimits):
             ok = ratio < tier and bool(self.admissible(j, np.array([c]), np.array([size]),
                                                        corners, turns, v, pause, moved,
                                                        [shares])[0])
-            outranked = ok and self.outranked(j, d, way, c, size, corners, turns, v, pause,
+            outranked = ok and self.outranked(j, d, scale, c, size, corners, turns, v, pause,
                                               moved, shares)
             ok = ok and not outranked
             back = (self.returns is not None
@@ -300,9 +299,7 @@ class Spotter(GestureLimits):
             if not ok and full and self.needs_exact_nearest(out, n):
                 # its nearest gesture decides whether the part before it is a tail: a refused
                 # candidate's pruned values are bounds, so search it in full
-                d = self.classifier.distances(times, poses)[0]
-                if way is not None:
-                    d = self.directions.compared(d, way)
+                d = self.classifier.distances(times, poses)[0] * scale
                 j = int(np.argmin(d))
                 ratio = float(d[j] / self.model_thresholds[j])
             if ok and self.tighten and not self.fire_on_motion:
@@ -338,13 +335,13 @@ class Spotter(GestureLimits):
     def _classify(self, times: np.ndarray, poses: np.ndarray, closure_: float, bar: float = 1.0,
                   corners: int = 0, turns: int = 0, vertical: float = math.nan,
                   pause: float = 0.0, moved: float = math.inf,
-                  shares: np.ndarray | None = None, way: np.ndarray | None = None
+                  shares: np.ndarray | None = None, scale: np.ndarray | None = None
                   ) -> tuple[np.ndarray, float]:
         """Distances (M,) of a candidate to the models and its size [m]. Pruned, only models
         whose gesture admits the candidate's closure, size and corners can accept it, so the others get
-        threshold 0, the others ``bar`` times theirs (over their cone's factor for ``way``, the
-        candidate's hand direction), and a candidate that no gesture admits is not searched at
-        all (distances ``inf``). Either way the decision is the full search's."""
+        threshold 0, the others ``bar`` times theirs (over their cone's factor ``scale`` (M,)
+        for the candidate's hand direction; None: 1), and a candidate that no gesture
+        admits is not searched at all (distances ``inf``). Either way the decision is the full search's."""
         clf = self.classifier
         if not clf.pruning:
             return clf.distances(times, poses)
@@ -355,8 +352,8 @@ class Spotter(GestureLimits):
         admits = self.admitting_models(closure_, size, corners, turns, vertical, pause, moved,
                                        shares)
         # a model whose cone does not hold the candidate's direction must be that much nearer
-        accept_below = np.where(admits, bar * self.model_thresholds
-                                / self.directions.factors(way), 0.0)
+        below = bar * self.model_thresholds if scale is None else bar * self.model_thresholds / scale
+        accept_below = np.where(admits, below, 0.0)
         return clf.search_described(descriptor, accept_below), size
 
     def add_unit(self, unit: Unit) -> None:

@@ -361,13 +361,12 @@ def calibrate_segment_thresholds(
         P = max(finite) if finite else np.inf
         N = _quantile(episodes[g], negative_quantile)
         own = labels_arr == g
-        rival = ~own
-        if between is not None and rival.any():
+        if between is not None and (~own).any():
             # per take of another gesture; one that moves outside g's cone counts farther, as the
             # live spotter counts it
             farther = np.array([spotter.directions.factors(w)[first[g]]
-                                for w, r in zip(ways, rival, strict=True) if r])
-            nearest_of_g = between[np.ix_(own, rival)].min(axis=0) * farther
+                                for w, mine in zip(ways, own, strict=True) if not mine])
+            nearest_of_g = between[np.ix_(own, ~own)].min(axis=0) * farther
             N = min(N, float(np.quantile(nearest_of_g, rival_quantile)))
         negatives[g] = N
         separated[g] = bool(P < N)
