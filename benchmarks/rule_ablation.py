@@ -59,6 +59,8 @@ RULES: dict[str, tuple[str, dict[str, Any]]] = {
                 {"fire_on_motion": True}),
     "brief_starts": ("candidates also after a brief dip below the rest level (with the tail rule)",
                      {"brief_starts": False}),
+    "settle": ("a stroke that stays below half its peak for 0.3 s has ended (v28)",
+               {"settle": float("inf")}),
     "returns": ("the way back after a gesture is not that gesture again", {"returns": False}),
     "one_go": ("a gesture drawn in one go does not rest at a corner", {"gesture_pauses": False}),
     "closure": ("closure and opening limits", {"closure": False}),

@@ -130,6 +130,12 @@ class SpottingConstants(_Group):
         Move level = move_factor × rest level, above 1: the hysteresis of a movement unit (1.5).
     valley_ratio : float
         A speed minimum below this fraction of a stroke's peak splits two units, in (0, 1) (0.5).
+    settle : float
+        A stroke whose speed stays below ``valley_ratio`` × its peak this long [s] without
+        resting has ended, and confirms a gesture as a rest does (0.3, v28;
+        :class:`~framefree.online.segmentation.MotionSegmenter`). Chosen on SFINGE3D's
+        sequences 1–18 and three Machete people: at 0.2 s the top of a golf swing settles.
+        ``inf``: never.
     span_factor : float
         How much slower than the takes another person may be: the longest candidate and the
         longest rest inside one are this factor times the takes' (2.5).
@@ -231,6 +237,7 @@ class SpottingConstants(_Group):
     peak_fraction: float = 0.05
     move_factor: float = 1.5
     valley_ratio: float = 0.5
+    settle: float = 0.3
     span_factor: float = 2.5
     pause_factor: float = 1.5
     min_pause: float = 0.5
@@ -286,6 +293,9 @@ class SpottingConstants(_Group):
             raise ValueError(f"return_error must be a finite number >= 0, got {self.return_error}")
         if not 0 < self.valley_ratio < 1:
             raise ValueError(f"valley_ratio must be in (0, 1), got {self.valley_ratio}")
+        if not (isinstance(self.settle, (int, float)) and self.settle > 0):
+            raise ValueError(f"settle must be a positive number of seconds (Infinity: never), "
+                             f"got {self.settle!r}")
         if not self.move_factor > 1:
             raise ValueError(f"move_factor must be above 1 (a hysteresis), got {self.move_factor}")
         if self.margin < 0:

@@ -76,8 +76,9 @@ class MultiPoseBuffer(PoseBuffer):
 class MultiMotionSegmenter(MotionSegmenter):
     """Movement units of several trackers on the sum of their motion speeds [m/s].
 
-    Same parameters as :class:`~framefree.online.segmentation.MotionSegmenter`, and
-    ``n_trackers``. Units carry no headings (corners and turns are single-tracker rules).
+    Same parameters as :class:`~framefree.online.segmentation.MotionSegmenter` but ``settle``
+    (several trackers never settle: not measured on them), and ``n_trackers``. Units carry no
+    headings (corners and turns are single-tracker rules).
     """
 
     def __init__(self, levels: SpeedLevels, L: float, dt: float = 0.02, lag: int = 5,
@@ -92,9 +93,10 @@ class MultiMotionSegmenter(MotionSegmenter):
                                          self.L) for j in range(A.shape[0]))
         return total / (self.lag * self.dt)
 
-    def _close(self, end: int, rest_after: bool) -> Unit:
+    def _close(self, end: int, rest_after: bool, settled: bool = False) -> Unit:
         buf = self.buffer
-        unit = Unit(self._start, end, buf.time(self._start), buf.time(end), self._peak, rest_after)
+        unit = Unit(self._start, end, buf.time(self._start), buf.time(end), self._peak, rest_after,
+                    settled=settled)
         self.units.append(unit)
         return unit
 

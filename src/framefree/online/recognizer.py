@@ -151,7 +151,8 @@ class Recognizer(StreamingRecognizer):
         self.smoothing_delay = 0.0 if self.smoother is None else self.smoother.delay
         capacity = math.ceil((s.max_duration + c.max_wait + 2.0) / k.dt) + 2 * k.margin
         self.segmenter = MotionSegmenter(SpeedLevels(s.rest_speed, s.move_speed), c.descriptor.L,
-                                         k.dt, k.speed_lag, k.valley_ratio, capacity)
+                                         k.dt, k.speed_lag, k.valley_ratio, capacity,
+                                         settle=k.settle)
         self.spotter = make_spotter(classifier, self.model_thresholds, c, s, self.labels)
         self._counts = dict.fromkeys(STAT_KEYS, 0)
         self.observations: list[tuple[float, np.ndarray]] = []

@@ -14,9 +14,11 @@ Three stages, each small and with its own state:
   grid (ScLERP between consecutive samples), the grid the offline classifier resamples to as well;
 * :class:`PoseBuffer`: a ring buffer of the latest uniform poses (bounded memory);
 * :class:`MotionSegmenter`: the speed signal and the units, with hysteresis between a *rest* level
-  and a *move* level, and a *valley* rule for strokes that follow each other without rest (a
+  and a *move* level, a *valley* rule for strokes that follow each other without rest (a
   local speed minimum below ``valley_ratio`` × the stroke's peak, confirmed when the speed rises
-  again by the same factor).
+  again by the same factor), and a *settle* rule for a stroke after which the hand drifts on
+  without resting (the speed stays below ``valley_ratio`` × the stroke's peak for ``settle``
+  seconds).
 
 The rest and move levels come from the model recordings
 (:func:`~framefree.online.rest_levels.speed_levels`): the noise floor of their rests and the peak
@@ -189,7 +191,7 @@ class Unit:
         Peak motion speed [m/s of screw path] within the unit.
     rest_after : bool
         True if the hand came to rest after the unit, False if the next unit followed at a speed
-        minimum.
+        minimum or after the unit settled.
     heading_in, heading_out : ndarray, shape (6,), or None
         Which way the hand moves (:func:`heading`, over the speed's lag) from where the unit
         first reaches, and up to where it last keeps, :data:`HEADING_SPEED` × its peak speed:
@@ -199,6 +201,11 @@ class Unit:
         Where the unit goes as a whole: :func:`heading` from its first to its last pose. A side of
         a drawn polygon is the same however its ends were taken; the plane two chords span is
         what :func:`~framefree.online.span_shape.turn_kinds` compares. ``None`` when unknown.
+    settled : bool
+        True if the unit ended because it settled: its speed stayed below ``valley_ratio`` × its
+        peak for the segmenter's ``settle`` time without the hand coming to rest
+        (:class:`MotionSegmenter`). The unit ends where the speed fell below; the slower motion
+        after it is the next unit.
     """
 
     start: int
@@ -210,6 +217,7 @@ class Unit:
     heading_in: np.ndarray | None = field(default=None, compare=False, repr=False)
     heading_out: np.ndarray | None = field(default=None, compare=False, repr=False)
     chord: np.ndarray | None = field(default=None, compare=False, repr=False)
+    settled: bool = False
 
 
 @dataclass(frozen=True)
@@ -281,6 +289,12 @@ class MotionSegmenter:
         preceding peak and the speed then rises to ``1/valley_ratio`` × the minimum.
     capacity : int
         Poses kept in the buffer.
+    settle : float
+        Time [s] after which a unit whose speed stays below ``valley_ratio`` × its peak, above
+        the rest level, has *settled*: it ends where the speed fell below, the slower motion
+        after it starts the next unit, and :attr:`resting` is True for that one pose, so a
+        gesture that ended there is confirmed as by a rest. Real hands seldom rest after a
+        gesture; they slow down and drift on. ``math.inf`` (the default): never.
     """
 
     def __init__(
@@ -291,14 +305,18 @@ class MotionSegmenter:
         lag: int = 5,
         valley_ratio: float = 0.5,
         capacity: int = 1500,
+        settle: float = math.inf,
     ) -> None:
         if not 0 < valley_ratio < 1:
             raise ValueError(f"valley_ratio must be in (0, 1), got {valley_ratio}")
+        if not settle > 0:
+            raise ValueError(f"settle must be positive, got {settle}")
         self.levels = levels
         self.L = float(L)
         self.dt = float(dt)
         self.lag = int(lag)
         self.valley_ratio = float(valley_ratio)
+        self.settle = float(settle)
         self.buffer = PoseBuffer(capacity)
         # the speed of every buffered pose that is the middle of a lag (NaN where none was measured)
         self._speeds = np.full(capacity, np.nan)
@@ -315,18 +333,22 @@ class MotionSegmenter:
         self._peak = 0.0
         self._vmin = math.inf
         self._imin = 0
+        self._below: int | None = None  # where the speed last fell below valley_ratio × peak
+        self.settled_now = False
         self._last_rest = self.buffer.count
         self._speeds[:] = np.nan
         self.speed = math.nan
 
     @property
     def resting(self) -> bool:
-        """True while the hand is at rest (no unit in progress)."""
-        return not self.moving
+        """True while the hand is at rest (no unit in progress), and at the pose where a unit
+        settled."""
+        return not self.moving or self.settled_now
 
     def push(self, t: float, T: np.ndarray) -> Unit | None:
         """Add one uniform pose; return the unit that ended with it, if any."""
         k = self.buffer.append(t, T)
+        self.settled_now = False
         self._since_restart += 1
         if self._since_restart <= self.lag:
             self._last_rest = k
@@ -340,7 +362,7 @@ class MotionSegmenter:
             if v > lv.move:
                 self.moving = True
                 self._start = self._last_rest
-                self._peak, self._vmin = v, math.inf
+                self._peak, self._vmin, self._below = v, math.inf, None
             elif v < lv.rest:
                 self._last_rest = c
             return None
@@ -351,14 +373,33 @@ class MotionSegmenter:
         if v > self._peak and self._vmin == math.inf:
             self._peak = v
             return None
+        if (settled := self._settled(c, v)) is not None:
+            return settled
         if v < self.valley_ratio * self._peak and v < self._vmin:
             self._vmin, self._imin = v, c
             return None
         if self._vmin < math.inf and v > self._vmin / self.valley_ratio and v > lv.move:
             unit = self._close(self._imin, rest_after=False)
-            self._start, self._peak, self._vmin = self._imin, v, math.inf
+            self._start, self._peak, self._vmin, self._below = self._imin, v, math.inf, None
             return unit
         return None
+
+    def _settled(self, c: int, v: float) -> Unit | None:
+        """The unit in progress, ended where its speed fell below ``valley_ratio`` × its peak,
+        if it has stayed below for :attr:`settle` seconds up to the speed ``v`` at running index
+        ``c``; the motion from there on is the next unit."""
+        if v >= self.valley_ratio * self._peak:
+            self._below = None
+            return None
+        if self._below is None:
+            self._below = c
+        if (c - self._below) * self.dt < self.settle - 1e-9:
+            return None
+        end = self._below
+        unit = self._close(end, rest_after=False, settled=True)
+        self._start, self._peak, self._vmin, self._below = end, v, math.inf, None
+        self.settled_now = True
+        return unit
 
     def _speed(self, k: int) -> float:
         """Motion speed [m/s] at the buffered pose ``k``: the screw path from the pose ``lag``
@@ -375,13 +416,13 @@ class MotionSegmenter:
         self._last_rest = end
         return self._close(end, rest_after=True) if end > self._start else None
 
-    def _close(self, end: int, rest_after: bool) -> Unit:
+    def _close(self, end: int, rest_after: bool, settled: bool = False) -> Unit:
         heading_in, heading_out = self._headings(self._start, end)
         buf = self.buffer
         chord = (heading(buf.pose(self._start), buf.pose(end), self.L)
                  if buf.oldest <= self._start <= end else None)
         unit = Unit(self._start, end, buf.time(self._start), buf.time(end),
-                    self._peak, rest_after, heading_in, heading_out, chord)
+                    self._peak, rest_after, heading_in, heading_out, chord, settled)
         self.units.append(unit)
         return unit
 
