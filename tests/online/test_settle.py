@@ -2,7 +2,8 @@
 on. A unit whose speed stays below ``valley_ratio`` × its peak for ``settle`` seconds, above the
 rest level, ends where the speed fell below, and the segmenter says ``resting`` at that one
 pose, so a gesture that ended there fires as after a rest; the drift is the next unit. A
-briefer slow stretch (the top of a golf swing) does not settle."""
+briefer slow stretch that rises into the next stroke (the top of a golf swing) does not
+settle."""
 
 from __future__ import annotations
 
@@ -35,13 +36,15 @@ def _bell(duration: float) -> np.ndarray:
 
 def _stroke_then_drift(drift_s: float, drift: float = 0.25 * PEAK) -> np.ndarray:
     """Rest, a stroke whose speed, once down to ``drift`` [m/s], stays there for ``drift_s``
-    seconds, then a stroke as fast as the first, then rest."""
+    seconds, then rises straight into a second stroke as fast as the first (as from the top of
+    a golf swing), then rest."""
     bell = _bell(0.8)
     peak = int(np.argmax(bell))
     down = peak + int(np.flatnonzero(bell[peak:] <= drift)[0])
+    up = int(np.flatnonzero(bell[:peak] >= drift)[0])
     rest = np.zeros(round(0.5 / DT))
     slow = np.full(round(drift_s / DT), drift)
-    return np.concatenate([rest, bell[:down], slow, bell[bell.size // 2 - peak + down:], bell, rest])
+    return np.concatenate([rest, bell[:down], slow, bell[up:], rest])
 
 
 def _run(speeds: np.ndarray, settle: float) -> tuple[list[Unit], list[float]]:
@@ -75,13 +78,13 @@ def test_a_stroke_that_drifts_on_settles_where_its_speed_fell_below_half():
     assert first.end_t + 0.3 - 1e-9 <= settled_at[0] <= first.end_t + 0.3 + 0.06
     # the drift is not lost: the next unit starts where the first ended
     assert units[1].start == first.end and not units[1].settled
-    # never settling, the same motion is cut at the speed minimum before the second stroke only
+    # never settling, the same motion is cut only at the speed minimum before the second
+    # stroke, and nothing says the hand rested
     never, none = _run(speeds, settle=math.inf)
-    assert not none and not any(u.settled for u in never)
-    assert never[0].end_t > first.end_t + 0.4
+    assert not none and not any(u.settled for u in never) and len(never) == 2
 
 
-@pytest.mark.parametrize("drift_s, settles", [(0.15, False), (0.5, True)])
+@pytest.mark.parametrize("drift_s, settles", [(0.1, False), (0.5, True)])
 def test_only_a_slow_stretch_longer_than_the_settle_time_settles(drift_s, settles):
     units, settled_at = _run(_stroke_then_drift(drift_s), settle=0.3)
     assert any(u.settled for u in units) is settles
