@@ -43,6 +43,8 @@ SHORTENED = [
     ("framefree benchmark --out", "{} --methods bilts+:screw --no-figures",
      "all 17 rows take minutes on a shared machine: one row"),
     ("framefree benchmark --methods", "{} --no-figures", "no figures (the first run drew them)"),
+    ("framefree benchmark --contexts", "{} --methods bilts+:screw --no-figures",
+     "all 18 rows over the paper's contexts take two minutes: one row"),
     ("framefree evaluate-stream --models ../shared/data/sfinge_dev/templates",
      "framefree evaluate-stream --models hpm_replica --gestures go_left,go_right "
      "hpm_replica/streams/stream_1.csv",

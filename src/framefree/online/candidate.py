@@ -56,7 +56,8 @@ class Candidate:
         Whether it is the way back after the gesture that fired last, as that gesture
         (:mod:`~framefree.online.returns`): refused.
     after_rest : bool
-        Whether it starts after a full rest (False: after a brief dip below the rest level).
+        Whether it starts after a full rest (False: after a brief dip below the rest level,
+        or with ``valley_starts`` at a speed minimum without a rest).
     tail : bool
         Whether it starts after a brief dip and is the tail of the candidate one unit longer,
         which starts after a full rest and is nearest the same gesture

@@ -158,6 +158,12 @@ class SpottingConstants(_Group):
     brief_starts : bool
         Also start candidates after a briefer rest, a dip below the rest level; a candidate
         after a full rest wins over them, and they fire only once the hand rests (True).
+    valley_starts : bool
+        Also start candidates where one stroke follows another without a rest, at the speed
+        minimum between them (or where a stroke settled), in the tier of the brief starts
+        (False). Measured in session 35 and not on by default: SFINGE3D 31 / 4 / 12 →
+        35 / 6 / 8, but 3 more false positives on the replica's development people and none
+        more found on the Machete ones (docs/online-history.md, *Session 35*).
     negative_quantile : float
         Quantile of the non-gesture episodes' distances taken as a gesture's negative distance
         ``N_g`` (0.05).
@@ -246,6 +252,7 @@ class SpottingConstants(_Group):
     rest_before: float = 0.2
     returns: bool = True
     brief_starts: bool = True
+    valley_starts: bool = False
     negative_quantile: float = 0.05
     gated_negatives: bool = True
     rival_negatives: bool = True

@@ -448,4 +448,4 @@ def make_spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray,
                    k.return_error if c.closure else 0.0, openings, k.fire_on_motion,
                    k.rest_before, corners, k.corner_angle, turns, up, vertical, one_go,
                    travels, c.descriptor.presmooth, labels, unseen, k.returns, k.brief_starts,
-                   shares, directions)
+                   shares, directions, k.valley_starts)

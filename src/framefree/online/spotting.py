@@ -121,6 +121,10 @@ class Spotter(GestureLimits):
         the rest level): they are accepted only where no candidate after a full rest is, and
         fire only after the hand rests (``confirm``), never after ``max_wait`` alone (default:
         off).
+    valley_starts : bool
+        Also start candidates at a unit that follows the previous one without a rest (a speed
+        minimum between two strokes, or a stroke that settled), in the tier of the brief starts
+        (default: off). On real streams a gesture often begins straight out of other motion.
     direction_limits : ndarray, shape (M, 4), optional
         Each model's cone of hand directions (:mod:`~framefree.online.hand_direction`): mean
         direction (3,) in the tracker's frame and largest angle [deg], NaN for none; a candidate
@@ -164,6 +168,7 @@ class Spotter(GestureLimits):
         brief_starts: bool = False,
         proportion_limits: Sequence[Sequence[tuple[float, float]] | None] | None = None,
         direction_limits: np.ndarray | None = None,
+        valley_starts: bool = False,
     ) -> None:
         self.classifier = classifier
         self.directions = DirectionTable(direction_limits, len(classifier.models))
@@ -196,6 +201,7 @@ class Spotter(GestureLimits):
         self.fire_on_motion = bool(fire_on_motion)
         self.rest_before = float(rest_before)
         self.brief_starts = bool(brief_starts)
+        self.valley_starts = bool(valley_starts)
         self.return_error = float(return_error)
         self.opening_limits = (np.zeros(len(classifier.models)) if opening_limits is None
                                else np.asarray(opening_limits, dtype=np.float64))
@@ -323,8 +329,10 @@ class Spotter(GestureLimits):
 
     def may_start_after(self, rest: float) -> bool:
         """Whether a candidate may start after a rest of ``rest`` [s] (0: a deep speed minimum
-        between two strokes): a full rest, or with ``brief_starts`` any dip below the rest level."""
-        return rest >= self.rest_before or (self.brief_starts and rest > 0.0)
+        between two strokes): a full rest, with ``brief_starts`` any dip below the rest level,
+        and with ``valley_starts`` no rest at all."""
+        return (rest >= self.rest_before or (self.brief_starts and rest > 0.0)
+                or (self.valley_starts and rest <= 0.0))
 
     def corners_and_turns(self, n: int) -> tuple[int, int]:
         """Corners between the last ``n`` units (turns sharper than :attr:`corner_angle`) and which
