@@ -37,8 +37,7 @@ def _circle_into_stroke(overlap: float = 0.25) -> np.ndarray:
 
 
 def _candidates(takes, **settings):
-    """The candidates classified on the circle-into-stroke path, and the speed [m/s] at the
-    minimum between the two strokes."""
+    """The recognizer and every candidate it classified on the circle-into-stroke path."""
     rec = Recognizer.from_trajectories(*takes, **settings)
     rec.background = False
     rec.spotter.log = []
