@@ -162,8 +162,8 @@ class SpottingConstants(_Group):
         Also start candidates where one stroke follows another without a rest, at the speed
         minimum between them (or where a stroke settled), in the tier of the brief starts
         (False). Measured in session 35 and not on by default: SFINGE3D 31 / 4 / 12 →
-        35 / 6 / 8, but 3 more false positives on the replica's development people and none
-        more found on the Machete ones (docs/online-history.md, *Session 35*).
+        35 / 6 / 8, but 3 more false positives on the replica's development people and the
+        Machete right hand's eight unchanged (docs/online-history.md, *Session 35*).
     negative_quantile : float
         Quantile of the non-gesture episodes' distances taken as a gesture's negative distance
         ``N_g`` (0.05).
