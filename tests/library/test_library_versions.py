@@ -56,9 +56,11 @@ def test_a_format_3_library_loads_with_what_enrolling_again_learns(old, enrolled
     assert old.recognizer_config() == enrolled_again.recognizer_config()
     stored, learned = old.learned_settings().values(), enrolled_again.learned_settings().values()
     # newer than format 3: learned when it is loaded (the smoothing as it was built: none)
-    for newer in ("travel_limits", "unseen", "smoothing", "proportion_limits", "direction_limits"):
+    for newer in ("travel_limits", "unseen", "smoothing", "proportion_limits", "direction_limits",
+                  "rotation_limits"):
         assert stored.pop(newer) is None
     assert learned.pop("direction_limits") == {}  # three takes a gesture set no cone
+    assert learned.pop("rotation_limits") == {}
     learned.pop("travel_limits")
     assert set(learned.pop("proportion_limits")) <= set(enrolled_again.takes.labels)
     assert learned.pop("unseen") == []  # the replica's takes are all found
@@ -114,7 +116,7 @@ def test_a_format_3_library_without_turn_limits_learns_them_on_loading(tmp_path)
     rec = Recognizer.load(older)
     assert rec.learned_.forbidden_turns == Recognizer.load(V3).learned_.forbidden_turns
     assert rec.learned_.provenance.rules["forbidden_turns"].endswith("limits.forbidden_turns")
-    assert ("forbidden_turns, direction_limits, unseen, travel_limits learned on loading"
+    assert ("forbidden_turns, direction_limits, rotation_limits, unseen, travel_limits learned on loading"
             in rec.learned_.provenance.note)
     assert rec.learned_.unseen == []
 

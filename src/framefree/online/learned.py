@@ -96,6 +96,7 @@ _CASTS: dict[str, Callable[[Any], Any]] = {
                                     for g, v in d.items()},
     "vertical_limits": _per_gesture(tuple), "gesture_thresholds": _per_gesture(float),
     "direction_limits": lambda d: {str(g): tuple(float(x) for x in v) for g, v in d.items()},
+    "rotation_limits": lambda d: {str(g): tuple(float(x) for x in v) for g, v in d.items()},
     "unseen": lambda v: [str(g) for g in v], "stop_threshold": float,
     "continuations": _per_gesture(float), "smoothing": float,
 }
@@ -152,6 +153,12 @@ class LearnedSettings:
         outside counts ``OFF_CONE_FACTOR`` times farther from the gesture
         (:func:`~framefree.online.hand_direction.direction_limit`; only with
         ``RecognizerConfig.hand_frame``, the default).
+    rotation_limits : dict of str to (float, float, float, float)
+        The same for the axis about which the hand turns in the tracker's frame
+        (:func:`~framefree.online.hand_direction.hand_turn`): per gesture whose takes agree on
+        it, the mean axis and the cone's half-angle [deg]; a candidate that turns about an axis
+        outside counts ``OFF_CONE_FACTOR`` times farther (only with ``hand_frame``). A library
+        saved before they were learned gets them from its takes when it is loaded.
     gesture_thresholds : dict of str to float
         Decision threshold τ_g per gesture [DTW distance].
     unseen : list of str
@@ -195,6 +202,7 @@ class LearnedSettings:
     forbidden_turns: dict[str, int] | None = None
     vertical_limits: dict[str, tuple[float, float]] | None = None
     direction_limits: dict[str, tuple[float, float, float, float]] | None = None
+    rotation_limits: dict[str, tuple[float, float, float, float]] | None = None
     gesture_thresholds: dict[str, float] | None = None
     unseen: list[str] | None = None
     stop_threshold: float | None = None

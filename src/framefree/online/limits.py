@@ -157,26 +157,30 @@ def gesture_verticality(
 
 def gesture_directions(
     trajectories: Sequence[Trajectory], labels: Sequence[str], levels: SpeedLevels, L: float,
-    dt: float = 0.02,
+    dt: float = 0.02, measure: Callable[[np.ndarray], np.ndarray | None] = hand_direction,
 ) -> dict[str, list[np.ndarray]]:
-    """:func:`~framefree.online.hand_direction.hand_direction` (3,) of each gesture's recordings,
-    taken on the whole gesture as :func:`measure_gestures` takes its measures (a recording
-    without a movement unit, or whose hand direction is undefined, is left out)."""
+    """:func:`~framefree.online.hand_direction.hand_direction` (3,) of each gesture's recordings
+    (or another ``measure`` of their poses (n, 4, 4), such as
+    :func:`~framefree.online.hand_direction.hand_turn`), taken on the whole gesture as
+    :func:`measure_gestures` takes its measures (a recording without a movement unit, or whose
+    measure is undefined, is left out)."""
     out: dict[str, list[np.ndarray]] = {}
     for tr, g in zip(trajectories, labels, strict=True):
-        if (way := recording_direction(tr, levels, L, dt)) is not None:
+        if (way := recording_direction(tr, levels, L, dt, measure)) is not None:
             out.setdefault(g, []).append(way)
     return out
 
 
-def recording_direction(traj: Trajectory, levels: SpeedLevels, L: float, dt: float = 0.02
+def recording_direction(traj: Trajectory, levels: SpeedLevels, L: float, dt: float = 0.02,
+                        measure: Callable[[np.ndarray], np.ndarray | None] = hand_direction,
                         ) -> np.ndarray | None:
-    """A recording's :func:`~framefree.online.hand_direction.hand_direction` (3,) from its first
-    movement unit's start to its last one's end (None without a unit or a direction)."""
+    """A recording's :func:`~framefree.online.hand_direction.hand_direction` (3,) (or
+    ``measure``) from its first movement unit's start to its last one's end (None without a
+    unit or a direction)."""
     seg, units = recording_units(traj, levels, L, dt)
     if not units:
         return None
-    return hand_direction(seg.buffer.slice(units[0].start, units[-1].end)[1])
+    return measure(seg.buffer.slice(units[0].start, units[-1].end)[1])
 
 
 def measure_gestures(

@@ -26,7 +26,7 @@ from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor, get_descriptor
 from ..descriptors.bilts import window_spacing
 from .config import RecognizerConfig
-from .hand_direction import direction_limit
+from .hand_direction import direction_limit, hand_turn
 from .learned import GIVEN, LEARNED_NAMES, LearnedSettings, Provenance, rule_name, takes_digest
 from .limits import (
     candidate_limits,
@@ -159,6 +159,11 @@ def resolve_learned(
         ways = gesture_directions(trajectories, labels, levels, L, k.dt)
         cones = {g: direction_limit(ways.get(g, [])) for g in gestures}
         draft.fill(direction_limit, direction_limits={
+            g: (*cone[0].tolist(), cone[1]) for g, cone in cones.items() if cone is not None})
+    if config.hand_frame and draft.missing("rotation_limits"):
+        axes = gesture_directions(trajectories, labels, levels, L, k.dt, hand_turn)
+        cones = {g: direction_limit(axes.get(g, [])) for g in gestures}
+        draft.fill(hand_turn, rotation_limits={
             g: (*cone[0].tolist(), cone[1]) for g, cone in cones.items() if cone is not None})
     calibration = _thresholds(trajectories, labels, config, levels, classifier, draft, sizes_derived)
     if draft.missing("travel_limits"):
@@ -438,14 +443,17 @@ def make_spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray,
     if c.up is not None and s.vertical_limits is not None:
         up = up_vector(c.up)
         vertical = np.array([s.vertical_limits.get(g, (0.0, 1.0)) for g in labels])
-    directions = None
+    directions = rotations = None
     if c.hand_frame and s.direction_limits:
         directions = np.array([s.direction_limits.get(g, (0.0, 0.0, 0.0, np.nan))
                                for g in labels])
+    if c.hand_frame and s.rotation_limits:
+        rotations = np.array([s.rotation_limits.get(g, (0.0, 0.0, 0.0, np.nan))
+                              for g in labels])
     return Spotter(classifier, model_thresholds, s.max_units, s.max_duration, s.max_pause,
                    k.margin, c.confirm, c.max_wait, closures, c.descriptor.L, sizes,
                    math.inf if s.pause_ratio is None else s.pause_ratio, k.min_pause,
                    k.return_error if c.closure else 0.0, openings, k.fire_on_motion,
                    k.rest_before, corners, k.corner_angle, turns, up, vertical, one_go,
                    travels, c.descriptor.presmooth, labels, unseen, k.returns, k.brief_starts,
-                   shares, directions, k.valley_starts)
+                   shares, directions, k.valley_starts, rotations)

@@ -26,7 +26,7 @@ import numpy as np
 
 from .admission import GestureLimits
 from .candidate import Candidate, candidate_spans, refuse_tails
-from .hand_direction import DirectionTable, hand_direction, weighed
+from .hand_direction import DirectionTable, hand_direction, hand_turn, weighed
 from .proportions import ProportionTable, proportions
 from .returns import ReturnGuard
 from .segment_classifier import SegmentClassifier
@@ -130,6 +130,10 @@ class Spotter(GestureLimits):
         direction (3,) in the tracker's frame and largest angle [deg], NaN for none; a candidate
         outside a model's cone counts ``OFF_CONE_FACTOR`` times farther from it (default: no
         cone).
+    rotation_limits : ndarray, shape (M, 4), optional
+        The same for the axis about which the hand turns
+        (:func:`~framefree.online.hand_direction.hand_turn`); a candidate outside either of a
+        model's cones counts ``OFF_CONE_FACTOR`` times farther from it (default: no cone).
     proportion_limits : sequence of (list of (float, float)) or None, shape (M,), optional
         Per model, the stroke length ratios a candidate with its takes' corners must keep
         (:class:`~framefree.online.proportions.ProportionTable`; default: no limit).
@@ -169,9 +173,11 @@ class Spotter(GestureLimits):
         proportion_limits: Sequence[Sequence[tuple[float, float]] | None] | None = None,
         direction_limits: np.ndarray | None = None,
         valley_starts: bool = False,
+        rotation_limits: np.ndarray | None = None,
     ) -> None:
         self.classifier = classifier
         self.directions = DirectionTable(direction_limits, len(classifier.models))
+        self.rotations = DirectionTable(rotation_limits, len(classifier.models))
         #: the way back after a fired gesture is refused as that gesture (None: not watched)
         self.returns = ReturnGuard() if returns else None
         n_models = len(classifier.models)
@@ -283,7 +289,9 @@ class Spotter(GestureLimits):
             shares = (proportions(span, self.corner_angle) if self.proportions.active
                       else np.zeros(0))
             way = hand_direction(inside) if self.directions.active else None
-            scale = self.directions.factors(way)  # each model's cone's factor (M,)
+            axis = hand_turn(inside) if self.rotations.active else None
+            # each model's cones' factor (M,): outside either cone counts farther
+            scale = np.maximum(self.directions.factors(way), self.rotations.factors(axis))
             tier = bar if full else brief_bar
             d, size = self._classify(times, poses, c, tier, corners, turns, v, pause, moved,
                                      shares, scale)

@@ -17,7 +17,8 @@ candidate segment of it is classified against the *other* recordings of its gest
   nearest pair of a recording of ``g`` and a recording of another gesture bounds ``N_g`` from
   above: a segment that far from ``g`` may as well be the other gesture. A recording that moves
   outside ``g``'s cone of hand directions (``hand_frame``) counts as the cone's factor farther
-  from ``g``, as the live spotter counts it (:mod:`framefree.online.hand_direction`). Nothing
+  from ``g``, as the live spotter counts it (:mod:`framefree.online.hand_direction`; so does
+  one that turns the hand about an axis outside ``g``'s cone of axes). Nothing
   else here sees the cones. With
   ``rival_quantile`` > 0 the bound is that quantile, over the other gestures' recordings, of
   each one's distance to its nearest recording of ``g``, so that one stray pair does not set it.
@@ -44,6 +45,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..core.trajectory import Trajectory
+from .hand_direction import hand_turn
 from .limits import recording_direction, recording_units
 from .negatives import non_gesture_motions
 from .proportions import proportions
@@ -356,6 +358,8 @@ def calibrate_segment_thresholds(
                if rivals else None)
     ways = ([recording_direction(tr, levels, L) for tr in trajectories]
             if rivals and spotter.directions.active else [None] * len(labels))
+    axes = ([recording_direction(tr, levels, L, measure=hand_turn) for tr in trajectories]
+            if rivals and spotter.rotations.active else [None] * len(labels))
     for g in gestures:
         finite = [p for p in positives[g] if np.isfinite(p)]
         P = max(finite) if finite else np.inf
@@ -364,8 +368,9 @@ def calibrate_segment_thresholds(
         if between is not None and (~own).any():
             # per take of another gesture; one that moves outside g's cone counts farther, as the
             # live spotter counts it
-            farther = np.array([spotter.directions.factors(w)[first[g]]
-                                for w, mine in zip(ways, own, strict=True) if not mine])
+            farther = np.array([max(spotter.directions.factors(w)[first[g]],
+                                    spotter.rotations.factors(a)[first[g]])
+                                for w, a, mine in zip(ways, axes, own, strict=True) if not mine])
             nearest_of_g = between[np.ix_(own, ~own)].min(axis=0) * farther
             N = min(N, float(np.quantile(nearest_of_g, rival_quantile)))
         negatives[g] = N
