@@ -1,8 +1,8 @@
-"""Candidates that start without a rest (``SpottingConstants.valley_starts``, off by default;
-docs/online-history.md, *Session 35*). On real streams a gesture often begins straight out of
-other motion, at the speed minimum between two strokes, where no rest or dip below the rest
-level starts a candidate. With ``valley_starts`` a candidate also starts there, in the tier of
-the brief starts."""
+"""Candidates that start without a rest (``SpottingConstants.valley_starts``, on by default
+since v29; docs/online-history.md, *Session 35* and *v29*). On real streams a gesture often
+begins straight out of other motion, at the speed minimum between two strokes, where no rest or
+dip below the rest level starts a candidate. With ``valley_starts`` a candidate also starts
+there, in the tier of the brief starts."""
 
 from __future__ import annotations
 
@@ -61,12 +61,12 @@ def test_a_stroke_straight_out_of_a_circle_starts_a_candidate_only_with_valley_s
     late = [c for c in found if not c.after_rest]
     assert late, "no candidate starts at the speed minimum"
     assert all(c.start_t > 2.0 for c in late)  # after the circle, where the stroke begins
-    _, without = _candidates(takes)
+    _, without = _candidates(takes, valley_starts=False)
     assert {round(c.start_t, 2) for c in without} < starts
     assert all(c.after_rest for c in without)
 
 
-def test_valley_starts_is_off_by_default_and_a_constant(takes):
+def test_valley_starts_is_on_by_default_and_a_constant(takes):
     rec = Recognizer.from_trajectories(*takes)
-    assert rec.spotter.valley_starts is False
-    assert Recognizer.from_trajectories(*takes, valley_starts=True).spotter.valley_starts
+    assert rec.spotter.valley_starts is True
+    assert not Recognizer.from_trajectories(*takes, valley_starts=False).spotter.valley_starts

@@ -161,9 +161,9 @@ class SpottingConstants(_Group):
     valley_starts : bool
         Also start candidates where one stroke follows another without a rest, at the speed
         minimum between them (or where a stroke settled), in the tier of the brief starts
-        (False). Measured in session 35 and not on by default: SFINGE3D 31 / 4 / 12 →
-        35 / 6 / 8, but 3 more false positives on the replica's development people and the
-        Machete right hand's eight unchanged (docs/online-history.md, *Session 35*).
+        (True since v29). SFINGE3D 31 / 3 / 12 → 35 / 3 / 8 with the cones of axes of v29
+        (without them 35 / 6 / 8), the Machete right hand's eight unchanged, 3 more false
+        positives on the replica's development people (docs/online-history.md, *v29*).
     negative_quantile : float
         Quantile of the non-gesture episodes' distances taken as a gesture's negative distance
         ``N_g`` (0.05).
@@ -252,7 +252,7 @@ class SpottingConstants(_Group):
     rest_before: float = 0.2
     returns: bool = True
     brief_starts: bool = True
-    valley_starts: bool = False
+    valley_starts: bool = True
     negative_quantile: float = 0.05
     gated_negatives: bool = True
     rival_negatives: bool = True

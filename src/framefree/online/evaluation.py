@@ -12,6 +12,7 @@ outside the tolerance-extended segments), and the detection latency after the ge
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -278,17 +279,31 @@ def stream_rows(traj: Trajectory | MultiTrajectory) -> tuple[np.ndarray, np.ndar
             np.stack([tr.q for tr in trackers], axis=1))
 
 
-def run_stream(recognizer: Any, traj: Trajectory | MultiTrajectory, view: Any = None
-               ) -> tuple[list[Event], StreamTrace]:
+def run_stream(recognizer: Any, traj: Trajectory | MultiTrajectory, view: Any = None,
+               end_rest: float | None = None) -> tuple[list[Event], StreamTrace]:
     """Reset the recognizer, push a whole stream (a MultiTrajectory for a recognizer of several
     trackers), return its events and a dissimilarity trace (``view``: anything with
-    ``update(t, p, q, events)``, e.g. the rerun view, fed every pose)."""
+    ``update(t, p, q, events)``, e.g. the rerun view, fed every pose).
+
+    The recording's end is taken as the end of the motion: the last pose is pushed again, held
+    still, for ``end_rest`` seconds at the stream's sampling interval (None: the recognizer's
+    ``max_wait``, the longest a pending gesture waits for a rest; 0: not held), so that a
+    gesture the recording ends with is decided as the hand coming to rest would decide it.
+    A recording cut right after its last gesture (SFINGE3D's end within 0.2 s of it) otherwise
+    leaves that gesture pending forever.
+    """
     tracer = TracingRecognizer(recognizer)
     T, P, Q = stream_rows(traj)
     for k in range(len(traj)):
         events = tracer.push(T[k], P[k], Q[k])
         if view is not None:
             view.update(T[k], P[k], Q[k], events)
+    if end_rest is None:
+        end_rest = float(getattr(getattr(recognizer, "config", None), "max_wait", 1.0))
+    if len(traj) > 1 and end_rest > 0.0:
+        step = float(np.median(np.diff(T)))
+        for j in range(1, math.ceil(end_rest / step) + 1):
+            tracer.push(T[-1] + j * step, P[-1], Q[-1])
     return tracer.events, tracer.trace()
 
 
