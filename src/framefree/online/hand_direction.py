@@ -31,10 +31,11 @@ of the tracker from its first pose, expressed in that first pose's frame (the ax
 ``R_0ᵀ R_k`` at the ``k`` where its angle is largest), as a unit vector, and none where the hand
 turns less than :data:`MIN_TURN`. A change of the world frame leaves it unchanged, a change of
 the tracker's place in the hand turns it by ``Gᵀ``, and a bi-invariant descriptor sees neither
-this axis nor its sense. On SFINGE3D the dictionary's *swipe left*s roll the palm 60–125° about
-axes within 36° of their mean for 90 % of them, while two of the free motions that passed for a
-swipe rolled it the other way (122° and 153° from the gesture's axis). Its cones are learned,
-and weigh a candidate, as the hand direction's: a candidate outside either of a model's cones
+this axis nor its sense. On SFINGE3D the dictionary's *swipe left*s turn the palm 66–123° (5–95 %)
+about axes within 34° of their mean for 90 % of them (44° at most), while two motions of other
+classes that fired as swipes turned it about axes 122° and 153° from their swipe's
+(docs/online-history.md, v29). Its cones are learned, and weigh a candidate, as the hand
+direction's: a candidate outside either of a model's cones
 counts :data:`OFF_CONE_FACTOR` times farther from it.
 
 *The cone is evidence, not a gate* (v27): a motion that moves outside a gesture's cone counts as
