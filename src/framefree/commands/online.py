@@ -53,9 +53,10 @@ def _model_options(f):
         click.option("--latency-min", type=click.Choice(["0", "1"]), default=None,
                      help="paper: smallest latency searched (default: 0)."),
         click.option("--hand-frame/--no-hand-frame", "hand_frame", default=None,
-                     help="segments, one tracker: whether the way the hand moves in the "
-                     "tracker's frame counts as evidence (default: it does; a motion that moves "
-                     "outside the cone of a gesture's takes must match it more closely). "
+                     help="segments, one tracker: whether the way the hand moves and turns in "
+                     "the tracker's frame counts as evidence (default: it does; a motion that "
+                     "moves or turns outside the cones of a gesture's takes must match it more "
+                     "closely). "
                      "--no-hand-frame: nothing depends on how the tracker sits in the hand."),
         click.option("--invariance", type=click.Choice(INVARIANCES), default=None,
                      help="Models of several trackers only: what the offline classifier's "

@@ -44,11 +44,12 @@ class RecognizerConfig:
         vertically as its gesture's takes, so a Z is no N; a world tilted against this axis
         then breaks recognition.
     hand_frame : bool
-        Whether the way the hand moves in the tracker's frame counts as evidence (default
-        True). A gesture whose takes move the same way in that frame (many takes that agree
-        more than random directions would: a dictionary of many people's examples, not one
-        person's five takes) learns a cone of directions, and a candidate that moves outside
-        it must match ``OFF_CONE_FACTOR`` (1.5) times more closely to be taken for it
+        Whether the way the hand moves and turns in the tracker's frame counts as evidence
+        (default True). A gesture whose takes move the same way in that frame (many takes that
+        agree more than random directions would: a dictionary of many people's examples, not
+        one person's five takes) learns a cone of directions, and one whose takes turn the hand
+        about the same axis a cone of axes (v29); a candidate outside either must match
+        ``OFF_CONE_FACTOR`` (1.5) times more closely to be taken for it
         (:mod:`framefree.online.hand_direction`). It pays where the tracker's frame sits on
         every hand about the same way (a hand tracker's palm, a controller held by its
         handle); a tracker turned in the hand since the takes costs only the performances near
