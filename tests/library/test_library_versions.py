@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from framefree.library import LibraryError, enroll, load_library
-from framefree.online import Recognizer
+from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.evaluation import run_stream
 from framefree.replica import make_stream
 
@@ -46,14 +46,16 @@ def old():
 
 @pytest.fixture(scope="module")
 def enrolled_again(old):
-    """The same takes enrolled by this framefree."""
-    return enroll(old.takes)
+    """The same takes enrolled by this framefree, with the starts of its time (a library saved
+    before ``valley_starts`` existed restores without them)."""
+    return enroll(old.takes, RecognizerConfig().replace(valley_starts=False))
 
 
 def test_a_format_3_library_loads_with_what_enrolling_again_learns(old, enrolled_again) -> None:
     meta = _meta(V3)
     assert meta["format_version"] == 3 and len(meta["config"]) == 69
     assert old.recognizer_config() == enrolled_again.recognizer_config()
+    assert not old.recognizer_config().constants.valley_starts
     stored, learned = old.learned_settings().values(), enrolled_again.learned_settings().values()
     # newer than format 3: learned when it is loaded (the smoothing as it was built: none)
     for newer in ("travel_limits", "unseen", "smoothing", "proportion_limits", "direction_limits",
@@ -134,3 +136,19 @@ def test_what_cannot_be_migrated_says_in_one_line_to_enroll_again(change, why, t
         message = str(exc.value)
         assert "\n" not in message
         assert "enroll it again: framefree enroll hpm-replica/original_1 -o " in message
+
+
+def test_a_format_4_library_from_before_the_valley_starts_keeps_its_starts(old, tmp_path) -> None:
+    """A library saved before ``valley_starts`` existed (v28 and before) was calibrated with
+    candidates that start only after a rest or a dip: it restores so; one that names the
+    constant keeps its value."""
+    saved = old.save(tmp_path / "v4.npz")
+
+    def forget(meta: dict) -> None:
+        meta["config"]["constants"].pop("valley_starts")
+
+    before = load_library(_rewrite(saved, tmp_path / "before.npz", forget))
+    assert before.recognizer_config().constants.valley_starts is False
+    on = _rewrite(saved, tmp_path / "on.npz",
+                  lambda m: m["config"]["constants"].update(valley_starts=True))
+    assert load_library(on).recognizer_config().constants.valley_starts is True

@@ -29,7 +29,11 @@ __all__ = ["settings_from_meta"]
 #: Settings a format-3 library may lack, with the value it was enrolled with: one saved before
 #: ``align`` existed aligned on singular values, one saved before ``gesture_pauses`` existed
 #: kept the pause limits common to all gestures.
-_V3_DEFAULTS = {"align": "singular", "gesture_pauses": False}
+_V3_DEFAULTS = {"align": "singular", "gesture_pauses": False, "valley_starts": False}
+#: Constants a format-4 library may lack, with the value it was enrolled and calibrated with:
+#: one saved before ``valley_starts`` existed (v28 and before) started candidates only after a
+#: rest or a dip.
+_V4_CONSTANTS = {"valley_starts": False}
 
 
 def settings_from_meta(path: str | Path, meta: dict[str, Any],
@@ -53,7 +57,10 @@ def settings_from_meta(path: str | Path, meta: dict[str, Any],
     """
     try:
         if meta.get("format_version") == FORMAT_VERSION:
-            return (RecognizerConfig.from_dict(meta["config"]),
+            config = dict(meta["config"])
+            if isinstance(config.get("constants"), dict):
+                config["constants"] = {**_V4_CONSTANTS, **config["constants"]}
+            return (RecognizerConfig.from_dict(config),
                     LearnedSettings.from_dict(meta["learned"]))
         return _migrate_v3(meta, rows)
     except (KeyError, TypeError, ValueError) as exc:
