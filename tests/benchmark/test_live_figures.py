@@ -58,20 +58,3 @@ def test_a_row_without_its_data_is_skipped(monkeypatch, tmp_path, capsys):
     assert live_figures.main(["--only", "sfinge", "--record", str(record)]) == 0
     assert f"sfinge: skipped, {tmp_path / 'missing'} is missing" in capsys.readouterr().out
     assert not record.exists()
-
-
-@pytest.mark.parametrize("row", ["sfinge"])
-def test_the_reported_figures_still_hold(row, capsys):
-    """The headline real streams' row (SFINGE3D, about three minutes on a 2-core machine),
-    run as the docs say: a change of the recognizer that moves it fails here until the figures
-    are measured again (``python benchmarks/live_figures.py --write``) and the docs say what
-    moved. The other rows take longer (``machete_two`` three to six minutes, which kept CI near
-    its 20-minute limit; ``sfinge_no_hand_frame`` another three since v29's starts without a
-    rest) or are the replica's; ``benchmarks/live_figures.py`` checks them, and
-    the two-controller recognizer has its own tests on the shipped sample
-    (``tests/benchmark/test_multi_scripts.py``, ``tests/online/test_multi.py``)."""
-    _, needs, _ = live_figures.ROWS[row]
-    if needs is not None and not needs.is_dir():
-        pytest.skip(f"{needs} is missing")
-    verdict = live_figures.main(["--only", row])
-    assert verdict == 0, capsys.readouterr().out
