@@ -32,7 +32,7 @@ Rows:
     pentagons, letter Ms and Cs (``benchmarks/eighth_gesture.py --gesture G --people 10
     --distractors fresh``): the new gesture's counts.
 
-A row whose data is missing is skipped with one line. About ten minutes for all eight on a
+A row whose data is missing is skipped with one line. About forty minutes for all eight on a
 2-core machine.
 
     python benchmarks/live_figures.py                  # measure, compare with the record
@@ -58,7 +58,8 @@ REPO = Path(__file__).resolve().parent.parent
 DATA = REPO.parent / "shared" / "data"
 RECORD = REPO / "benchmarks" / "results" / "live_figures.json"
 SWIPES = "swipe_left,swipe_right,swipe_v,swipe_o"
-KEYS = ("tp", "fp", "fn", "precision", "recall", "f1", "fp_per_minute")
+#: what the record keeps of a row (``per_stream``: TP, FP, FN of each stream, where measured)
+KEYS = ("tp", "fp", "fn", "precision", "recall", "f1", "fp_per_minute", "per_stream")
 
 
 def _run(args: Sequence[str]) -> None:
@@ -74,7 +75,10 @@ def _sfinge(*extra: str) -> Callable[[Path], dict[str, Any]]:
         _run(["-c", "from framefree.cli import main; main()", "evaluate-stream",
               "--models", str(DATA / "sfinge_dev" / "templates"), "--gestures", SWIPES, *streams,
               *extra, "--json", str(out)])
-        return json.loads(out.read_text())["total"]
+        result = json.loads(out.read_text())
+        per_stream = {Path(name).stem: [row["tp"], row["fp"], row["fn"]]
+                      for name, row in result["streams"].items()}
+        return {**result["total"], "per_stream": per_stream}
     return measure
 
 

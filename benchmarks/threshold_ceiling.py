@@ -128,7 +128,7 @@ def measure(models: Path, streams_dir: Path, gestures: list[str], scales: list[f
                            "nearest_own": sum(r["nearest"] == r["label"] for r in rows),
                            "scales": {}}
     for scale in tqdm(scales, desc="scales"):
-        scaled = Recognizer.from_trajectories(
+        scaled = rec if scale == 1 else Recognizer.from_trajectories(  # c = 1: rec itself
             takes, labels, gesture_thresholds={g: scale * t for g, t in tau.items()})
         out["scales"][f"{scale:g}"] = {"ceiling": ceiling(rows, scale),
                                        "live": live_counts(scaled, streams)}
