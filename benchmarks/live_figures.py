@@ -134,13 +134,17 @@ def counts(row: dict[str, Any]) -> tuple[int, int, int]:
 
 def compare(measured: dict[str, dict[str, Any]], record: dict[str, dict[str, Any]]
             ) -> dict[str, str]:
-    """Each measured row's verdict against the record: ``same``, ``moved`` or ``no record``."""
+    """Each measured row's verdict against the record: ``same`` (the totals, and each stream's
+    counts where both have them), ``moved`` or ``no record``."""
     out = {}
     for name, row in measured.items():
         if name not in record:
             out[name] = "no record"
         else:
-            out[name] = "same" if counts(row) == counts(record[name]) else "moved"
+            streams = (row.get("per_stream"), record[name].get("per_stream"))
+            same = (counts(row) == counts(record[name])
+                    and (None in streams or streams[0] == streams[1]))
+            out[name] = "same" if same else "moved"
     return out
 
 

@@ -31,6 +31,14 @@ def test_any_count_that_changes_moves_the_row(now):
                                 {"sfinge": _row(28, 8, 15)}) == {"sfinge": "moved"}
 
 
+def test_the_same_totals_from_other_streams_move_the_row():
+    now = {**_row(28, 8, 15), "per_stream": {"seq_01": [1, 0, 0], "seq_02": [27, 8, 15]}}
+    record = {**_row(28, 8, 15), "per_stream": {"seq_01": [0, 0, 1], "seq_02": [28, 8, 14]}}
+    assert live_figures.compare({"sfinge": now}, {"sfinge": record}) == {"sfinge": "moved"}
+    assert live_figures.compare({"sfinge": now}, {"sfinge": now}) == {"sfinge": "same"}
+    assert live_figures.compare({"sfinge": now}, {"sfinge": _row(28, 8, 15)}) == {"sfinge": "same"}
+
+
 def test_a_row_never_recorded_says_so():
     assert live_figures.compare({"replica": _row(1, 0, 0)}, {}) == {"replica": "no record"}
 

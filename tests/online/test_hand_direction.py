@@ -25,6 +25,7 @@ from hypothesis import strategies as st
 from framefree.benchmark.take_geometry import cone_coverage, take_directions
 from framefree.core import se3
 from framefree.core.trajectory import Trajectory
+from framefree.library import join_recordings
 from framefree.online import Recognizer, RecognizerConfig
 from framefree.online.diagnosis import logging_candidates
 from framefree.online.evaluation import run_stream
@@ -299,3 +300,50 @@ def test_the_cones_relabel_only_what_the_nearest_gestures_shape_admits():
     (c,) = spotter.candidates(buffer)
     assert (c.model, c.accepted, c.outranked) == (0, False, True)
     assert "nearest's limits" in spotter.refusals(c)
+
+
+def test_a_pruned_search_fires_as_the_full_search_where_the_cones_weigh(two_way_recognizers,
+                                                                       monkeypatch):
+    """Strokes both ways in the hand, straight and bent, one after the other: the cones weigh
+    candidates (some move outside a gesture's cone), and with pruning the events are those of the
+    full search. A pruned candidate whose every value (a distance or a bound) is at or above its
+    weighed threshold is refused whichever model is nearest, so it is not searched in full:
+    here only candidates within their threshold are. ``run_stream`` gives the same events and
+    leaves the recognizer's pruning on."""
+    rec = two_way_recognizers[1]
+    rng = np.random.default_rng(11)
+    turned = np.diag([-1.0, -1.0, 1.0, 1.0])
+    pieces = []
+    for shape, G in ((BENT, np.eye(4)), (STROKE, turned), (BENT, turned), (STROKE, np.eye(4)),
+                     (BENT, turned), (BENT, np.eye(4))):
+        _, P = drawn_takes(shape, 1, rng)[0].uniform_poses(DT)
+        pieces.append(Trajectory.from_poses(DT * np.arange(P.shape[0]), P @ G))
+    stream = join_recordings(pieces)
+    full_searches = []
+    search = rec.classifier.distances
+    monkeypatch.setattr(rec.classifier, "distances",
+                        lambda t, P: full_searches.append(t[-1]) or search(t, P))
+    runs = {}
+    try:
+        for prune in (False, True):
+            rec.prune = prune
+            full_searches.clear()
+            rec.reset()  # pushed as a live session is (run_stream searches in full)
+            with logging_candidates(rec) as log:
+                events = [e for k in range(len(stream))
+                          for e in rec.push(stream.t[k], stream.p[k], stream.q[k])]
+            events += rec.finish()
+            runs[prune] = [(e.label, e.time, e.model, e.dissimilarity) for e in events], log
+    finally:
+        rec.prune = True
+    (events, log), (full_events, full_log) = runs[True], runs[False]
+    assert events == full_events and len(events) >= 2
+    outside = [c for c in log if c.ratio >= 1.0
+               and (rec.spotter.directions.factors(np.array(c.direction)) > 1.0).any()]
+    assert outside  # candidates the cones weigh, refused
+    assert len(full_log) == len(log) and len(full_searches) <= sum(c.ratio < 1.0 for c in log)
+    # run_stream searches in full for its trace, and leaves the recognizer's pruning as it was
+    rec.prune = True
+    assert [(e.label, e.time) for e in run_stream(rec, stream, end_rest=0)[0]] == [
+        (label, time) for label, time, *_ in events]
+    assert rec.prune

@@ -290,20 +290,26 @@ def run_stream(recognizer: Any, traj: Trajectory | MultiTrajectory, view: Any = 
     ``max_wait``, the longest a pending gesture waits for a rest; 0: not held), so that a
     gesture the recording ends with is decided as the hand coming to rest would decide it.
     A recording cut right after its last gesture (SFINGE3D's end within 0.2 s of it) otherwise
-    leaves that gesture pending forever.
+    leaves that gesture pending forever. The recognizer's pruning is off during the run (the
+    trace holds exact distances; the events are the same) and as it was afterwards.
     """
+    pruned = getattr(recognizer, "prune", None)
     tracer = TracingRecognizer(recognizer)
     T, P, Q = stream_rows(traj)
-    for k in range(len(traj)):
-        events = tracer.push(T[k], P[k], Q[k])
-        if view is not None:
-            view.update(T[k], P[k], Q[k], events)
-    if end_rest is None:
-        end_rest = float(getattr(getattr(recognizer, "config", None), "max_wait", 1.0))
-    if len(traj) > 1 and end_rest > 0.0:
-        step = float(np.median(np.diff(T)))
-        for j in range(1, math.ceil(end_rest / step) + 1):
-            tracer.push(T[-1] + j * step, P[-1], Q[-1])
+    try:
+        for k in range(len(traj)):
+            events = tracer.push(T[k], P[k], Q[k])
+            if view is not None:
+                view.update(T[k], P[k], Q[k], events)
+        if end_rest is None:
+            end_rest = float(getattr(getattr(recognizer, "config", None), "max_wait", 1.0))
+        if len(traj) > 1 and end_rest > 0.0:
+            step = float(np.median(np.diff(T)))
+            for j in range(1, math.ceil(end_rest / step) + 1):
+                tracer.push(T[-1] + j * step, P[-1], Q[-1])
+    finally:
+        if pruned is not None:
+            recognizer.prune = pruned
     return tracer.events, tracer.trace()
 
 

@@ -155,6 +155,7 @@ class Recognizer(StreamingRecognizer):
                                          settle=k.settle)
         self.spotter = make_spotter(classifier, self.model_thresholds, c, s, self.labels)
         self._counts = dict.fromkeys(STAT_KEYS, 0)
+        self.classifier.cells = [0, 0]  # the calibration's searches are not the stream's
         self.observations: list[tuple[float, np.ndarray]] = []
         self._worker: SerialWorker | None = None
         self._recent_units: deque[Unit] = deque(maxlen=max(1, s.max_units))

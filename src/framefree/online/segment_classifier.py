@@ -43,7 +43,7 @@ class SegmentClassifier:
         #: search with lower bounds (:mod:`framefree.core.pruning`); the nearest model and its
         #: distance are those of the full search
         self.prune = prune
-        #: DTW cells computed / that a full search would compute, over every :meth:`search_described`
+        #: DTW cells computed / that a full search would compute, over every search
         self.cells = [0, 0]
 
     def describe(self, times: np.ndarray, poses: np.ndarray) -> tuple[np.ndarray, float] | None:
@@ -65,10 +65,16 @@ class SegmentClassifier:
 
     def distances(self, times: np.ndarray, poses: np.ndarray) -> tuple[np.ndarray, float]:
         """Distance (M,) from the segment to every model (``inf`` if it has no motion) and the
-        segment's size [m] (0 if it has no motion)."""
+        segment's size [m] (0 if it has no motion). Its DTW cells count in :attr:`cells`: as
+        the search itself without pruning, as computed on top of it where a pruned search needs
+        every exact distance."""
         out = self.describe(times, poses)
         if out is None:
             return np.full(len(self.models), math.inf), 0.0
+        if self.bank is not None:
+            cells = self.bank.dtw_cells * out[0].shape[0]
+            self.cells[0] += cells
+            self.cells[1] += 0 if self.pruning else cells
         return self.descriptor.distance_matrix([out[0]], self.models)[0], out[1]
 
     @property

@@ -293,10 +293,10 @@ class Spotter(GestureLimits):
             # each model's cones' factor (M,): outside either cone counts farther
             scale = np.maximum(self.directions.factors(way), self.rotations.factors(axis))
             tier = bar if full else brief_bar
-            d, size = self._classify(times, poses, c, tier, corners, turns, v, pause, moved,
-                                     shares, scale)
+            d, size, open_ = self._classify(times, poses, c, tier, corners, turns, v, pause,
+                                            moved, shares, scale)
             d = weighed(d, scale, (lambda t=times, P=poses: self.classifier.distances(t, P)[0])
-                        if self.classifier.pruning else None)
+                        if self.classifier.pruning and open_ else None)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
@@ -352,25 +352,30 @@ class Spotter(GestureLimits):
                   corners: int = 0, turns: int = 0, vertical: float = math.nan,
                   pause: float = 0.0, moved: float = math.inf,
                   shares: np.ndarray | None = None, scale: np.ndarray | None = None
-                  ) -> tuple[np.ndarray, float]:
-        """Distances (M,) of a candidate to the models and its size [m]. Pruned, only models
+                  ) -> tuple[np.ndarray, float, bool]:
+        """Distances (M,) of a candidate to the models, its size [m], and whether it may be
+        accepted. Pruned, only models
         whose gesture admits the candidate's closure, size and corners can accept it, so the others get
         threshold 0, the others ``bar`` times theirs (over their cone's factor ``scale`` (M,)
         for the candidate's hand direction; None: 1), and a candidate that no gesture
-        admits is not searched at all (distances ``inf``). Either way the decision is the full search's."""
+        admits is not searched at all (distances ``inf``). Either way the decision is the full
+        search's. The flag is False where every pruned value (a distance or a lower bound of it)
+        lies at or above its model's bound: then the candidate is refused whichever model is
+        nearest, and its distances stay bounds (True without pruning)."""
         clf = self.classifier
         if not clf.pruning:
-            return clf.distances(times, poses)
+            return (*clf.distances(times, poses), True)
         out = clf.describe(times, poses)
         if out is None:
-            return np.full(len(clf.models), math.inf), 0.0
+            return np.full(len(clf.models), math.inf), 0.0, False
         descriptor, size = out
         admits = self.admitting_models(closure_, size, corners, turns, vertical, pause, moved,
                                        shares)
         # a model whose cone does not hold the candidate's direction must be that much nearer
         below = bar * self.model_thresholds if scale is None else bar * self.model_thresholds / scale
         accept_below = np.where(admits, below, 0.0)
-        return clf.search_described(descriptor, accept_below), size
+        d = clf.search_described(descriptor, accept_below)
+        return d, size, bool(np.any(d < accept_below))
 
     def add_unit(self, unit: Unit) -> None:
         """Keep a unit that ended, with the rest [s] the hand held before it."""
