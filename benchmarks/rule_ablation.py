@@ -14,9 +14,10 @@ learned value as empty), and each is run on
   dev``).
 
 Nothing is chosen here: the table says what each rule does on each set today. Counts are
-deterministic. About 3 minutes per rule on a 2-core machine (``--jobs 2`` runs two rules at a
-time). Cite Caputo et al., *SFINGE 3D*, Computers & Graphics 91, 2020, and Machete's README with
-any figure from their data.
+deterministic. With v29 a rule takes about twenty minutes on one core, most of it the six
+Machete folds (``--jobs 2`` runs two rules at a time; all of them take hours). Cite Caputo
+et al., *SFINGE 3D*, Computers & Graphics 91, 2020, and Machete's README with any figure from
+their data.
 
 Usage::
 
@@ -61,6 +62,8 @@ RULES: dict[str, tuple[str, dict[str, Any]]] = {
                      {"brief_starts": False}),
     "settle": ("a stroke that stays below half its peak for 0.3 s has ended (v28)",
                {"settle": float("inf")}),
+    "valley_starts": ("candidates also start at a speed minimum between two strokes, without "
+                      "a rest (v29)", {"valley_starts": False}),
     "returns": ("the way back after a gesture is not that gesture again", {"returns": False}),
     "one_go": ("a gesture drawn in one go does not rest at a corner", {"gesture_pauses": False}),
     "closure": ("closure and opening limits", {"closure": False}),
@@ -71,6 +74,10 @@ RULES: dict[str, tuple[str, dict[str, Any]]] = {
                     {"proportion_limits": {}}),
     "turns_back": ("a gesture whose takes always turn back refuses corners turning the same way "
                    "(v25)", {"forbidden_turns": {}}),
+    "directions": ("a candidate moving outside a gesture's cone of directions in the hand counts "
+                   "1.5 times farther (v26, v27)", {"direction_limits": {}}),
+    "axes": ("a candidate turning the hand about an axis outside a gesture's cone of axes counts "
+             "1.5 times farther (v29)", {"rotation_limits": {}}),
     "unseen": ("a gesture the tracker does not follow never fires", {"unseen": []}),
     "drawn": ("shapes drawn in the air among the calibration's negatives",
               {"drawn_negatives": False}),
