@@ -14,8 +14,8 @@ learned value as empty), and each is run on
   dev``).
 
 Nothing is chosen here: the table says what each rule does on each set today. Counts are
-deterministic. With v29 a rule takes about twenty minutes on one core, most of it the six
-Machete folds (``--jobs 2`` runs two rules at a time; all of them take hours). Cite Caputo
+deterministic. With v29 the six Machete folds alone took 13-18 minutes per rule on one core
+of a shared machine (``--jobs 2`` runs two rules at a time; all of them take hours). Cite Caputo
 et al., *SFINGE 3D*, Computers & Graphics 91, 2020, and Machete's README with any figure from
 their data.
 

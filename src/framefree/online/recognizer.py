@@ -455,7 +455,8 @@ class Recognizer(StreamingRecognizer):
 
     def gesture_dissimilarities(self) -> dict[str, float]:
         """Distance of the latest classified candidate to each gesture's nearest model (with
-        :attr:`prune`, exact for the nearest gesture and a lower bound above it for others)."""
+        :attr:`prune`, exact for an accepted candidate's nearest gesture; other values, and a
+        refused candidate's, may be lower bounds)."""
         out = dict.fromkeys(self.gestures, math.inf)
         d = self.spotter.last_distances
         if d is not None:

@@ -293,10 +293,10 @@ class Spotter(GestureLimits):
             # each model's cones' factor (M,): outside either cone counts farther
             scale = np.maximum(self.directions.factors(way), self.rotations.factors(axis))
             tier = bar if full else brief_bar
-            d, size, open_ = self._classify(times, poses, c, tier, corners, turns, v, pause,
-                                            moved, shares, scale)
+            d, size, may_accept = self._classify(times, poses, c, tier, corners, turns, v,
+                                                 pause, moved, shares, scale)
             d = weighed(d, scale, (lambda t=times, P=poses: self.classifier.distances(t, P)[0])
-                        if self.classifier.pruning and open_ else None)
+                        if self.classifier.pruning and may_accept else None)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
