@@ -23,12 +23,14 @@ Run::
     python benchmarks/eighth_gesture.py --gesture figure_eight --people 3 --json out.json
     python benchmarks/eighth_gesture.py --gesture zigzag --people 2 --streams-per-person 4 \
         --people-group dev
+    python benchmarks/eighth_gesture.py --gesture check_mark --people 10 --demo-seed 0-4  # 5 demonstrators
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import re
 import time
 from collections.abc import Sequence
 from pathlib import Path
@@ -156,7 +158,9 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--distractors", default="dev",
                     help="shapes performed but not enrolled: dev (DEV_SHAPES), heldout (HELDOUT_SHAPES), "
                     "fresh (FRESH_SHAPES), a comma-separated list, or '' for none")
-    ap.add_argument("--demo-seed", type=int, default=0, help="seed of the demonstration recording")
+    ap.add_argument("--demo-seed", default="0",
+                    help="seed of the demonstration recording; several ('0-4' or '0,2,5'): one "
+                    "demonstration after the other on the same streams, and a table of them")
     ap.add_argument("--people", type=int, default=3, help="number of held-out people")
     ap.add_argument("--first-person", type=int, default=0, help="index of the first one in the group")
     ap.add_argument("--people-group", choices=["heldout", "fresh", "dev"], default="heldout",
@@ -168,10 +172,33 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--work", default="eighth_gesture_work", help="folder for the library files")
     ap.add_argument("--json", default=None, help="write the results here")
     args = ap.parse_args(argv)
+    seeds = demo_seeds(args.demo_seed)
+    if len(seeds) == 1:
+        return run(args, seeds[0], Path(args.work))
+    runs = {seed: run(args, seed, Path(args.work) / f"demo_{seed}", write=False) for seed in seeds}
+    _print_demonstrations(args.gesture, runs)
+    out = {"gesture": args.gesture, "by_demo_seed": runs}
+    if args.json:
+        Path(args.json).parent.mkdir(parents=True, exist_ok=True)
+        Path(args.json).write_text(json.dumps(out, indent=1, default=float))
+    return out
 
-    work = Path(args.work)
+
+def demo_seeds(text: str) -> list[int]:
+    """``'3'`` → [3], ``'0-4'`` → [0, 1, 2, 3, 4], ``'0,2,5'`` → [0, 2, 5]."""
+    seeds: list[int] = []
+    for part in text.split(","):
+        match = re.fullmatch(r"\s*(\d+)(?:-(\d+))?\s*", part)
+        if match is None or int(match[2] or match[1]) < int(match[1]):
+            raise SystemExit(f"--demo-seed: {part.strip()!r} is not a seed or a range (0-4)")
+        seeds.extend(range(int(match[1]), int(match[2] or match[1]) + 1))
+    return seeds
+
+
+def run(args: argparse.Namespace, demo_seed: int, work: Path, write: bool = True) -> dict[str, Any]:
+    """One demonstration (``demo_seed``) enrolled and evaluated on the people's streams."""
     t0 = time.perf_counter()
-    takes = recorded_takes(args.gesture, args.takes, args.demo_seed, args.keep_all)
+    takes = recorded_takes(args.gesture, args.takes, demo_seed, args.keep_all)
     if len(takes) != args.takes:
         print(f"note: the recording was cut into {len(takes)} takes for {args.takes} performances")
     shapes = _distractors(args.distractors, args.gesture)
@@ -190,7 +217,7 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
     streams = make_person_streams(people, args.streams_per_person, n_gestures=args.n_gestures,
                                   gestures=[*labels, *shapes], progress=True)
     out: dict[str, Any] = {
-        "gesture": args.gesture, "takes": len(takes), "people": people,
+        "gesture": args.gesture, "demo_seed": demo_seed, "takes": len(takes), "people": people,
         "people_group": args.people_group,
         "streams": [(s.person_seed, s.stream_seed) for s in streams],
         "enroll_s": t_enroll, "thresholds": lib8.gesture_thresholds,
@@ -202,10 +229,25 @@ def main(argv: Sequence[str] | None = None) -> dict[str, Any]:
         out["seven_only"] = evaluate(path7, streams, [*labels, "stop"], new_gesture=args.gesture,
                                      distractors=shapes)
     _print(out)
-    if args.json:
+    if args.json and write:
         Path(args.json).parent.mkdir(parents=True, exist_ok=True)
         Path(args.json).write_text(json.dumps(out, indent=1, default=float))
     return out
+
+
+def _print_demonstrations(gesture: str, runs: dict[int, dict[str, Any]]) -> None:
+    """One row per demonstration: the new gesture's counts, the seven's and every gesture's F1."""
+    print(f"\n{gesture}, one row per demonstration (the same people's streams)")
+    print(f"{'demo seed':<10}{'new: TP / FP / FN':>20}{'F1':>8}{'the seven: TP / FP / FN':>26}"
+          f"{'all F1':>9}")
+    for seed, out in runs.items():
+        per = out["with_new_gesture"]["per_gesture"]
+        new = per[gesture]
+        seven = [sum(m[k] for g, m in per.items() if g not in (gesture, "stop"))
+                 for k in ("tp", "fp", "fn")]
+        print(f"{seed:<10}{new['tp']:>8} / {new['fp']:>3} / {new['fn']:>3}{100 * new['f1']:7.1f}%"
+              f"{seven[0]:>14} / {seven[1]:>3} / {seven[2]:>3}"
+              f"{100 * out['with_new_gesture']['total']['f1']:8.1f}%")
 
 
 def _print(out: dict[str, Any]) -> None:

@@ -278,8 +278,10 @@ def check_cmd(library: str, context: str | None, out: str, seed: int, invariance
     """Can these gestures be told apart? Leave-one-out recognition, margins, robustness to frames
     and speed, closeness to stop signals and everyday motion, with advice.
 
-    LIBRARY is a library folder or file, of one tracker or of several. Exit status 1 when there
-    is a problem.
+    LIBRARY is a library folder or file, of one tracker or of several. For a library file of one
+    tracker, its takes are also replayed through its recognizer: a take that fires another
+    gesture before it ends is a part of one gesture that looks like another. Exit status 1 when
+    there is a problem.
     """
     from ..library.check import CheckSettings, check_takes
     from ..library.figures import plot_distance_map, plot_take_gallery
@@ -306,6 +308,12 @@ def check_cmd(library: str, context: str | None, out: str, seed: int, invariance
         takes, config = lib.takes, lib.recognizer_config()
     settings = CheckSettings(seed=seed)
     report = check_takes(takes, config, settings, progress=True)
+    if not lib_path.is_dir():  # a built library: replay its takes through its recognizer
+        from ..library.inside import fired_inside, inside_findings
+        from ..library.store import load_recognizer
+
+        rec = load_recognizer(lib_path)
+        report.findings += inside_findings(fired_inside(rec, lib.takes, progress=True), lib.takes)
     click.echo(report.format())
     if not lib_path.is_dir():
         from ..online.model_settings import unseen_advice

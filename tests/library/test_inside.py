@@ -1,0 +1,72 @@
+"""``framefree check`` replays a library's takes through its recognizer: a part of one gesture
+that fires another (:mod:`framefree.library.inside`)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from framefree.cli import cli
+from framefree.library import TakeRecorder, TakeSet, enroll, load_recognizer
+from framefree.library.inside import fired_inside, inside_findings
+from framefree.replica import DEFAULT_PERSON, replica_path
+from framefree.replica.people_streams import take_session
+
+
+def _check_mark_takes(seed: int) -> TakeSet:
+    """Five check marks as ``framefree record`` cuts one recording of the replica's person."""
+    session = take_session("check_mark", DEFAULT_PERSON, 5, seed=seed)
+    recorder = TakeRecorder()
+    for t, p, q in zip(session.traj.t, session.traj.p, session.traj.q, strict=True):
+        recorder.push(t, p, q)
+    takes = tuple(take for _, take in recorder.finish())
+    return TakeSet(takes, ("check_mark",) * len(takes),
+                   tuple(f"check_mark/own/trial_{k + 1}" for k in range(len(takes))))
+
+
+@pytest.fixture(scope="module")
+def rounded_check_mark(hpm_takes: TakeSet, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The HPM seven and a check mark whose five takes (demonstration seed 1) look like the arc
+    out of a *go home*: held-out people's *go home* then gave a check mark 11 times in 29
+    (``benchmarks/eighth_gesture.py --gesture check_mark --people 10 --demo-seed 1``)."""
+    lib = enroll(hpm_takes + _check_mark_takes(1), built_from=[str(replica_path()), "check mark"])
+    return lib.save(tmp_path_factory.mktemp("inside") / "hpm_check.npz")
+
+
+def test_the_seven_fire_nothing_inside_each_other(hpm_library_file: Path, hpm_takes: TakeSet) -> None:
+    assert fired_inside(load_recognizer(hpm_library_file), hpm_takes) == {}
+
+
+def test_a_check_mark_that_begins_go_home_is_found(rounded_check_mark: Path, hpm_takes: TakeSet) -> None:
+    takes = hpm_takes + _check_mark_takes(1)
+    fired = fired_inside(load_recognizer(rounded_check_mark), takes)
+    assert set(fired) == {"go_home"} and set(fired["go_home"]) == {"check_mark"}
+    names = fired["go_home"]["check_mark"]
+    assert len(names) > 5 / 2 and all(n.startswith("go_home/") for n in names)
+    [finding] = inside_findings(fired, takes)
+    assert finding.level == "problem" and finding.gesture == "go_home"
+    assert "record check_mark again" in finding.message and names[0] in finding.message
+
+
+def test_check_exits_1_and_writes_the_problem(rounded_check_mark: Path, tmp_path: Path) -> None:
+    res = CliRunner().invoke(cli, ["check", str(rounded_check_mark), "--out", str(tmp_path)])
+    assert res.exit_code == 1, res.output
+    assert "PROBLEM: 3 of go_home's 5 takes fire check_mark before they end" in res.output
+    report = json.loads((tmp_path / "hpm_check_check.json").read_text())
+    assert not report["ok"]
+    assert [f["gesture"] for f in report["findings"] if f["level"] == "problem"] == ["go_home"]
+
+
+def test_a_minority_is_a_warning_that_names_the_take(hpm_takes: TakeSet) -> None:
+    fired = {"go_left": {"stop": ["go_left/original_1/trial_2"]},
+             "go_up": {"go_left": ["go_up/original_1/trial_1", "go_up/original_1/trial_4"]}}
+    stop, left = inside_findings(fired, hpm_takes)
+    assert (stop.level, left.level) == ("warning", "warning")
+    assert stop.message.startswith("1 of go_left's 5 takes fires a stop signal before it ends")
+    assert "--remove go_left/original_1/trial_2" in stop.message
+    assert left.message.startswith("2 of go_up's 5 takes fire go_left before they end")
+    fired["go_up"]["go_left"].append("go_up/original_1/trial_5")
+    assert inside_findings(fired, hpm_takes)[1].level == "problem"
