@@ -182,6 +182,51 @@ def test_evaluate_stream_and_live_use_the_library(recorded, enrolled, tmp_path) 
     assert bad.exit_code == 2 and "enroll" in bad.output
 
 
+def test_evaluate_stream_scores_a_library_s_gestures_only(recorded, enrolled, tmp_path) -> None:
+    """A stream that also labels a gesture the library lacks: without ``--gestures`` it counts as
+    a miss, with a note; with the library's gestures named, as non-gesture motion. A list that is
+    not the library's vocabulary is one line."""
+    traj, segs = make_stream(12, sequence=[*GESTURES, "go_left"])
+    stream = save_stream(tmp_path / "three.csv", traj, segs)
+    args = ["evaluate-stream", "--models", str(enrolled), "--stream", str(stream)]
+    plain = CliRunner().invoke(cli, [*args, "--json", str(tmp_path / "plain.json")])
+    assert plain.exit_code == 0, plain.output
+    assert "note: the streams label go_left, which" in plain.output
+    named = CliRunner().invoke(cli, [*args, "--gestures", ",".join(reversed(GESTURES)),
+                                     "--json", str(tmp_path / "named.json")])
+    assert named.exit_code == 0, named.output
+    assert "note: the streams label" not in named.output
+    total = {k: json.loads((tmp_path / f"{k}.json").read_text())["total"] for k in ("plain", "named")}
+    assert total["plain"]["fn"] == total["named"]["fn"] + 1
+    assert total["plain"]["tp"] == total["named"]["tp"]
+    wrong = CliRunner().invoke(cli, [*args, "--gestures", GESTURES[0]])
+    assert wrong.exit_code == 2 and "Traceback" not in wrong.output
+    assert wrong.output.strip().splitlines()[-1].startswith("error: --gestures go_right:")
+    assert f"holds {', '.join(sorted(GESTURES))}" in wrong.output and "--remove" in wrong.output
+
+
+def test_enroll_and_check_read_a_dictionary_without_contexts(recorded, tmp_path) -> None:
+    """``<folder>/<gesture>/<trial>.csv``, as a benchmark's dictionary of examples is laid out and
+    as ``--models`` reads it, enrolls as the same takes under shorter names."""
+    lib, _ = recorded
+    flat = tmp_path / "dictionary"
+    for g in GESTURES:
+        (flat / g).mkdir(parents=True)
+        for f in (lib / g / "own").glob("*.csv"):
+            (flat / g / f.name).write_bytes(f.read_bytes())
+    res = CliRunner().invoke(cli, ["enroll", str(flat), "-o", str(tmp_path / "flat.npz")])
+    assert res.exit_code == 0, res.output
+    from framefree.library import load_library, read_takes
+
+    takes = load_library(tmp_path / "flat.npz").takes
+    assert sorted(takes.names) == sorted(f"{g}/trial_{k}" for g in GESTURES for k in (1, 2, 3))
+    assert [t.p.tolist() for t in takes.takes] == [t.p.tolist() for t in read_takes(lib).takes]
+    (flat / "empty").mkdir()
+    bad = CliRunner().invoke(cli, ["enroll", str(flat), "-o", str(tmp_path / "bad.npz")])
+    assert bad.exit_code == 2
+    assert "empty: no takes (expected empty/<context>/<trial>.csv or empty/<trial>.csv)" in bad.output
+
+
 def test_old_library_is_one_line_error(enrolled, tmp_path) -> None:
     import zipfile
 

@@ -51,7 +51,7 @@ __all__ = ["evaluate_stream_cmd", "register"]
               "report them side by side.")
 @click.option("--gestures", "gesture_list", default=None, metavar="G1,G2,...",
               help="Evaluate these gestures only: only their models are used, and the streams' "
-              "other labels count as non-gesture motion.")
+              "other labels count as non-gesture motion (a library file must hold exactly these).")
 @click.option("--explain", is_flag=True, default=False,
               help="Say why each gesture was missed (the first stage of the spotter it did not "
               "pass, and the candidate that came closest) and what fired each false positive.")
@@ -96,6 +96,7 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
         loaded = [(path, traj, [s for s in segs if s.label in gestures]) for path, traj, segs in loaded]
     rec = _recognizer(models, model_context, model_quat_order, units, method, gestures, **kw)
     loaded = [(path, match_trackers(rec, traj, path), segs) for path, traj, segs in loaded]
+    _note_unknown_labels(rec, loaded, models, err)
     out = _emitters(emit, rec)
     rview = _rerun_view(rec, False, save_rrd)
     try:
@@ -124,6 +125,19 @@ def evaluate_stream_cmd(more_streams: tuple[str, ...], models: str, model_contex
     if json_path:
         Path(json_path).parent.mkdir(parents=True, exist_ok=True)
         Path(json_path).write_text(json.dumps(out, indent=2, default=float))
+
+
+def _note_unknown_labels(rec: Any, loaded: list, models: str, err: bool) -> None:
+    """One line when the streams label gestures the recognizer does not know: they count as
+    misses, which ``--gestures`` avoids."""
+    from ..online.events import STOP
+
+    known = {*getattr(rec, "gestures", ()), STOP}
+    unknown = sorted({s.label for _, _, segs in loaded for s in segs} - known)
+    if unknown:
+        click.echo(f"note: the streams label {', '.join(unknown)}, which {models} does not hold: "
+                   "they count as misses (--gestures G1,G2,... evaluates only some gestures, the "
+                   "streams' other labels then counting as non-gesture motion)", err=True)
 
 
 def _evaluate(rec: Any, loaded: list, tolerance: float, figures: str | None, emit: Any = None,

@@ -122,12 +122,15 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
     if "latency_min" in overrides:
         overrides["latency_min"] = int(overrides["latency_min"])
     if Path(models).is_file():
-        if gestures:
-            raise FramefreeError("--gestures does not apply to a gesture library file; enroll a "
-                                 "library of those gestures instead")
         if invariance is not None:
             overrides["invariance"] = invariance  # refused below, as every other setting
-        return _library_recognizer(models, method, overrides)
+        rec = _library_recognizer(models, method, overrides)
+        if gestures and sorted(set(gestures)) != sorted(rec.gestures):
+            raise FramefreeError(
+                f"--gestures {','.join(gestures)}: {models} holds {', '.join(sorted(rec.gestures))}; "
+                "a library file's gestures are fixed when enrolling (framefree enroll LIBRARY "
+                "--remove GESTURE -o OTHER.npz)")
+        return rec
     from ..datasets.multi_models import find_multi_models
 
     multi = find_multi_models(models)

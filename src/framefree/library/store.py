@@ -157,6 +157,8 @@ def _matches(pattern: str, label: str, name: str) -> bool:
 
 def _choose_context(gdir: Path, context: str | None) -> Path:
     found = sorted(p.name for p in gdir.iterdir() if p.is_dir() and not p.name.startswith("."))
+    if not found and context is None and any(gdir.glob("*.csv")):
+        return gdir  # <gesture>/<trial>.csv: a benchmark's dictionary of examples
     if context is not None:
         if context not in found:
             raise LibraryError(f"{gdir}: no context folder {context!r} (found: {', '.join(found) or 'none'})")
@@ -166,12 +168,17 @@ def _choose_context(gdir: Path, context: str | None) -> Path:
             return gdir / pref
     if len(found) == 1:
         return gdir / found[0]
-    raise LibraryError(f"{gdir}: several context folders ({', '.join(found) or 'none'}); "
+    if not found:
+        raise LibraryError(f"{gdir}: no takes (expected {gdir.name}/<context>/<trial>.csv or "
+                           f"{gdir.name}/<trial>.csv)")
+    raise LibraryError(f"{gdir}: several context folders ({', '.join(found)}); "
                        "choose one with --context")
 
 
 def read_takes(folder: str | Path, context: str | None = None) -> TakeSet:
-    """Takes of a library folder laid out as ``<folder>/<gesture>/<context>/<trial>.csv``.
+    """Takes of a library folder laid out as ``<folder>/<gesture>/<context>/<trial>.csv``, or as
+    ``<folder>/<gesture>/<trial>.csv`` (a benchmark's dictionary of examples, as every command's
+    ``--models`` reads it).
 
     Parameters
     ----------
@@ -212,7 +219,7 @@ def read_takes(folder: str | Path, context: str | None = None) -> TakeSet:
             except FramefreeError as exc:
                 raise DatasetError(f"bad take: {exc}") from exc
             labels.append(gdir.name)
-            names.append(f"{gdir.name}/{cdir.name}/{f.stem}")
+            names.append("/".join(f.relative_to(root).with_suffix("").parts))
     if not takes:
         raise LibraryError(f"{root}: no gesture folders with takes")
     return TakeSet(tuple(takes), tuple(labels), tuple(names))
