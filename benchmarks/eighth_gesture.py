@@ -39,6 +39,7 @@ from typing import Any
 from framefree.core.trajectory import Trajectory
 from framefree.datasets import GESTURES
 from framefree.library import TakeRecorder, TakeSet, enroll, load_recognizer, read_takes
+from framefree.library.inside import fired_inside
 from framefree.online.diagnosis import explain, logging_candidates
 from framefree.online.evaluation import match_events, run_stream
 from framefree.replica import (
@@ -210,6 +211,7 @@ def run(args: argparse.Namespace, demo_seed: int, work: Path, write: bool = True
                   **settings)
     path8 = lib8.save(work / "hpm_plus_one.npz")
     t_enroll = time.perf_counter() - t0
+    inside = fired_inside(load_recognizer(path8), hpm + new)  # what ``framefree check`` replays
 
     group = {"heldout": HELDOUT_PEOPLE, "fresh": FRESH_PEOPLE, "dev": DEV_PEOPLE}[args.people_group]
     people = list(group)[args.first_person: args.first_person + args.people]
@@ -220,7 +222,7 @@ def run(args: argparse.Namespace, demo_seed: int, work: Path, write: bool = True
         "gesture": args.gesture, "demo_seed": demo_seed, "takes": len(takes), "people": people,
         "people_group": args.people_group,
         "streams": [(s.person_seed, s.stream_seed) for s in streams],
-        "enroll_s": t_enroll, "thresholds": lib8.gesture_thresholds,
+        "enroll_s": t_enroll, "thresholds": lib8.gesture_thresholds, "fired_inside": inside,
         "distractors": shapes,
         "with_new_gesture": evaluate(path8, streams, [*labels, "stop"], distractors=shapes),
     }
@@ -239,7 +241,7 @@ def _print_demonstrations(gesture: str, runs: dict[int, dict[str, Any]]) -> None
     """One row per demonstration: the new gesture's counts, the seven's and every gesture's F1."""
     print(f"\n{gesture}, one row per demonstration (the same people's streams)")
     print(f"{'demo seed':<10}{'new: TP / FP / FN':>20}{'F1':>8}{'the seven: TP / FP / FN':>26}"
-          f"{'all F1':>9}")
+          f"{'all F1':>9}  takes that fire another gesture (framefree check)")
     for seed, out in runs.items():
         per = out["with_new_gesture"]["per_gesture"]
         new = per[gesture]
@@ -247,7 +249,10 @@ def _print_demonstrations(gesture: str, runs: dict[int, dict[str, Any]]) -> None
                  for k in ("tp", "fp", "fn")]
         print(f"{seed:<10}{new['tp']:>8} / {new['fp']:>3} / {new['fn']:>3}{100 * new['f1']:7.1f}%"
               f"{seven[0]:>14} / {seven[1]:>3} / {seven[2]:>3}"
-              f"{100 * out['with_new_gesture']['total']['f1']:8.1f}%")
+              f"{100 * out['with_new_gesture']['total']['f1']:8.1f}%  "
+              + (", ".join(f"{len(names)} {g} fire {other}"
+                           for g, by in out.get("fired_inside", {}).items()
+                           for other, names in by.items()) or "none"))
 
 
 def _print(out: dict[str, Any]) -> None:

@@ -25,12 +25,16 @@ def test_the_demonstrations_table_counts_the_new_gesture_and_the_seven_apart(eig
 
     per = {"go_left": counts(20, 1, 2), "go_home": counts(10, 0, 12), "stop": counts(30, 0, 1),
            "check_mark": counts(25, 16, 7)}
-    runs = {1: {"with_new_gesture": {"per_gesture": per, "total": {"f1": 0.911}}}}
+    runs = {1: {"with_new_gesture": {"per_gesture": per, "total": {"f1": 0.911}},
+                "fired_inside": {"go_home": {"check_mark": ["a", "b", "c"]}}},
+            2: {"with_new_gesture": {"per_gesture": per, "total": {"f1": 0.911}},
+                "fired_inside": {}}}
     eighth_gesture._print_demonstrations("check_mark", runs)
-    row = capsys.readouterr().out.splitlines()[-1].split()
-    assert row[:6] == ["1", "25", "/", "16", "/", "7"]
-    assert row[7:12] == ["30", "/", "1", "/", "14"]  # go_left + go_home, stop apart
-    assert row[-1] == "91.1%"
+    first, second = (line.split() for line in capsys.readouterr().out.splitlines()[-2:])
+    assert first[:6] == ["1", "25", "/", "16", "/", "7"]
+    assert first[7:12] == ["30", "/", "1", "/", "14"]  # go_left + go_home, stop apart
+    assert first[12:] == ["91.1%", "3", "go_home", "fire", "check_mark"]
+    assert second[12:] == ["91.1%", "none"]
 
 
 @pytest.mark.parametrize("text", ["x", "4-2", "1-"])
