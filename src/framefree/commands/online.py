@@ -124,13 +124,7 @@ def _recognizer(models: str, model_context: str, model_quat_order: str, units: s
     if Path(models).is_file():
         if invariance is not None:
             overrides["invariance"] = invariance  # refused below, as every other setting
-        rec = _library_recognizer(models, method, overrides)
-        if gestures and sorted(set(gestures)) != sorted(rec.gestures):
-            raise FramefreeError(
-                f"--gestures {','.join(gestures)}: {models} holds {', '.join(sorted(rec.gestures))}; "
-                "a library file's gestures are fixed when enrolling (framefree enroll LIBRARY "
-                "--remove GESTURE -o OTHER.npz)")
-        return rec
+        return _library_recognizer(models, method, overrides, gestures)
     from ..datasets.multi_models import find_multi_models
 
     multi = find_multi_models(models)
@@ -174,8 +168,10 @@ def _only(found: Any, gestures: list[str], models: str) -> Any:
                                labels=[found.labels[k] for k in keep])
 
 
-def _library_recognizer(path: str, method: str, overrides: dict[str, Any]):
-    """A recognizer from a gesture library file (:mod:`framefree.library`): no calibration."""
+def _library_recognizer(path: str, method: str, overrides: dict[str, Any],
+                        gestures: list[str] | None = None):
+    """A recognizer from a gesture library file (:mod:`framefree.library`): no calibration.
+    ``gestures`` (``--gestures``) must be the library's own."""
     from ..datasets.multi_models import is_multi_library
     from ..online import Recognizer
 
@@ -187,13 +183,19 @@ def _library_recognizer(path: str, method: str, overrides: dict[str, Any]):
     if is_multi_library(path):  # several trackers: framefree.commands.multi_cli
         from .multi_cli import library_multi_recognizer
 
-        return library_multi_recognizer(path)
-    click.echo(f"loading gesture library {path} ...", err=True)
-    t0 = time.perf_counter()
-    rec = Recognizer.load(path)
-    rec.warmup()
-    click.echo(f"{len(rec.labels)} models, {len(rec.gestures)} gestures, {_thresholds(rec)}, "
-               f"{_stop_and_resolution(rec)} ({time.perf_counter() - t0:.1f} s)", err=True)
+        rec = library_multi_recognizer(path)
+    else:
+        click.echo(f"loading gesture library {path} ...", err=True)
+        t0 = time.perf_counter()
+        rec = Recognizer.load(path)
+        rec.warmup()
+        click.echo(f"{len(rec.labels)} models, {len(rec.gestures)} gestures, {_thresholds(rec)}, "
+                   f"{_stop_and_resolution(rec)} ({time.perf_counter() - t0:.1f} s)", err=True)
+    if gestures and sorted(set(gestures)) != sorted(rec.gestures):
+        raise FramefreeError(
+            f"--gestures {','.join(gestures)}: {path} holds {', '.join(sorted(rec.gestures))}; "
+            "a library file's gestures are fixed when enrolling (framefree enroll LIBRARY "
+            "--remove GESTURE -o OTHER.npz)")
     return rec
 
 
