@@ -4,14 +4,16 @@ that fires another (:mod:`framefree.library.inside`)."""
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 from click.testing import CliRunner
 
 from framefree.cli import cli
 from framefree.library import TakeRecorder, TakeSet, enroll, load_recognizer
-from framefree.library.inside import fired_inside, inside_findings
+from framefree.library.inside import fired_inside, from_rest, inside_findings
 from framefree.replica import DEFAULT_PERSON, replica_path
 from framefree.replica.people_streams import take_session
 
@@ -54,7 +56,7 @@ def test_a_check_mark_that_begins_go_home_is_found(rounded_check_mark: Path, hpm
 def test_check_exits_1_and_writes_the_problem(rounded_check_mark: Path, tmp_path: Path) -> None:
     res = CliRunner().invoke(cli, ["check", str(rounded_check_mark), "--out", str(tmp_path)])
     assert res.exit_code == 1, res.output
-    assert "PROBLEM: 3 of go_home's 5 takes fire check_mark before they end" in res.output
+    assert "PROBLEM: 3 of go_home's 5 takes, replayed as a stream, fire check_mark" in res.output
     report = json.loads((tmp_path / "hpm_check_check.json").read_text())
     assert not report["ok"]
     assert [f["gesture"] for f in report["findings"] if f["level"] == "problem"] == ["go_home"]
@@ -65,8 +67,25 @@ def test_a_minority_is_a_warning_that_names_the_take(hpm_takes: TakeSet) -> None
              "go_up": {"go_left": ["go_up/original_1/trial_1", "go_up/original_1/trial_4"]}}
     stop, left = inside_findings(fired, hpm_takes)
     assert (stop.level, left.level) == ("warning", "warning")
-    assert stop.message.startswith("1 of go_left's 5 takes fires a stop signal before it ends")
+    assert stop.message.startswith("1 of go_left's 5 takes, replayed as a stream, fires a stop signal")
     assert "--remove go_left/original_1/trial_2" in stop.message
-    assert left.message.startswith("2 of go_up's 5 takes fire go_left before they end")
+    assert left.message.startswith("2 of go_up's 5 takes, replayed as a stream, fire go_left")
     fired["go_up"]["go_left"].append("go_up/original_1/trial_5")
     assert inside_findings(fired, hpm_takes)[1].level == "problem"
+
+
+def test_a_take_is_replayed_from_a_rest(hpm_takes: TakeSet) -> None:
+    """The first pose held still in front, at the take's sampling interval; the take itself as
+    it was (and not written into)."""
+    take = hpm_takes.takes[0]
+    before = take.p.copy()
+    padded = from_rest(take, 1.0)
+    step = float(np.median(np.diff(take.t)))
+    n = len(padded) - len(take)
+    assert n == math.ceil(1.0 / step)
+    assert np.all(np.diff(padded.t) > 0) and padded.t[n - 1] == pytest.approx(take.t[0] - step)
+    np.testing.assert_array_equal(padded.p[:n], np.repeat(take.p[:1], n, axis=0))
+    np.testing.assert_array_equal(padded.q[:n], np.repeat(take.q[:1], n, axis=0))
+    np.testing.assert_array_equal(padded.p[n:], take.p)
+    np.testing.assert_array_equal(take.p, before)
+    assert from_rest(take, 0.0) is take

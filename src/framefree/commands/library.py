@@ -280,7 +280,7 @@ def check_cmd(library: str, context: str | None, out: str, seed: int, invariance
 
     LIBRARY is a library folder or file, of one tracker or of several. For a library file of one
     tracker, its takes are also replayed through its recognizer: a take that fires another
-    gesture before it ends is a part of one gesture that looks like another. Exit status 1 when
+    gesture holds a part that looks like that gesture. Exit status 1 when
     there is a problem.
     """
     from ..library.check import CheckSettings, check_takes

@@ -7,8 +7,9 @@ out of a *go home* drawn as the first stroke of a check mark whose corner came o
 at the start of a combo. Nothing of that shows between whole takes.
 
 :func:`fired_inside` replays every take of a library as a stream through the recognizer built
-from it (:func:`~framefree.online.evaluation.run_stream`) and counts the events of another gesture
-(or a stop signal) that each gesture's takes give. :func:`inside_findings` turns them into the
+from it, from a rest and into one (:func:`from_rest`, :func:`~framefree.online.evaluation.
+run_stream`), and counts the events of another gesture (or a stop signal) that each gesture's
+takes give. :func:`inside_findings` turns them into the
 findings of ``framefree check``: a warning where some of a gesture's takes fire another gesture,
 a problem where more than half do. Measured on the replica: a check mark taught from five takes of
 one demonstration (``python benchmarks/eighth_gesture.py --gesture check_mark --demo-seed 1``)
@@ -19,13 +20,17 @@ inside no take, and their *go home* keeps every performance.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
+import numpy as np
+
+from ..core.trajectory import Trajectory
 from ..online.evaluation import run_stream
 from .check import Finding
 from .store import TakeSet
 
-__all__ = ["fired_inside", "inside_findings"]
+__all__ = ["fired_inside", "from_rest", "inside_findings"]
 
 
 def fired_inside(recognizer: Any, takes: TakeSet, progress: bool = False
@@ -38,7 +43,9 @@ def fired_inside(recognizer: Any, takes: TakeSet, progress: bool = False
         Built from ``takes`` (a library file's :func:`~framefree.library.store.load_recognizer`);
         it is reset before each take and left reset.
     takes : TakeSet
-        The takes, each one performance of its gesture, with the rests the recording kept.
+        The takes, each one performance of its gesture. Each is replayed after its first pose
+        held still for the recognizer's ``max_wait`` (:func:`from_rest`), and the recording's
+        end is held as long (:func:`~framefree.online.evaluation.run_stream`).
     progress : bool
         Show a progress bar on a terminal.
 
@@ -54,12 +61,27 @@ def fired_inside(recognizer: Any, takes: TakeSet, progress: bool = False
     rows = tqdm(list(zip(takes.takes, takes.labels, takes.names, strict=True)),
                 desc="replaying the takes", unit="take", leave=False,
                 disable=None if progress else True)
+    lead = float(getattr(recognizer.config, "max_wait", 1.0))
     for take, gesture, name in rows:
-        events, _ = run_stream(recognizer, take)
+        events, _ = run_stream(recognizer, from_rest(take, lead))
         for other in sorted({e.label for e in events if e.label != gesture}):
             fired.setdefault(gesture, {}).setdefault(other, []).append(name)
     recognizer.reset()
     return fired
+
+
+def from_rest(take: Trajectory, seconds: float) -> Trajectory:
+    """``take`` after its first pose held still for ``seconds`` [s] at its sampling interval: a
+    performance starts from a rest, which a take cut tightly (a benchmark's segmented example)
+    does not hold, and the recognizer forms a candidate of the whole only after one."""
+    if len(take) < 2 or seconds <= 0:
+        return take
+    step = float(np.median(np.diff(take.t)))
+    n = math.ceil(seconds / step)
+    t = np.concatenate([take.t[0] - step * np.arange(n, 0, -1), take.t])
+    p = np.concatenate([np.repeat(take.p[:1], n, axis=0), take.p])
+    q = np.concatenate([np.repeat(take.q[:1], n, axis=0), take.q])
+    return Trajectory(t, p, q, source=take.source)
 
 
 def inside_findings(fired: dict[str, dict[str, list[str]]], takes: TakeSet) -> list[Finding]:
@@ -74,9 +96,8 @@ def inside_findings(fired: dict[str, dict[str, list[str]]], takes: TakeSet) -> l
             what = "a stop signal" if other == "stop" else other
             shown = ", ".join(names[:5]) + (", ..." if len(names) > 5 else "")
             fire = "fires" if len(names) == 1 else "fire"
-            end = "it ends" if len(names) == 1 else "they end"
-            head = (f"{len(names)} of {gesture}'s {n_takes} takes {fire} {what} before {end} "
-                    f"({shown}): live, a {gesture} may give {what} halfway through")
+            head = (f"{len(names)} of {gesture}'s {n_takes} takes, replayed as a stream, {fire} "
+                    f"{what} ({shown}): live, a part of a {gesture} may give {what}")
             if 2 * len(names) > n_takes:
                 advice = ("record it again more steadily" if other == "stop" else
                           f"record {other} again so that it looks like no part of {gesture}, or "
