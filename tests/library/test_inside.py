@@ -11,20 +11,17 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
+from benchmark_scripts import load_benchmark
 from framefree.cli import cli
-from framefree.library import TakeRecorder, TakeSet, enroll, load_recognizer
+from framefree.library import TakeSet, enroll, load_library, load_recognizer
 from framefree.library.inside import fired_inside, from_rest, inside_findings
-from framefree.replica import DEFAULT_PERSON, replica_path
-from framefree.replica.people_streams import take_session
+from framefree.replica import replica_path
 
 
 def _check_mark_takes(seed: int) -> TakeSet:
-    """Five check marks as ``framefree record`` cuts one recording of the replica's person."""
-    session = take_session("check_mark", DEFAULT_PERSON, 5, seed=seed)
-    recorder = TakeRecorder()
-    for t, p, q in zip(session.traj.t, session.traj.p, session.traj.q, strict=True):
-        recorder.push(t, p, q)
-    takes = tuple(take for _, take in recorder.finish())
+    """Five check marks as ``framefree record`` cuts one recording of the replica's person (the
+    new-gesture benchmark's demonstration ``seed``)."""
+    takes = tuple(load_benchmark("eighth_gesture").recorded_takes("check_mark", 5, seed))
     return TakeSet(takes, ("check_mark",) * len(takes),
                    tuple(f"check_mark/own/trial_{k + 1}" for k in range(len(takes))))
 
@@ -42,8 +39,8 @@ def test_the_seven_fire_nothing_inside_each_other(hpm_library_file: Path, hpm_ta
     assert fired_inside(load_recognizer(hpm_library_file), hpm_takes) == {}
 
 
-def test_a_check_mark_that_begins_go_home_is_found(rounded_check_mark: Path, hpm_takes: TakeSet) -> None:
-    takes = hpm_takes + _check_mark_takes(1)
+def test_a_check_mark_that_begins_go_home_is_found(rounded_check_mark: Path) -> None:
+    takes = load_library(rounded_check_mark).takes
     fired = fired_inside(load_recognizer(rounded_check_mark), takes)
     assert set(fired) == {"go_home"} and set(fired["go_home"]) == {"check_mark"}
     names = fired["go_home"]["check_mark"]
