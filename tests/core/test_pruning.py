@@ -108,11 +108,9 @@ def test_classifier_predicts_the_same_with_and_without_pruning(kettle_files, rea
 
 @pytest.fixture(scope="module")
 def replica_recognizer():
-    from framefree.datasets.layout import load_model_recordings
-    from framefree.online import Recognizer
-    from framefree.replica import replica_path
+    from replica_recognizer import replica_recognizer
 
-    return Recognizer.from_trajectories(*load_model_recordings(replica_path(0), "original_1"))
+    return replica_recognizer()
 
 
 def _live_events(rec, stream_name: str) -> list:

@@ -11,18 +11,17 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from framefree.datasets.layout import load_model_recordings
 from framefree.online import Recognizer, spotting
 from framefree.online.background import SerialWorker
 from framefree.online.segmentation import PoseBuffer
-from framefree.replica import replica_path
 from framefree.replica.people import HELDOUT_PEOPLE, person
 from framefree.replica.people_streams import person_stream
+from replica_recognizer import replica_recognizer
 
 
 @pytest.fixture(scope="module")
 def recognizer() -> Recognizer:
-    rec = Recognizer.from_trajectories(*load_model_recordings(replica_path(0), "original_1"))
+    rec = replica_recognizer()
     rec.warmup()
     return rec
 

@@ -35,6 +35,7 @@ from framefree.replica import replica_path
 from framefree.replica.people import person
 from framefree.replica.people_streams import take_session
 from real_data import MACHETE, SHIPPED_MACHETE
+from replica_recognizer import replica_recognizer
 
 
 def _corners(positions: np.ndarray, X: np.ndarray | None = None, angle: float = 60.0) -> int:
@@ -155,7 +156,7 @@ def models():
 
 
 def test_corner_limits_come_from_the_demonstrations(models):
-    rec = Recognizer.from_trajectories(*models)
+    rec = replica_recognizer()
     limits = rec.learned_.corner_limits
     assert limits["go_right"] == 2  # one turn of a circle, and two corners' slack
     assert all(limits[g] == 3 for g in limits if g != "go_right")  # out, reverse, back

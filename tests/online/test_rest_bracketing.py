@@ -19,11 +19,12 @@ from framefree.online.scribbles import SIZE_SPREAD, scribble_poses
 from framefree.online.segmentation import MotionSegmenter, SpeedLevels
 from framefree.online.spotting import Spotter
 from framefree.replica import replica_path
+from replica_recognizer import replica_recognizer
 
 
 @pytest.fixture(scope="module")
 def recognizer() -> Recognizer:
-    rec = Recognizer.from_trajectories(*load_model_recordings(replica_path(0), "original_1"))
+    rec = replica_recognizer()
     rec.warmup()
     return rec
 

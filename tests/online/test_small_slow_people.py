@@ -18,6 +18,7 @@ from framefree.online.rest_levels import speed_levels
 from framefree.online.segmentation import MotionSegmenter, SpeedLevels
 from framefree.online.thresholds import SegmentScores, reach_down
 from framefree.replica import replica_path
+from replica_recognizer import replica_recognizer
 
 
 @pytest.fixture(scope="module")
@@ -26,8 +27,8 @@ def models():
 
 
 @pytest.fixture(scope="module")
-def recognizer(models) -> Recognizer:
-    return Recognizer.from_trajectories(*models)
+def recognizer() -> Recognizer:
+    return replica_recognizer()
 
 
 def test_move_level_is_the_rest_level_times_the_hysteresis(models):

@@ -55,6 +55,10 @@ class RerunView:
     #: Longest wait for the viewer to take the last data when the view closes [s]; a viewer
     #: closed early must never hold the command.
     FLUSH_TIMEOUT = 2.0
+    #: The thresholds are constant lines: logged at the first pose, then at most once per this
+    #: many seconds of source time, and at the last pose (logging them with every pose took
+    #: half the time of ``--save``) [s]
+    CONSTANT_EVERY = 0.5
 
     def __init__(self, recognizer: Any, save: str | Path | None = None, spawn: bool = True,
                  port: int | None = None, url: str | None = None) -> None:
@@ -81,6 +85,9 @@ class RerunView:
         elif url is not None:
             self.stream.connect_grpc(url)
         self._viewer = url is not None and save is None
+        #: source time the constant lines were last logged at, and the last pose's time [s]
+        self._constants_t = -math.inf
+        self._last_t = -math.inf
         self._static()
 
     def _static(self) -> None:
@@ -109,11 +116,22 @@ class RerunView:
         stop = getattr(getattr(rec, "stop", None), "angular_speed", math.nan)
         if math.isfinite(stop):
             s.log("stop/angular_speed", rr.Scalars(stop))
-            s.log("stop/threshold", rr.Scalars(float(rec.stop_threshold)))
-        for g, th in self.thresholds.items():
-            s.log(f"threshold/{g}", rr.Scalars(th))
+        self._last_t = float(t)
+        if t - self._constants_t >= self.CONSTANT_EVERY:
+            self._constants(float(t))
         self._observations(getattr(rec, "observations", ()))
         self.log_events(events)
+
+    def _constants(self, t: float) -> None:
+        """The threshold lines at source time ``t`` [s]."""
+        rr, s = self.rr, self.stream
+        s.set_time(TIMELINE, duration=t)
+        self._constants_t = t
+        stop = getattr(self.rec_, "stop_threshold", None)
+        if stop is not None and math.isfinite(float(stop)):
+            s.log("stop/threshold", rr.Scalars(float(stop)))
+        for g, th in self.thresholds.items():
+            s.log(f"threshold/{g}", rr.Scalars(th))
 
     def log_events(self, events: list[Any]) -> None:
         """Log events as text lines at their times (also those a background classifier hands
@@ -142,6 +160,8 @@ class RerunView:
     def close(self) -> None:
         """Flush and close the recording; a viewer gets at most :attr:`FLUSH_TIMEOUT` seconds
         (one line on stderr says when it did not take the last data)."""
+        if self._constants_t < self._last_t:  # the lines reach the last pose
+            self._constants(self._last_t)
         try:
             if self._viewer:
                 self.stream.flush(timeout_sec=self.FLUSH_TIMEOUT)
