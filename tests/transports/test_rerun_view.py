@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import sys
+from itertools import pairwise
 
 import pytest
 from click.testing import CliRunner
@@ -48,6 +49,36 @@ def test_saved_recording_holds_the_view(tiny, tmp_path, command):
 
     traj, _ = load_stream(stream)
     assert rows["/world/tracker"] >= len(traj)  # one pose per sample (plus its static part)
+
+
+def _times(path, entity: str) -> list[float]:
+    """Source times [s] of the rows logged on ``entity`` (static rows left out)."""
+    out: list[float] = []
+    for chunk in rr_chunk.RrdReader(path).stream():
+        if chunk.entity_path == entity and not chunk.is_static:
+            out += [v.value * 1e-9 for v in chunk.to_record_batch().column("source_time")]
+    return sorted(out)
+
+
+def test_threshold_lines_span_the_stream_without_a_row_per_pose(tiny, tmp_path):
+    """A threshold is a constant: logged at the first pose, every 0.5 s of source time and at
+    the last pose, so its line spans the stream without costing a row per pose."""
+    from framefree.datasets import load_stream
+    from framefree.view.rerun_view import RerunView
+
+    root, stream = tiny
+    rrd = tmp_path / "view.rrd"
+    res = CliRunner().invoke(cli, ["evaluate-stream", "--stream", str(stream), "--models",
+                                   str(root), "--save", str(rrd)])
+    assert res.exit_code == 0, res.output
+    traj, _ = load_stream(stream)
+    poses = _times(rrd, "/world/tracker")  # the stream's poses (and the rest held after it)
+    span = poses[-1] - poses[0]
+    for entity in ("/threshold/go_left", "/stop/threshold"):
+        times = _times(rrd, entity)
+        assert times[0] == pytest.approx(poses[0]) and times[-1] == pytest.approx(poses[-1])
+        assert max(b - a for a, b in pairwise(times)) <= RerunView.CONSTANT_EVERY + 0.05
+        assert len(times) <= span / RerunView.CONSTANT_EVERY + 2 < len(traj) / 10
 
 
 def test_view_does_not_change_the_events(tiny, tmp_path):
