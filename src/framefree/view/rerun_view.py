@@ -117,7 +117,7 @@ class RerunView:
         if math.isfinite(stop):
             s.log("stop/angular_speed", rr.Scalars(stop))
         self._last_t = float(t)
-        if t - self._constants_t >= self.CONSTANT_EVERY:
+        if not 0.0 <= t - self._constants_t < self.CONSTANT_EVERY:  # (a restarted clock too)
             self._constants(float(t))
         self._observations(getattr(rec, "observations", ()))
         self.log_events(events)
