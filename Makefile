@@ -20,7 +20,7 @@ demo: $(STAMP)
 	$(BIN)/framefree demo
 
 # Two workers on two cores, each running the compiled kernels on one thread: with two threads
-# each, OpenMP's idle threads took 11 % more CPU and the suite 6 % longer.
+# each, OpenMP's idle threads took 13 % more CPU and the suite 6 % longer.
 test: $(STAMP)
 	NUMBA_NUM_THREADS=1 $(BIN)/python -m pytest -n 2 -m "not realtime"
 	$(BIN)/python -m pytest -m realtime

@@ -5,8 +5,8 @@ Many test modules need exactly this recognizer; each used to calibrate its own (
 12 of the suite's 162 calibrations, 113 of their 443 s, session 39). :func:`replica_recognizer`
 calibrates once and builds every further copy from the calibrated settings and learned values,
 as loading a library file does (``Recognizer.from_trajectories(takes, labels, config,
-learned)``, the same decisions: tests/library/test_store.py). A test that needs the calibration itself
-(``Recognizer.calibration``) builds its own.
+learned)``, the same decisions: tests/library/test_store.py). A test that needs the calibration
+itself (``Recognizer.calibration``) builds its own.
 """
 
 from __future__ import annotations

@@ -212,19 +212,19 @@ def test_ctrl_c_ends_a_live_view(tiny, loopback_server):
     assert " poses; " in err and "Traceback" not in err
 
 
-def test_threshold_lines_are_logged_again_when_the_source_clock_restarts(tmp_path):
+def test_threshold_lines_are_logged_again_when_the_source_clock_restarts(tiny, tmp_path):
     """A source whose clock starts again (a replayed file, a restarted publisher) gets its
     threshold lines at once, not 0.5 s after the old clock's last time."""
-    from types import SimpleNamespace
-
+    from framefree.online import Recognizer
     from framefree.view.rerun_view import RerunView
 
-    rec = SimpleNamespace(gestures=["wave"], labels=["wave"], gesture_thresholds={"wave": 0.1},
-                          stop_threshold=5.0, observations=())
+    root, _ = tiny
+    rec = Recognizer.from_dataset(root, model_context="original_1")
     rrd = tmp_path / "restart.rrd"
     view = RerunView(rec, save=rrd)
     p, q = [0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]
     for t in (1000.0, 1000.1, 0.0, 0.1):
         view.update(t, p, q, [])
     view.close()
-    assert _times(rrd, "/threshold/wave") == pytest.approx([0.0, 0.1, 1000.0])
+    for gesture in rec.gestures:
+        assert _times(rrd, f"/threshold/{gesture}") == pytest.approx([0.0, 0.1, 1000.0])
