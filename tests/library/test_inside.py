@@ -1,5 +1,6 @@
 """``framefree check`` replays a library's takes through its recognizer: a part of one gesture
-that fires another (:mod:`framefree.library.inside`)."""
+that fires another (:mod:`framefree.library.inside`); and it names a gesture whose calibration
+found no gap between its takes and non-gesture motion (:mod:`framefree.library.separation`)."""
 
 from __future__ import annotations
 
@@ -13,8 +14,9 @@ from click.testing import CliRunner
 
 from benchmark_scripts import load_benchmark
 from framefree.cli import cli
-from framefree.library import TakeSet, enroll, load_library, load_recognizer
+from framefree.library import GestureLibrary, TakeSet, enroll, load_library, load_recognizer
 from framefree.library.inside import fired_inside, from_rest, inside_findings
+from framefree.library.separation import separation_findings
 from framefree.replica import replica_path
 
 
@@ -54,6 +56,7 @@ def test_check_exits_1_and_writes_the_problem(rounded_check_mark: Path, tmp_path
     res = CliRunner().invoke(cli, ["check", str(rounded_check_mark), "--out", str(tmp_path)])
     assert res.exit_code == 1, res.output
     assert "PROBLEM: 3 of go_home's 5 takes, replayed as a stream, fire check_mark" in res.output
+    assert "WARNING: check_mark is not apart from motion that is no gesture" in res.output
     report = json.loads((tmp_path / "hpm_check_check.json").read_text())
     assert not report["ok"]
     assert [f["gesture"] for f in report["findings"] if f["level"] == "problem"] == ["go_home"]
@@ -86,3 +89,20 @@ def test_a_take_is_replayed_from_a_rest(hpm_takes: TakeSet) -> None:
     np.testing.assert_array_equal(padded.p[n:], take.p)
     np.testing.assert_array_equal(take.p, before)
     assert from_rest(take, 0.0) is take
+
+
+def test_a_check_mark_near_free_motion_is_named(rounded_check_mark: Path,
+                                                 hpm_library: GestureLibrary) -> None:
+    """Demonstration 1's check marks lie up to 0.065 apart, random shapes and moves within
+    0.058: no gap (``separated`` False); the HPM seven all have one."""
+    assert hpm_library.unseparated == [] and separation_findings(hpm_library) == []
+    lib = load_library(rounded_check_mark)
+    assert lib.unseparated == ["check_mark"]
+    [finding] = separation_findings(lib)
+    worst = lib.calibration["positives_max"]["check_mark"]
+    nearest = lib.calibration["negatives_quantile"]["check_mark"]
+    assert finding.level == "warning" and worst >= nearest
+    assert f"up to {worst:.3g}" in finding.message and f"within {nearest:.3g}" in finding.message
+    assert "check_mark" in lib.summary().splitlines()[-1]
+    assert "not apart from other motion" in lib.summary().splitlines()[-1]
+    assert "not apart" not in hpm_library.summary()

@@ -280,8 +280,9 @@ def check_cmd(library: str, context: str | None, out: str, seed: int, invariance
 
     LIBRARY is a library folder or file, of one tracker or of several. For a library file of one
     tracker, its takes are also replayed through its recognizer: a take that fires another
-    gesture holds a part that looks like that gesture. Exit status 1 when
-    there is a problem.
+    gesture holds a part that looks like that gesture; and a gesture whose takes lie as far
+    apart as motion that is no gesture comes to them (its calibration found no gap) is named.
+    Exit status 1 when there is a problem.
     """
     from ..library.check import CheckSettings, check_takes
     from ..library.figures import plot_distance_map, plot_take_gallery
@@ -310,10 +311,12 @@ def check_cmd(library: str, context: str | None, out: str, seed: int, invariance
     report = check_takes(takes, config, settings, progress=True)
     if not lib_path.is_dir():  # a built library: replay its takes through its recognizer
         from ..library.inside import fired_inside, inside_findings
+        from ..library.separation import separation_findings
         from ..library.store import load_recognizer
 
         rec = load_recognizer(lib_path)
         report.findings += inside_findings(fired_inside(rec, lib.takes, progress=True), lib.takes)
+        report.findings += separation_findings(lib)
     click.echo(report.format())
     if not lib_path.is_dir():
         from ..online.model_settings import unseen_advice

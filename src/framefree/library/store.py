@@ -379,6 +379,13 @@ class GestureLibrary(StoredSettings):
         """SHA-256 of the takes and settings (equal fingerprints need no new calibration)."""
         return fingerprint(self.takes, self.settings)
 
+    @property
+    def unseparated(self) -> list[str]:
+        """Gestures whose calibration found no gap between their takes and non-gesture motion
+        (:mod:`framefree.library.separation`), in order; none without a calibration summary."""
+        separated = (self.calibration or {}).get("separated") or {}
+        return [g for g, ok in separated.items() if not ok]
+
     def recognizer(self) -> Recognizer:
         """A live recognizer: models rebuilt from the takes, learned values restored (no
         calibration)."""
@@ -406,7 +413,8 @@ class GestureLibrary(StoredSettings):
 
     def summary(self) -> str:
         """One line per gesture: takes, threshold, whether it is performed in one go (no long rest
-        at a corner) and, with a known vertical, verticality range."""
+        at a corner), with a known vertical its verticality range, whether it never fires, and
+        whether it is not apart from non-gesture motion (:attr:`unseparated`)."""
         config, learned = self.recognizer_config(), self.learned_settings()
         counts = self.takes.counts()
         up = config.up
@@ -423,6 +431,8 @@ class GestureLibrary(StoredSettings):
                 line += f"  vertical {vertical[g][0]:.2f}–{vertical[g][1]:.2f}"
             if g in (learned.unseen or []):
                 line += "  never fires (most takes do not move this tracker)"
+            if g in self.unseparated:
+                line += "  not apart from other motion (framefree check explains)"
             lines.append(line)
         return "\n".join(lines)
 
