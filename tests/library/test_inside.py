@@ -102,7 +102,7 @@ def test_a_check_mark_near_free_motion_is_named(rounded_check_mark: Path,
     worst = lib.calibration["positives_max"]["check_mark"]
     nearest = lib.calibration["negatives_quantile"]["check_mark"]
     assert finding.level == "warning" and worst >= nearest
-    assert f"up to {worst:.3g}" in finding.message and f"within {nearest:.3g}" in finding.message
+    assert f"worst take lies {worst:.3g}" in finding.message and f"within {nearest:.3g}" in finding.message
     assert "check_mark" in lib.summary().splitlines()[-1]
     assert "not apart from other motion" in lib.summary().splitlines()[-1]
     assert "not apart" not in hpm_library.summary()

@@ -40,8 +40,8 @@ def separation_findings(library: GestureLibrary) -> list[Finding]:
         tau = calibration["thresholds"][g]
         out.append(Finding(
             "warning", g,
-            f"{g} is not apart from motion that is no gesture: its takes lie up to {worst:.3g} "
-            f"from one another, but other motion (another gesture's take, a reach, a shape drawn "
+            f"{g} is not apart from motion that is no gesture: its worst take lies {worst:.3g} "
+            f"from the other takes, but other motion (another gesture's take, a reach, a shape drawn "
             f"in the air) comes within {nearest:.3g} of them; its threshold {tau:.3g} lies "
             f"between the two, so live some {g}s will be missed and some other motion taken for "
             f"one. A turn of the hand or another stroke sets a gesture apart; in a dictionary of "
