@@ -172,7 +172,8 @@ def stroke_recognizers():
     """Twelve strokes along the tracker's x axis, each in its own world frame, enrolled with one
     loose threshold, with and without ``hand_frame``."""
     takes, labels = _takes_in_world_frames(STROKE, 4), ["stroke"] * 12
-    return [Recognizer.from_trajectories(takes, labels, threshold=0.2, hand_frame=flag)
+    return [Recognizer.from_trajectories(takes, labels, threshold=0.2, hand_frame=flag,
+                                         cone_takes=12)
             for flag in (True, False)]
 
 
@@ -183,6 +184,18 @@ def test_the_recognizer_learns_a_cone_only_with_hand_frame(stroke_recognizers):
     assert 0 < angle < 45
     assert with_frame.learned_.provenance.rules["direction_limits"].endswith("direction_limit")
     assert without.learned_.direction_limits is None
+
+
+def test_one_persons_takes_learn_no_cone(stroke_recognizers):
+    """Twelve takes that agree are still fewer than ``cone_takes`` (20): one person records that
+    many, and their agreement is that person's grip, not how other people hold the tracker. The
+    fixtures above lower it, as a dictionary of many people's takes would pass it."""
+    takes, labels = _takes_in_world_frames(STROKE, 4), ["stroke"] * 12
+    rec = Recognizer.from_trajectories(takes, labels, threshold=0.2)
+    assert rec.config.constants.cone_takes == 20
+    assert rec.learned_.direction_limits == {} and rec.learned_.rotation_limits == {}
+    assert not rec.spotter.directions.active and not rec.spotter.rotations.active
+    assert stroke_recognizers[0].learned_.direction_limits  # the same takes, cone_takes=12
 
 
 def test_the_cones_go_to_json_and_back_as_a_library_keeps_them(stroke_recognizers):
@@ -205,7 +218,7 @@ def bent_recognizers():
     """Twelve bent strokes along the tracker's x axis, each in its own world frame, their labels,
     and the recognizers enrolled with one loose threshold, with and without ``hand_frame``."""
     takes, labels = _takes_in_world_frames(BENT, 6), ["bent"] * 12
-    return takes, labels, [Recognizer.from_trajectories(takes, labels, threshold=0.5,
+    return takes, labels, [Recognizer.from_trajectories(takes, labels, threshold=0.5, cone_takes=12,
                                                         hand_frame=flag) for flag in (True, False)]
 
 
@@ -252,7 +265,8 @@ def two_way_recognizers():
             X = se3.pose_from_twist(rng.uniform(-3.0, 3.0, 6))
             takes.append(Trajectory.from_poses(DT * np.arange(P.shape[0]), X @ P @ G))
             labels.append(label)
-    return [Recognizer.from_trajectories(takes, labels, hand_frame=flag) for flag in (False, True)]
+    return [Recognizer.from_trajectories(takes, labels, hand_frame=flag, cone_takes=8)
+            for flag in (False, True)]
 
 
 def test_a_rival_moving_the_other_way_counts_farther(two_way_recognizers):

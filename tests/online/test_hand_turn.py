@@ -102,7 +102,8 @@ def _turning_takes(n: int, degrees: float, seed: int) -> list[Trajectory]:
 def turning_recognizers():
     """Twelve turning strokes, enrolled with and without ``hand_frame``."""
     takes = _turning_takes(12, 90.0, 3)
-    return [Recognizer.from_trajectories(takes, ["turn"] * 12, threshold=0.3, hand_frame=flag)
+    return [Recognizer.from_trajectories(takes, ["turn"] * 12, threshold=0.3, hand_frame=flag,
+                                         cone_takes=12)
             for flag in (True, False)]
 
 
@@ -119,7 +120,7 @@ def test_the_recognizer_learns_a_cone_of_axes_only_with_hand_frame(turning_recog
 
 def test_no_cone_of_axes_from_takes_that_hardly_turn():
     takes = _turning_takes(12, 0.5 * MIN_TURN, 4)
-    rec = Recognizer.from_trajectories(takes, ["slide"] * 12, threshold=0.3)
+    rec = Recognizer.from_trajectories(takes, ["slide"] * 12, threshold=0.3, cone_takes=12)
     assert rec.learned_.rotation_limits == {}
     assert not rec.spotter.rotations.active
 

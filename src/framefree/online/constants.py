@@ -171,6 +171,11 @@ class SpottingConstants(_Group):
         Which negatives the thresholds are calibrated on (:mod:`~framefree.online.thresholds`):
         an episode the shape limits refuse counts as infinitely far (True); the other gestures'
         takes (True); shapes drawn in the air (:mod:`~framefree.online.scribbles`, True).
+    cone_takes : int
+        Fewest takes of a gesture that learn its cones of hand directions and of axes (20;
+        :func:`~framefree.online.hand_direction.direction_limit`): more takes than one person
+        records, so that a cone stands for how many people move, not for one person's grip
+        (docs/online-history.md, *v30*).
     rival_quantile : float
         Quantile, over the other gestures' takes, of their distances to a gesture's nearest
         take that bounds its ``N_g`` (0: the nearest pair). 0.05 finds more of the Machete
@@ -257,6 +262,7 @@ class SpottingConstants(_Group):
     gated_negatives: bool = True
     rival_negatives: bool = True
     rival_quantile: float = 0.0
+    cone_takes: int = 20
     drawn_negatives: bool = True
     threshold_position: float = 0.7
     unseparated_position: float = 0.5
@@ -322,5 +328,7 @@ class SpottingConstants(_Group):
                 raise ValueError(f"{name} must be in [0, 1], got {getattr(self, name)}")
         if not 0 <= self.rival_quantile <= 1:
             raise ValueError(f"rival_quantile must be in [0, 1], got {self.rival_quantile}")
+        if self.cone_takes < 2:
+            raise ValueError(f"cone_takes must be at least 2, got {self.cone_takes}")
         if not 0 <= self.seen_fraction <= 1:
             raise ValueError(f"seen_fraction must be in [0, 1], got {self.seen_fraction}")

@@ -20,11 +20,19 @@ world frame (``T → W T``) leaves it unchanged; a change of the tracker's place
 *A gesture's cone* lies around the mean direction of its takes, learned only where the takes
 agree more than random directions would: the Rayleigh test of uniformity on the sphere
 (``3 n R̄²`` is χ² with 3 degrees of freedom for ``n`` uniform directions with mean resultant
-length ``R̄``) must reject at :data:`SIGNIFICANCE`. Five takes never can (the most they reach is
-p = 0.0018), so one person's few takes set no cone; a benchmark's dictionary of many people's
-examples does. The cone's half-angle is the one that holds :data:`COVERAGE` of a von Mises–Fisher
-distribution fitted to the takes (concentration κ from ``R̄``, Banerjee et al. 2005), so a
-gesture performed more loosely gets a wider cone than its takes' spread alone would give.
+length ``R̄``) must reject at :data:`SIGNIFICANCE`, and the takes must be many: at least
+``SpottingConstants.cone_takes`` (20). One person's takes agree on the way they move in that
+person's hand, and that agreement says nothing of how another person holds the tracker: on the
+Machete right controller, a cone fitted to one person's five takes of a gesture holds 32 % of
+another person's takes (its nominal coverage is 99 %), one fitted to two people's 76 %, to five
+people's 94 % (docs/online-history.md, *v30*). A significance level alone cannot keep one
+person's takes out: five takes never pass it (the most they reach is p = 0.0018), but ten takes
+of a check mark from one person set a cone of 24–28° that other people's check marks miss. A
+benchmark's dictionary of many people's examples (36 per swipe in SFINGE3D, 25 per gesture in a
+Machete fold) sets its cones. The cone's half-angle is the one that holds :data:`COVERAGE` of
+a von Mises–Fisher distribution fitted to the takes (concentration κ from ``R̄``, Banerjee et
+al. 2005), so a gesture performed more loosely gets a wider cone than its takes' spread alone
+would give.
 
 *The hand's turn* is the same kind of evidence for rotation (v29): the axis of the largest turn
 of the tracker from its first pose, expressed in that first pose's frame (the axis of

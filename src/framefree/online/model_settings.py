@@ -16,6 +16,7 @@ See ``docs/online.md`` (What it learns from the takes).
 from __future__ import annotations
 
 import math
+from collections import Counter
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -155,14 +156,16 @@ def resolve_learned(
         values = gesture_verticality(trajectories, labels, levels, L, up_vector(config.up), k.dt)
         limits = {g: vertical_limits(values.get(g, []), k.vertical_margin) for g in gestures}
         draft.fill(vertical_limits, vertical_limits={g: x for g, x in limits.items() if x is not None})
+    # a cone stands for how many people move only where the takes are more than one person's
+    many = {g: n >= k.cone_takes for g, n in Counter(labels).items()}
     if config.hand_frame and draft.missing("direction_limits"):
         ways = gesture_directions(trajectories, labels, levels, L, k.dt)
-        cones = {g: direction_limit(ways.get(g, [])) for g in gestures}
+        cones = {g: direction_limit(ways.get(g, [])) for g in gestures if many[g]}
         draft.fill(direction_limit, direction_limits={
             g: (*cone[0].tolist(), cone[1]) for g, cone in cones.items() if cone is not None})
     if config.hand_frame and draft.missing("rotation_limits"):
         axes = gesture_directions(trajectories, labels, levels, L, k.dt, hand_turn)
-        cones = {g: direction_limit(axes.get(g, [])) for g in gestures}
+        cones = {g: direction_limit(axes.get(g, [])) for g in gestures if many[g]}
         draft.fill(hand_turn, rotation_limits={
             g: (*cone[0].tolist(), cone[1]) for g, cone in cones.items() if cone is not None})
     calibration = _thresholds(trajectories, labels, config, levels, classifier, draft, sizes_derived)
