@@ -22,6 +22,7 @@ from framefree.library import (
     split_takes,
     write_take,
 )
+from framefree.library.takes import takes_from_speed
 from framefree.replica import synthesize_gesture
 from real_data import REAL_MOTIONS
 
@@ -197,6 +198,36 @@ def test_recorder_leaves_out_the_ways_back_between_takes(shape: str, seed: int) 
     # each kept take covers one labelled performance
     for (span, _), seg in zip(takes, session.segments, strict=True):
         assert span.onset < seg.end_t and span.end > seg.start_t
+
+
+def test_a_twitch_inside_a_rest_does_not_join_two_takes() -> None:
+    """Two motions 1.4 s apart, the rest between them broken by one fast sample (a twitch or a
+    tracker's glitch): each half of the rest is shorter than ``min_rest``. The twitch is too
+    brief and too small to be a take, so the rest stays whole and the motions stay two takes."""
+    t = np.arange(0.0, 6.0, 0.02)
+    v = np.full(t.size, 0.01)
+    v[(t >= 1.0) & (t < 2.0)] = 0.5
+    v[(t >= 3.4) & (t < 4.4)] = 0.5
+    v[np.argmin(np.abs(t - 2.7))] = 0.3
+    spans = takes_from_speed(t, v)
+    assert [(round(sp.onset, 1), round(sp.end, 1)) for sp in spans] == [(1.0, 2.0), (3.4, 4.4)]
+    v[(t >= 2.6) & (t < 2.8)] = 0.3  # a move that long and that large is motion: one take
+    assert len(takes_from_speed(t, v)) == 1
+
+
+def test_a_twitch_between_ten_check_marks_leaves_out_the_way_back() -> None:
+    """The replica's person records ten check marks (demonstration 4 of
+    ``benchmarks/eighth_gesture.py``); a twitch splits the rest before the ninth way back, which
+    was kept inside the ninth take and gave every gesture a pause allowance of 3.8 s."""
+    from framefree.replica import DEFAULT_PERSON
+    from framefree.replica.people_streams import take_session
+
+    session = take_session("check_mark", DEFAULT_PERSON, n_takes=10, seed=4)
+    rec = _record(session.traj)
+    takes = rec.finish()
+    assert len(takes) == 10
+    assert [why for _, why in rec.left_out] == ["way back"] * 9
+    assert max(take.duration for _, take in takes) < 3.5
 
 
 def _hesitant_session() -> object:

@@ -8,7 +8,8 @@ of the lightly smoothed poses, in metres per second (rotation weighted by the sc
 The rest level is derived from the recording itself: its noise floor (a low quantile of the speed:
 the hand resting with the tracker's jitter) and its peak speed (a high quantile), placed between
 the two on a log scale. A *rest* is a stretch below that level lasting at least ``min_rest``
-seconds; everything between two rests is a take. Its motion onset and end are found by going
+seconds (a twitch in its middle, too brief and too small to be a take, does not break it);
+everything between two rests is a take. Its motion onset and end are found by going
 outwards from where the speed crossed the rest level to where it falls to twice the noise floor.
 Each take is trimmed to them, keeping ``margin`` seconds of rest on both sides (as in the HPM
 recordings, which start and end with the hand still), and dropped when it is too short or too
@@ -17,6 +18,7 @@ small to be a gesture (a twitch).
 
 from __future__ import annotations
 
+import itertools
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -177,6 +179,20 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]
 
 
+def _twitches_at_rest(t: np.ndarray, v: np.ndarray, moving: np.ndarray, s: TakeSettings
+                      ) -> np.ndarray:
+    """``moving`` (K,) bool with every twitch counted as rest: a motion too brief and too small
+    to be a take (a fidget, a tracker's glitch) between two rests that are each shorter than
+    ``min_rest``. Left as motion, it would make both rests too short and join the takes around
+    them; a twitch next to a full rest (the slow start of a take) stays motion."""
+    out = moving.copy()
+    for (a0, b0), (a1, b1) in itertools.pairwise(_runs(~moving)):
+        brief = t[a1 - 1] - t[b0] < s.min_duration and np.sum(v[b0:a1]) * SPEED_PERIOD < s.min_path
+        if brief and max(b0 - a0, b1 - a1) * SPEED_PERIOD < s.min_rest:
+            out[b0:a1] = False
+    return out
+
+
 def find_takes(traj: Trajectory, settings: TakeSettings | None = None) -> list[TakeSpan]:
     """Locate the takes of a recording (see the module docstring).
 
@@ -205,7 +221,7 @@ def takes_from_speed(t: np.ndarray, v: np.ndarray, settings: TakeSettings | None
     if not peak > 0:
         return []
     dt = SPEED_PERIOD
-    moving = v >= level
+    moving = _twitches_at_rest(t, v, v >= level, s)
     # a rest shorter than min_rest between two motions is part of the take
     for a, b in _runs(~moving):
         if a > 0 and b < v.size and (b - a) * dt < s.min_rest:
