@@ -22,6 +22,7 @@ from framefree.library import (
     split_takes,
     write_take,
 )
+from framefree.library.recorder import is_way_back
 from framefree.library.takes import takes_from_speed
 from framefree.replica import synthesize_gesture
 from real_data import REAL_MOTIONS
@@ -177,7 +178,8 @@ def test_join_recordings_is_continuous_and_keeps_each_shape() -> None:
         join_recordings([])
 
 
-@pytest.mark.parametrize(("shape", "seed"), [("zigzag", 0), ("letter_v", 1), ("go_left", 2), ("triangle", 3)])
+@pytest.mark.parametrize(("shape", "seed"), [("zigzag", 0), ("letter_v", 1), ("go_left", 2), ("triangle", 3),
+                                             ("zigzag", 18), ("spiral", 6)])
 def test_recorder_leaves_out_the_ways_back_between_takes(shape: str, seed: int) -> None:
     """Five performances in one recording give five takes: the moves back to the start of an open
     stroke (and small settling moves) are listed as left out, not written."""
@@ -228,6 +230,27 @@ def test_a_twitch_between_ten_check_marks_leaves_out_the_way_back() -> None:
     assert len(takes) == 10
     assert [why for _, why in rec.left_out] == ["way back"] * 9
     assert max(take.duration for _, take in takes) < 3.5
+
+
+def _line(start: tuple, end: tuple) -> Trajectory:
+    """A straight move from ``start`` to ``end`` [m] in one second, the hand's orientation held."""
+    t = np.linspace(0.0, 1.0, 51)
+    p = np.asarray(start, float) + t[:, None] * (np.asarray(end, float) - np.asarray(start, float))
+    return Trajectory(t, p, np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1)))
+
+
+def test_a_way_back_that_overshoots_the_start_or_ends_beside_it_is_still_a_way_back() -> None:
+    """A swipe of 0.3 m. Coming back 0.17 m past the start, or to 0.16 m beside it, is beyond
+    half the swipe's distance from the start (the tolerance), but twice as near the start as the
+    swipe's end: a way back (before session 41 neither was). Going on the same way, stopping
+    0.12 m back, or starting elsewhere is no way back."""
+    swipe = _line((0, 0, 0), (0.3, 0, 0))
+    assert is_way_back(swipe, _line((0.3, 0, 0), (0.0, 0, 0)))
+    assert is_way_back(swipe, _line((0.3, 0, 0), (-0.17, 0, 0)))
+    assert is_way_back(swipe, _line((0.3, 0, 0), (0.0, 0.16, 0)))
+    assert not is_way_back(swipe, _line((0.3, 0, 0), (0.6, 0, 0)))
+    assert not is_way_back(swipe, _line((0.3, 0, 0), (0.18, 0, 0)))
+    assert not is_way_back(swipe, _line((0.0, 0.3, 0), (0.0, 0, 0)))
 
 
 def _hesitant_session() -> object:

@@ -37,10 +37,13 @@ def is_way_back(previous: Trajectory, take: Trajectory, tolerance: float = 0.5,
 
     When a gesture ends away from where it starts (an *open* stroke: a swipe, a Z, an L), a person
     recording it several times moves the hand back to the start between performances, and that
-    move is cut as a take of its own. It starts near where ``previous`` ended and ends near where
-    ``previous`` began, each within ``tolerance`` × the distance ``previous`` travelled; and
-    ``previous`` is open: that distance is at least ``open_ratio`` × its path length (a gesture
-    that comes back to its start has no way back). Positions are the tracker's, so the test does
+    move is cut as a take of its own. It starts near where ``previous`` ended, within
+    ``tolerance`` × the distance ``previous`` travelled, and goes most of the way back: it ends
+    within that distance of where ``previous`` began, or at least twice as near to where
+    ``previous`` began as to where it ended (a person who comes back past the start, or beside
+    it, has still come back); and ``previous`` is open: that
+    distance is at least ``open_ratio`` × its path length (a gesture that comes back to its
+    start has no way back). Positions are the tracker's, so the test does
     not depend on the world frame; a grip offset of a few centimetres is small against the
     distance an open stroke travels.
 
@@ -60,7 +63,9 @@ def is_way_back(previous: Trajectory, take: Trajectory, tolerance: float = 0.5,
         return False
     away = _travel(previous)[0]
     starts_at_end = np.linalg.norm(take.p[0] - previous.p[-1]) <= tolerance * away
-    ends_at_start = np.linalg.norm(take.p[-1] - previous.p[0]) <= tolerance * away
+    to_start = np.linalg.norm(take.p[-1] - previous.p[0])
+    ends_at_start = (to_start <= tolerance * away
+                     or 2.0 * to_start <= np.linalg.norm(take.p[-1] - previous.p[-1]))
     return bool(starts_at_end and ends_at_start)
 
 
