@@ -213,7 +213,7 @@ def test_a_twitch_inside_a_rest_does_not_join_two_takes() -> None:
     v[np.argmin(np.abs(t - 2.7))] = 0.3
     spans = takes_from_speed(t, v)
     assert [(round(sp.onset, 1), round(sp.end, 1)) for sp in spans] == [(1.0, 2.0), (3.4, 4.4)]
-    v[(t >= 2.6) & (t < 2.8)] = 0.3  # a move that long and that large is motion: one take
+    v[(t >= 2.6) & (t < 2.8)] = 0.3  # 6 cm of screw path is a move, not a twitch: one take
     assert len(takes_from_speed(t, v)) == 1
 
 
