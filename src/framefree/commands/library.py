@@ -216,6 +216,7 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
     Removing one:        framefree enroll lib.npz --remove wave -o lib.npz
     Then: framefree check / live / evaluate-stream / demo --models LIBRARY.npz
     """
+    from ..library.long_rests import long_rest_findings
     from ..library.store import enroll, load_library
     from ..online.learned import split_settings
     from ..online.model_settings import takes_advice
@@ -257,6 +258,8 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
     for advice in takes_advice(takes.takes, config, lib.learned_settings(),
                                rest="rest_speed" not in given):
         click.echo(f"note: {advice}", err=True)
+    for finding in long_rest_findings(lib):
+        click.echo(f"note: {finding.message}", err=True)
     click.echo(f"wrote {path} ({time.perf_counter() - t0:.1f} s). Next: framefree check {path}; "
                f"framefree live --models {path} --source zmq://127.0.0.1:5556", err=True)
 
@@ -311,12 +314,13 @@ def check_cmd(library: str, context: str | None, out: str, seed: int, invariance
     report = check_takes(takes, config, settings, progress=True)
     if not lib_path.is_dir():  # a built library: replay its takes through its recognizer
         from ..library.inside import fired_inside, inside_findings
+        from ..library.long_rests import long_rest_findings
         from ..library.separation import separation_findings
         from ..library.store import load_recognizer
 
         rec = load_recognizer(lib_path)
         report.findings += inside_findings(fired_inside(rec, lib.takes, progress=True), lib.takes)
-        report.findings += separation_findings(lib)
+        report.findings += separation_findings(lib) + long_rest_findings(lib)
     click.echo(report.format())
     if not lib_path.is_dir():
         from ..online.model_settings import unseen_advice
