@@ -43,6 +43,12 @@ def test_a_take_holding_two_performances_is_named(two_in_one: TakeSet) -> None:
     assert lib.learned_settings().max_pause > 2 * enroll_pause(two_in_one, DOUBLE)
 
 
+def test_a_given_pause_allowance_is_not_the_takes_doing(two_in_one: TakeSet) -> None:
+    lib = enroll(two_in_one, built_from=["two in one"], max_pause=1.0)
+    assert lib.learned_settings().provenance.rules["max_pause"] == "given"
+    assert long_rest(lib) is None and long_rest_findings(lib) == []
+
+
 def enroll_pause(takes: TakeSet, name: str) -> float:
     """The pause allowance learned without the take ``name``."""
     return enroll(takes.without([name]), built_from=["without"]).learned_settings().max_pause

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..online.learned import GIVEN
 from ..online.limits import recording_units
 from ..online.segmentation import SpeedLevels
 from .check import Finding
@@ -60,7 +61,10 @@ def longest_rests(library: GestureLibrary) -> np.ndarray:
 
 def long_rest(library: GestureLibrary, ratio: float = OUTLIER_RATIO) -> LongRest | None:
     """The take whose longest rest between two moves is more than ``ratio`` times any other
-    take's and longer than a gesture may rest at a corner anyway (``min_pause``), else ``None``."""
+    take's and longer than a gesture may rest at a corner anyway (``min_pause``), else ``None``
+    (also when the pause allowance was given, not learned from the takes)."""
+    if library.learned_settings().provenance.rules.get("max_pause", "").startswith(GIVEN):
+        return None
     rests = longest_rests(library)
     if rests.size < 3:
         return None
