@@ -1,5 +1,6 @@
-"""A take that rests far longer between its moves than any other: it widens the pause every
-gesture may make, and ``enroll`` and ``check`` name it (docs/online-history.md, *Session 41*)."""
+"""A take that rests far longer between its moves than any other: it would widen the pause every
+gesture may make, so the candidate limits leave it out, and ``enroll`` and ``check`` name it
+(docs/online-history.md, *Session 41* and *Session 42*)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from click.testing import CliRunner
 from framefree.cli import cli
 from framefree.library import GestureLibrary, TakeSet, enroll, write_take
 from framefree.library.long_rests import long_rest, long_rest_findings, longest_rests
+from framefree.online.limits import odd_rest_take
 
 from .conftest import chain
 
@@ -39,19 +41,21 @@ def test_a_take_holding_two_performances_is_named(two_in_one: TakeSet) -> None:
     assert found.rest > 2 * found.others
     (finding,) = long_rest_findings(lib)
     assert finding.gesture == "go_left" and f"--remove {DOUBLE}" in finding.message
-    # it did widen the pause allowance of every gesture
-    assert lib.learned_settings().max_pause > 2 * enroll_pause(two_in_one, DOUBLE)
+    assert "does not widen" in finding.message
+
+
+def test_the_take_does_not_widen_the_limits_of_every_gesture(two_in_one: TakeSet) -> None:
+    """Counted, its 1.5 s rest would let every gesture pause 3.8 s inside (session 41)."""
+    with_it = enroll(two_in_one, built_from=["two in one"]).learned_settings()
+    without = enroll(two_in_one.without([DOUBLE]), built_from=["without"]).learned_settings()
+    for name in ("max_units", "max_duration", "max_pause", "pause_ratio"):
+        assert getattr(with_it, name) == pytest.approx(getattr(without, name)), name
 
 
 def test_a_given_pause_allowance_is_not_the_takes_doing(two_in_one: TakeSet) -> None:
     lib = enroll(two_in_one, built_from=["two in one"], max_pause=1.0)
     assert lib.learned_settings().provenance.rules["max_pause"] == "given"
     assert long_rest(lib) is None and long_rest_findings(lib) == []
-
-
-def enroll_pause(takes: TakeSet, name: str) -> float:
-    """The pause allowance learned without the take ``name``."""
-    return enroll(takes.without([name]), built_from=["without"]).learned_settings().max_pause
 
 
 def test_enroll_notes_the_take(two_in_one: TakeSet, tmp_path: Path) -> None:
@@ -63,3 +67,15 @@ def test_enroll_notes_the_take(two_in_one: TakeSet, tmp_path: Path) -> None:
     res = CliRunner().invoke(cli, ["enroll", str(folder), "-o", str(tmp_path / "lib.npz")])
     assert res.exit_code == 0, res.output
     assert "note: take go_left/original_1/trial_1 rests" in res.output
+
+
+@pytest.mark.parametrize(("gaps", "labels", "odd"), [
+    ([0.3, 0.4, 1.5, 0.2], "aabb", 2),
+    ([0.3, 0.4, 1.5], "aab", None),  # a gesture of one take may pause as it does
+    ([0.3, 1.5], "aa", None),  # too few takes to tell
+    ([0.1, 0.2, 0.45, 0.0], "aabb", None),  # no longer than any gesture may rest at a corner
+    ([0.7, 0.6, 1.3, 0.5], "aabb", None),  # not twice as long as the next
+])
+def test_which_take_rests_far_longer_than_the_others(gaps: list[float], labels: str,
+                                                     odd: int | None) -> None:
+    assert odd_rest_take(gaps, list(labels), min_pause=0.5) == odd

@@ -285,8 +285,8 @@ def check_cmd(library: str, context: str | None, out: str, seed: int, invariance
     tracker, its takes are also replayed through its recognizer: a take that fires another
     gesture holds a part that looks like that gesture; and a gesture whose takes lie as far
     apart as motion that is no gesture comes to them (its calibration found no gap) is named,
-    and so is a take that rests far longer between its moves than any other (it lets every
-    gesture pause that long). Exit status 1 when there is a problem.
+    and so is a take that rests far longer between its moves than any other (the spotter's
+    limits leave it out: it may hold a second move). Exit status 1 when there is a problem.
     """
     from ..library.check import CheckSettings, check_takes
     from ..library.figures import plot_distance_map, plot_take_gallery

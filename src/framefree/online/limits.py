@@ -55,7 +55,9 @@ __all__ = [
     "gesture_verticality",
     "limits_of_units",
     "longest_corner_rest",
+    "longest_gaps",
     "measure_gestures",
+    "odd_rest_take",
     "one_go_gestures",
     "opening_limit",
     "pooled_closures",
@@ -256,9 +258,15 @@ def size_limits(smallest: float, largest: float, factor: float, growth: float | 
     return smallest / factor, largest * (factor if growth is None else growth)
 
 
+#: How many times longer than every other take's its longest rest between two moves must be for
+#: a take to take no part in the candidate limits (:func:`odd_rest_take`).
+OUTLIER_RATIO = 2.0
+
+
 def candidate_limits(
     trajectories: Sequence[Trajectory], levels: SpeedLevels, L: float, span_factor: float,
-    pause_factor: float, dt: float = 0.02,
+    pause_factor: float, dt: float = 0.02, labels: Sequence[str] | None = None,
+    min_pause: float = 0.5,
 ) -> tuple[int, float, float, float]:
     """Candidate limits from the model recordings: ``(max_units, max_duration, max_pause,
     pause_ratio)``.
@@ -267,18 +275,50 @@ def candidate_limits(
     one unit more); ``span_factor`` × the longest gesture (first
     unit's start to last unit's end); ``span_factor`` × the longest rest between two units of one
     recording [s]; ``pause_factor`` × the largest ratio of such a rest to the mean duration of the
-    two units around it.
+    two units around it. With ``labels`` (the recordings' gestures), a recording that rests far
+    longer than any other (:func:`odd_rest_take`, with ``min_pause`` [s]) takes no part.
     """
     return limits_of_units([recording_units(tr, levels, L, dt)[1] for tr in trajectories],
-                           span_factor, pause_factor)
+                           span_factor, pause_factor, labels, min_pause)
 
 
-def limits_of_units(recordings: Sequence[Sequence[Unit]], span_factor: float, pause_factor: float
+def longest_gaps(recordings: Sequence[Sequence[Unit]]) -> np.ndarray:
+    """The longest rest [s] between two consecutive movement units of each recording (N,)
+    (0: one unit, or none)."""
+    return np.array([max((b.start_t - a.end_t for a, b in itertools.pairwise(units)),
+                         default=0.0) for units in recordings])
+
+
+def odd_rest_take(gaps: Sequence[float] | np.ndarray, labels: Sequence[str], min_pause: float,
+                  ratio: float = OUTLIER_RATIO) -> int | None:
+    """The take that rests far longer between two of its moves than any other, or ``None``.
+
+    Its longest rest ``gaps[k]`` [s] (:func:`longest_gaps`) is longer than a gesture may rest at
+    a corner anyway (``min_pause``) and more than ``ratio`` times every other take's, and its
+    gesture has other takes, which rest less than half as long: such a take holds a second move
+    after a real rest (the way back, a settling move, two performances), not a pause its gesture
+    makes. A gesture of one take may pause as it does. ``None`` with fewer than three takes.
+    """
+    gaps = np.asarray(gaps, dtype=float)
+    if gaps.size < 3:
+        return None
+    order = np.argsort(gaps)
+    k = int(order[-1])
+    if gaps[k] <= min_pause or gaps[k] <= ratio * gaps[order[-2]]:
+        return None
+    return k if sum(label == labels[k] for label in labels) > 1 else None
+
+
+def limits_of_units(recordings: Sequence[Sequence[Unit]], span_factor: float, pause_factor: float,
+                    labels: Sequence[str] | None = None, min_pause: float = 0.5,
                     ) -> tuple[int, float, float, float]:
     """:func:`candidate_limits` from the movement units of each model recording (one list per
-    recording, of one tracker or of several trackers' combined motion)."""
+    recording, of one tracker or of several trackers' combined motion). With ``labels``, the
+    recording :func:`odd_rest_take` names is left out: one take holding its way back would
+    otherwise let every gesture pause, span and last as long as that take."""
+    odd = None if labels is None else odd_rest_take(longest_gaps(recordings), labels, min_pause)
     most, longest, pause, ratio = 1, 0.0, 0.0, 0.0
-    for units in recordings:
+    for units in (r for k, r in enumerate(recordings) if k != odd):
         if not units:
             continue
         most = max(most, len(units))

@@ -144,7 +144,7 @@ def resolve_learned(
     levels = SpeedLevels(v["rest_speed"], v["move_speed"])
     if draft.missing("max_units", "max_duration", "max_pause", "pause_ratio"):
         units, duration, pause, ratio = candidate_limits(trajectories, levels, L, k.span_factor,
-                                                         k.pause_factor, k.dt)
+                                                         k.pause_factor, k.dt, labels, k.min_pause)
         draft.fill(candidate_limits, max_units=units, max_duration=duration, max_pause=pause,
                    pause_ratio=ratio)
     if config.gesture_pauses and draft.missing("one_go"):

@@ -99,7 +99,7 @@ def resolve_multi_learned(samples: Sequence[MultiTrajectory], labels: Sequence[s
     levels = SpeedLevels(v["rest_speed"], v["move_speed"])
     if draft.missing("max_units", "max_duration", "max_pause", "pause_ratio"):
         units, duration, pause, ratio = multi_candidate_limits(
-            samples, levels, L, k.span_factor, k.pause_factor, k.dt)
+            samples, levels, L, k.span_factor, k.pause_factor, k.dt, labels, k.min_pause)
         draft.fill(multi_candidate_limits, max_units=units, max_duration=duration,
                    max_pause=pause, pause_ratio=ratio)
     if draft.missing("size_limits"):

@@ -217,13 +217,15 @@ def live_cut(sample: MultiTrajectory, levels: SpeedLevels, L: float, dt: float =
 
 
 def multi_candidate_limits(samples: Sequence[MultiTrajectory], levels: SpeedLevels, L: float,
-                           span_factor: float, pause_factor: float, dt: float = 0.02
+                           span_factor: float, pause_factor: float, dt: float = 0.02,
+                           labels: Sequence[str] | None = None, min_pause: float = 0.5,
                            ) -> tuple[int, float, float, float]:
     """``(max_units, max_duration [s], max_pause [s], pause_ratio)`` from the model recordings, by
-    the single-tracker rule (:func:`~framefree.online.limits.candidate_limits`) on the units of
-    the combined speed."""
+    the single-tracker rule (:func:`~framefree.online.limits.candidate_limits`, a recording that
+    rests far longer than any other left out with ``labels``) on the units of the combined
+    speed."""
     return limits_of_units([recording_units(s, levels, L, dt) for s in samples], span_factor,
-                           pause_factor)
+                           pause_factor, labels, min_pause)
 
 
 class GridJoiner:
