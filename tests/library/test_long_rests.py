@@ -12,7 +12,8 @@ from click.testing import CliRunner
 from framefree.cli import cli
 from framefree.library import GestureLibrary, TakeSet, enroll, write_take
 from framefree.library.long_rests import long_rest, long_rest_findings, longest_rests
-from framefree.online.limits import odd_rest_take
+from framefree.online.limits import limits_of_units, odd_rest_take
+from framefree.online.segmentation import Unit
 
 from .conftest import chain
 
@@ -79,3 +80,19 @@ def test_enroll_notes_the_take(two_in_one: TakeSet, tmp_path: Path) -> None:
 def test_which_take_rests_far_longer_than_the_others(gaps: list[float], labels: str,
                                                      odd: int | None) -> None:
     assert odd_rest_take(gaps, list(labels), min_pause=0.5) == odd
+
+
+def _units(*spans: tuple[float, float]) -> list[Unit]:
+    return [Unit(round(a * 50), round(b * 50), a, b, 1.0, True) for a, b in spans]
+
+
+def test_the_limits_of_one_and_of_several_trackers_leave_the_take_out() -> None:
+    """``limits_of_units`` serves both recognizers: with the takes' labels the odd take counts
+    for nothing, without them (as before session 42) it sets every limit."""
+    takes = [_units((0.0, 1.0), (1.3, 2.0)), _units((0.0, 0.9), (1.2, 2.1)),
+             _units((0.0, 1.0)), _units((0.0, 1.0), (2.5, 3.5), (3.6, 4.0))]
+    labels = ["go_left", "go_left", "go_up", "go_up"]
+    assert limits_of_units(takes, 2.5, 1.5, labels, min_pause=0.5) == pytest.approx(
+        limits_of_units(takes[:3], 2.5, 1.5))
+    most, longest, pause, _ = limits_of_units(takes, 2.5, 1.5)
+    assert (most, longest, pause) == (7, pytest.approx(10.0), pytest.approx(3.75))
