@@ -16,7 +16,9 @@ from framefree.datasets.people_layout import load_people
 from framefree.datasets.stream_files import write_labels
 from framefree.io.multicsv import write_multi_csv
 from framefree.library import load_library
+from framefree.library.long_rests import long_rest
 from framefree.library.multi_library import (
+    MultiTakeSet,
     enroll_multi,
     load_multi_library,
     multi_fingerprint,
@@ -271,3 +273,19 @@ def test_enroll_refuses_a_bad_setting_in_one_message(recorded, tmp_path, item, n
     res = run("enroll", recorded["library"], "--set", item, "-o", tmp_path / "bad.npz")
     assert res.exit_code == 2 and named in res.output and "Traceback" not in res.output
     assert not (tmp_path / "bad.npz").exists()
+
+
+def test_a_take_holding_two_performances_leaves_the_pause_allowance_alone():
+    """Several trackers: a take holding two performances and the rest between them is named,
+    and its 2.5 s rest does not set how long every gesture may pause (session 42)."""
+    people = load_people(SHIPPED_MACHETE)
+    recs = [r for r in people if r.gesture in GESTURES]
+    samples = [r.sample for r in recs]
+    names = tuple(f"{r.gesture}/{r.person}_{k}" for k, r in enumerate(recs))
+    labels = tuple(r.gesture for r in recs)
+    joined, _ = continuous_session(samples[:2], labels[:2], rate=90.0, seed=5)
+    joined = type(joined)(joined.trackers, samples[0].names, joined.up, "two in one")
+    lib = enroll_multi(MultiTakeSet((joined, *samples[1:]), labels, names))
+    found = long_rest(lib)
+    assert labels[0] == labels[1] and found is not None and found.name == names[0]
+    assert found.rest > 2.0 > lib.learned_settings().max_pause

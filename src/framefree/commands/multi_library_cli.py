@@ -57,6 +57,7 @@ def enroll_multi_sources(sources: tuple[str, ...], out: str, context: str | None
                          removals: tuple[str, ...], sets: dict[str, Any], merges: tuple[str, ...],
                          invariance: str | None, force: bool) -> None:
     """``framefree enroll`` of takes of several trackers: a library file of several trackers."""
+    from ..library.long_rests import long_rest_findings
     from ..library.multi_library import enroll_multi, load_multi_library, multi_fingerprint
     from ..online.config import RecognizerConfig
 
@@ -89,6 +90,8 @@ def enroll_multi_sources(sources: tuple[str, ...], out: str, context: str | None
     lib = enroll_multi(takes, config, invariance, [str(Path(s).resolve()) for s in sources])
     path = lib.save(out)
     click.echo(lib.summary())
+    for finding in long_rest_findings(lib):
+        click.echo(f"note: {finding.message}", err=True)
     click.echo(f"wrote {path} ({time.perf_counter() - t0:.1f} s). Next: framefree check {path}; "
                f"framefree live --models {path} --source lsl://NAME", err=True)
 
@@ -116,6 +119,10 @@ def check_multi(library: str, out_dir: Path, seed: int, invariance: str | None) 
                f"{len(takes.trackers)} trackers, invariance {invariance} ...", err=True)
     settings = CheckSettings(seed=seed)
     report = check_multi_takes(takes, invariance, config, settings)
+    if not lib_path.is_dir():
+        from ..library.long_rests import long_rest_findings
+
+        report.findings += long_rest_findings(lib)
     click.echo(report.format())
     stem = lib_path.stem
     files = {"report": out_dir / f"{stem}_check.json",

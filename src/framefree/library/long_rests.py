@@ -19,12 +19,16 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..core.multitrajectory import MultiTrajectory
 from ..online.learned import GIVEN
 from ..online.limits import OUTLIER_RATIO, longest_gaps, odd_rest_take, recording_units
-from ..online.segmentation import SpeedLevels
+from ..online.multi_stream import recording_units as combined_units
+from ..online.segmentation import SpeedLevels, Unit
 from .check import Finding
 
 if TYPE_CHECKING:
+    from ..core.trajectory import Trajectory
+    from .multi_library import MultiGestureLibrary
     from .store import GestureLibrary
 
 __all__ = ["LongRest", "long_rest", "long_rest_findings", "longest_rests"]
@@ -42,18 +46,25 @@ class LongRest:
     """The longest such rest of any other take [s]."""
 
 
-def longest_rests(library: GestureLibrary) -> np.ndarray:
+def longest_rests(library: GestureLibrary | MultiGestureLibrary) -> np.ndarray:
     """The longest rest [s] between two movement units of each take (N,), cut as the library's
-    live segmenter cuts it (0: one unit, or none)."""
+    live segmenter cuts it (several trackers: their combined motion; 0: one unit, or none)."""
     learned = library.learned_settings()
     config = library.recognizer_config()
     levels = SpeedLevels(learned.rest_speed, learned.move_speed)
-    return longest_gaps([recording_units(take, levels, config.descriptor.L,
-                                         config.constants.dt)[1]
+    return longest_gaps([_units(take, levels, config.descriptor.L, config.constants.dt)
                          for take in library.takes.takes])
 
 
-def long_rest(library: GestureLibrary, ratio: float = OUTLIER_RATIO) -> LongRest | None:
+def _units(take: Trajectory | MultiTrajectory, levels: SpeedLevels, L: float, dt: float
+           ) -> list[Unit]:
+    if isinstance(take, MultiTrajectory):
+        return combined_units(take, levels, L, dt)
+    return recording_units(take, levels, L, dt)[1]
+
+
+def long_rest(library: GestureLibrary | MultiGestureLibrary, ratio: float = OUTLIER_RATIO
+              ) -> LongRest | None:
     """The take that rests far longer between two of its moves than any other
     (:func:`~framefree.online.limits.odd_rest_take`: more than ``ratio`` times any other take's
     longest rest, longer than ``min_pause``, in a gesture with other takes), else ``None`` (also
@@ -69,7 +80,7 @@ def long_rest(library: GestureLibrary, ratio: float = OUTLIER_RATIO) -> LongRest
     return LongRest(library.takes.names[k], float(rests[k]), float(others.max()))
 
 
-def long_rest_findings(library: GestureLibrary) -> list[Finding]:
+def long_rest_findings(library: GestureLibrary | MultiGestureLibrary) -> list[Finding]:
     """A warning naming the take that rests far longer between its moves than any other
     (:func:`long_rest`), which the candidate limits leave out; empty when there is none."""
     found = long_rest(library)
