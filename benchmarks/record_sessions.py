@@ -5,7 +5,9 @@ go, as ``framefree record`` asks (:func:`framefree.replica.people_streams.take_s
 perform, rest, move back to the start, rest, perform, ...). The recording is pushed sample by
 sample through :class:`framefree.library.TakeRecorder`; a session is *cut right* when it returns
 exactly five takes and each holds more than half of one labelled performance (the
-smallest such share is reported too: a take may leave out a slow start). People who pause at the
+smallest such share is reported too: a take may leave out a slow start), and none reaches more
+than ``RUN_ON`` seconds beyond either end of its performance (as a take that holds the way back
+after it, or a move before it, does). People who pause at the
 turning point of a gesture for longer than the recorder's shortest rest used to lose it to two
 halves; ``--pause-ratio 0`` turns joining off to show that.
 
@@ -38,6 +40,10 @@ from framefree.replica import (
 from framefree.replica.people_streams import take_session
 
 N_TAKES = 5
+#: Farthest a take may reach beyond either end of its performance [s] and still be cut right:
+#: more than a performance that ends slowly runs on (up to 0.8 s on the replica's development
+#: people), less than a take holding its way back (2.4 s or more).
+RUN_ON = 1.0
 
 
 def cut_right(gesture: str, person_seed: int, rest: tuple[float, float], pause_ratio: float
@@ -48,17 +54,19 @@ def cut_right(gesture: str, person_seed: int, rest: tuple[float, float], pause_r
     for t, p, q in zip(session.traj.t, session.traj.p, session.traj.q, strict=True):
         rec.push(t, p, q)
     takes = [span for span, _ in rec.finish()]
-    covered, shares = [], []
+    covered, shares, run_on = [], [], []
     for span in takes:
         share = [(min(span.end, seg.end_t) - max(span.onset, seg.start_t)) / (seg.end_t - seg.start_t)
                  for seg in session.segments]
         best = max(range(len(share)), key=share.__getitem__)
         covered.append(best if share[best] > 0.5 else None)
         shares.append(share[best])
-    ok = covered == list(range(N_TAKES))
+        seg = session.segments[best]
+        run_on.append(max(span.end - seg.end_t, seg.start_t - span.onset))
+    ok = covered == list(range(N_TAKES)) and max(run_on, default=0.0) <= RUN_ON
     return ok, {"gesture": gesture, "person": person_seed, "takes": covered, "smallest_share":
                 min(shares, default=0.0), "left_out": [why for _, why in rec.left_out],
-                "joined": len(rec.joined)}
+                "joined": len(rec.joined), "longest_run_on": max(run_on, default=0.0)}
 
 
 def main(argv: Sequence[str] | None = None) -> dict[str, Any]:

@@ -344,3 +344,41 @@ def test_a_z_held_at_its_corners_is_one_take_and_its_ways_back_are_left_out() ->
     assert all(3.0 < span.duration < 4.5 for span, _ in takes)
     # without joining every stroke is a take of its own (the test can fail)
     assert len(_record(session, pause_ratio=0.0).finish()) > 3
+
+
+@pytest.mark.parametrize(("shape", "seed", "demonstrator"), [
+    ("zigzag", 13, True), ("check_mark", 19, True), ("wave", 0, False), ("letter_l", 4, False)])
+def test_a_way_back_soon_after_an_open_stroke_is_not_joined_to_it(shape: str, seed: int,
+                                                                    demonstrator: bool) -> None:
+    """A person who starts the way back soon after an open stroke (a rest much shorter than their
+    rests between performances) does not make it the stroke's second half: it takes a shorter
+    way than the stroke (session 42). Joined, a zigzag's take held the zigzag and its way back, a
+    closed shape, and triangles fired it 18 times on the development people."""
+    from framefree.replica import DEFAULT_PERSON, person
+    from framefree.replica.people_streams import take_session
+
+    session = take_session(shape, DEFAULT_PERSON if demonstrator else person(seed), n_takes=5,
+                           seed=seed)
+    rec = TakeRecorder()
+    for t, p, q in zip(session.traj.t, session.traj.p, session.traj.q, strict=True):
+        rec.push(t, p, q)
+    takes = rec.finish()
+    assert len(takes) == 5 and not rec.joined
+    assert [why for _, why in rec.left_out].count("way back") == 4
+    for (span, _), seg in zip(takes, session.segments, strict=True):
+        assert span.onset < seg.end_t and span.end < seg.end_t + 1.0
+
+
+def test_a_pause_at_the_turning_point_still_joins_the_second_half() -> None:
+    """The second half of an out-and-back gesture retraces the first: still joined."""
+    from framefree.replica import person
+    from framefree.replica.people_streams import take_session
+
+    session = take_session("go_left", person(5), n_takes=5, seed=5)
+    rec = TakeRecorder()
+    for t, p, q in zip(session.traj.t, session.traj.p, session.traj.q, strict=True):
+        rec.push(t, p, q)
+    takes = rec.finish()
+    assert len(takes) == 5 and len(rec.joined) >= 2
+    for (span, _), seg in zip(takes, session.segments, strict=True):
+        assert span.onset < seg.end_t and span.end > seg.start_t

@@ -16,7 +16,11 @@ import numpy as np
 from ..core.trajectory import MIN_SAMPLES, Trajectory
 from .takes import SPEED_PERIOD, TakeSettings, TakeSpan, cut_take, find_takes
 
-__all__ = ["TakeRecorder", "is_way_back"]
+__all__ = ["RETRACE", "TakeRecorder", "is_way_back", "retraces"]
+
+#: How long, against the way out, the way back of an out-and-back gesture is at least (path
+#: lengths of the hand's position): the second half of a performance retraces the first.
+RETRACE = 0.8
 
 
 def _travel(take: Trajectory) -> tuple[float, float]:
@@ -69,6 +73,16 @@ def is_way_back(previous: Trajectory, take: Trajectory, tolerance: float = 0.5,
     return bool(starts_at_end and ends_at_start)
 
 
+def retraces(first: Trajectory, second: Trajectory, ratio: float = RETRACE) -> bool:
+    """Whether ``second``, which goes back to where ``first`` began (:func:`is_way_back`), may be
+    the second half of one out-and-back performance: its path is at least ``ratio`` × the
+    path of ``first``. The hand going back to the start after an open stroke takes a shorter way
+    wherever the stroke is not straight (after a Z or a check mark: 0.39–0.73 of its path on the
+    replica's development people), while the way back of an out-and-back gesture retraces its way
+    out (0.93–1.15 of it)."""
+    return _travel(second)[1] >= ratio * _travel(first)[1]
+
+
 class TakeRecorder:
     """Cuts takes out of a live pose stream as soon as the rest after them is long enough.
 
@@ -84,7 +98,9 @@ class TakeRecorder:
     A move that follows an open take *after a pause much shorter than this person's rests* is
     no new performance and no way back but the rest of that take: a performance that hesitated
     at its turning point (an out-and-back gesture whose pause there outlasted ``min_rest``) or at
-    a corner. It is joined to the take and listed in :attr:`joined`. Much shorter: under
+    a corner. It is joined to the take and listed in :attr:`joined`, unless it goes back to
+    where the take began by a much shorter way than the take's own (:func:`retraces`): then it
+    is the way back after an open stroke, which a person may start soon. Much shorter: under
     ``pause_ratio`` × the median of the recording's rests so far (the rest before the first take
     included). So an open take is returned only once the next move (or the end of the recording)
     shows that it is complete; a joined take that is still open waits again.
@@ -161,7 +177,8 @@ class TakeRecorder:
             self._last_span = sp
             take = cut_take(traj, sp, f"take {len(self.spans) + 1}")
             reason = self._reason_to_leave_out(sp, take)
-            if reason != "small" and self._held is not None and self._is_pause(rest):
+            if (reason != "small" and self._held is not None and self._is_pause(rest)
+                    and not self._way_back_of_held(take)):
                 both, whole = self._join(traj, self._held[0], sp)
                 if _is_open(whole):  # it may go on after another pause (a Z held at each corner)
                     self._held = (both, whole)
@@ -184,6 +201,11 @@ class TakeRecorder:
                 self._held = (sp, take)
         if final and self._held is not None:
             yield self._keep(*self._held)
+
+    def _way_back_of_held(self, take: Trajectory) -> bool:
+        """Whether ``take`` goes back to where the held take began without retracing it."""
+        held = self._held[1]
+        return is_way_back(held, take) and not retraces(held, take)
 
     def _is_pause(self, rest: float) -> bool:
         """Whether a rest is much shorter than the recording's rests so far."""
