@@ -66,7 +66,8 @@ def record_cmd(source: str, gesture: str, library: str, context: str, max_takes:
     its motion with a short rest before and after, and written in the dataset layout.
     For a gesture that ends away from its start (a swipe, a Z), the move back to the start between
     performances is recognized and left out, with a line saying so; so are small settling moves.
-    Two moves separated by a pause much shorter than your rests are one performance (a hesitation).
+    Two moves separated by a pause much shorter than your rests are one performance (a hesitation),
+    unless the second goes back to the start by a shorter way than the first (a way back).
     Stop with Ctrl-C, --takes N, or by ending the stream.
     """
     from ..library.recorder import TakeRecorder
