@@ -178,7 +178,7 @@ class TakeRecorder:
             take = cut_take(traj, sp, f"take {len(self.spans) + 1}")
             reason = self._reason_to_leave_out(sp, take)
             if (reason != "small" and self._held is not None and self._is_pause(rest)
-                    and not self._way_back_of_held(take)):
+                    and not self._way_back_of_held(reason, take)):
                 both, whole = self._join(traj, self._held[0], sp)
                 if _is_open(whole):  # it may go on after another pause (a Z held at each corner)
                     self._held = (both, whole)
@@ -202,10 +202,10 @@ class TakeRecorder:
         if final and self._held is not None:
             yield self._keep(*self._held)
 
-    def _way_back_of_held(self, take: Trajectory) -> bool:
-        """Whether ``take`` goes back to where the held take began without retracing it."""
-        held = self._held[1]
-        return is_way_back(held, take) and not retraces(held, take)
+    def _way_back_of_held(self, reason: str | None, take: Trajectory) -> bool:
+        """Whether ``take``, left out as a way back (``reason``: the held take is the last one
+        kept), goes back to where the held take began without retracing it."""
+        return reason == "way back" and not retraces(self._held[1], take)
 
     def _is_pause(self, rest: float) -> bool:
         """Whether a rest is much shorter than the recording's rests so far."""
