@@ -46,6 +46,13 @@ classes that fired as swipes turned it about axes 122° and 153° from their swi
 direction's: a candidate outside either of a model's cones
 counts :data:`OFF_CONE_FACTOR` times farther from it.
 
+*A sensor of positions only* (a skeleton's wrist joint, a marker; v32) writes one orientation
+throughout, so the tracker never turns and its frame is the sensor's own. There the turn of the
+motion is the turn of its *path* (:func:`path_turn`): the axis about which the hand's path runs
+round, with its sense, from the signed area that the path sweeps. A planar gesture and its mirror
+image (a circle drawn clockwise and anticlockwise, the Machete cartwheels) differ by a rotation,
+which no frame-free distance sees; their paths run round opposite axes of the sensor's frame.
+
 *The cone is evidence, not a gate* (v27): a motion that moves outside a gesture's cone counts as
 :data:`OFF_CONE_FACTOR` times farther from that gesture's models, so it is taken for the gesture
 only where it matches that much more closely. A tracker turned in the hand since the takes then
@@ -61,8 +68,8 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 __all__ = ["COVERAGE", "FAST_STEP", "MIN_TURN", "OFF_CONE_FACTOR", "SIGNIFICANCE",
-           "DirectionTable", "direction_limit", "hand_direction", "hand_turn", "rayleigh_p",
-           "weighed"]
+           "DirectionTable", "direction_limit", "hand_direction", "hand_turn", "path_turn",
+           "rayleigh_p", "weighed"]
 
 #: Steps at least this fraction of a motion's longest step make its hand direction (chosen on
 #: SFINGE3D's sequences 1–18 and the Machete development people among 0, 0.3 and 0.5:
@@ -116,7 +123,9 @@ MIN_TURN = 20.0
 
 def hand_turn(poses: np.ndarray, min_angle: float = MIN_TURN) -> np.ndarray | None:
     """The axis (3,) of a motion's largest turn of the tracker from its first pose, in that
-    pose's frame, or None (it turns less than ``min_angle``).
+    pose's frame, or None (it turns less than ``min_angle``); for a tracker whose orientation
+    never changes (a sensor of positions only), the axis about which its path turns
+    (:func:`path_turn`).
 
     Parameters
     ----------
@@ -136,6 +145,8 @@ def hand_turn(poses: np.ndarray, min_angle: float = MIN_TURN) -> np.ndarray | No
     if poses.ndim != 3 or poses.shape[0] < 2:
         return None
     relative = np.einsum("ji,njk->nik", poses[0, :3, :3], poses[:, :3, :3])
+    if np.abs(relative - np.eye(3)).max() < STILL_TRACKER:
+        return path_turn(poses, min_angle)
     cos = np.clip((np.trace(relative, axis1=1, axis2=2) - 1.0) / 2.0, -1.0, 1.0)
     k = int(np.argmin(cos))  # the largest angle
     if math.degrees(math.acos(float(cos[k]))) < min_angle:
@@ -148,6 +159,59 @@ def hand_turn(poses: np.ndarray, min_angle: float = MIN_TURN) -> np.ndarray | No
         axis = B[:, int(np.argmax(np.linalg.norm(B, axis=0)))]
         norm = float(np.linalg.norm(axis))
     return axis / norm
+
+
+#: A tracker whose rotation matrices differ from the first by less than this (in every entry)
+#: over a motion does not turn at all: a sensor of positions only, which writes one quaternion
+#: throughout. A hand-held tracker turns by far more: by at least 0.0076 within every half
+#: second of SFINGE3D's development streams, 0.037 in the Machete takes.
+STILL_TRACKER = 1e-6
+
+
+def path_turn(poses: np.ndarray, min_angle: float = MIN_TURN,
+              fast_step: float = FAST_STEP) -> np.ndarray | None:
+    """The axis (3,) about which a motion's path runs round, in the tracker's frame, or None
+    (the path goes straight).
+
+    The steps ``s_k = R_kᵀ Δp_k`` at least ``fast_step`` times as long as the longest one sweep
+    the signed area ``Σ (c_k − c̄) × s_k`` (``c_k``: the running sum of the steps, ``c̄`` its
+    mean); its direction is the axis, turning by the right-hand rule. Like :func:`hand_turn`, a
+    change of the world frame leaves it unchanged and a change of the tracker's place in the
+    hand turns it by ``Gᵀ``; a mirror image of the path runs round the opposite axis.
+
+    Parameters
+    ----------
+    poses : ndarray, shape (n, 4, 4)
+        The motion's poses (world from tracker), uniformly sampled.
+    min_angle : float
+        Smallest turn [deg] of the path's heading, from its first kept step to any other, that
+        has an axis (a straight stroke's wobble has none).
+    fast_step : float
+        Steps shorter than this fraction of the longest one are left out.
+
+    Returns
+    -------
+    ndarray of shape (3,) or None
+        Unit axis; None for fewer than three poses, no motion, a heading that turns less than
+        ``min_angle``, or no area swept.
+    """
+    poses = np.asarray(poses, dtype=np.float64)
+    if poses.ndim != 3 or poses.shape[0] < 3:
+        return None
+    steps = np.einsum("nji,nj->ni", poses[:-1, :3, :3], np.diff(poses[:, :3, 3], axis=0))
+    lengths = np.linalg.norm(steps, axis=1)
+    longest = float(lengths.max())
+    if not longest > 0.0:
+        return None
+    kept = lengths >= fast_step * longest
+    headings = steps[kept] / lengths[kept, None]
+    turned = float(np.clip(headings @ headings[0], -1.0, 1.0).min())
+    if math.degrees(math.acos(turned)) < min_angle:
+        return None
+    along = np.cumsum(steps, axis=0)
+    area = np.cross(along[kept] - along.mean(axis=0), steps[kept]).sum(axis=0)
+    norm = float(np.linalg.norm(area))
+    return area / norm if norm > 1e-12 * longest**2 else None
 
 
 def rayleigh_p(n: int, mean_length: float) -> float:

@@ -280,8 +280,10 @@ def orientation_advice(trajectories: Sequence[Trajectory]) -> str | None:
 
     Without a turn of the hand the stop signal (a quick roll) cannot be made, and a planar
     gesture and its mirror image (a circle drawn clockwise and anticlockwise, the Machete
-    cartwheels) differ by a rotation, so no frame-free measure tells them apart
-    (docs/online-history.md, *A sensor without orientation*).
+    cartwheels) differ by a rotation, so no frame-free distance tells them apart; only the way
+    the path turns in the sensor's frame does, once the takes are many enough to learn it
+    (:func:`~framefree.online.hand_direction.path_turn`, ``cone_takes``; docs/online-history.md,
+    *A sensor without orientation*, v32).
     """
     if not trajectories:
         return None
@@ -291,8 +293,9 @@ def orientation_advice(trajectories: Sequence[Trajectory]) -> str | None:
             return None
     return ("the takes hold no orientation (the quaternion never changes: a sensor of positions "
             "only?), so the stop signal, a quick roll of the hand, cannot be made, and a gesture "
-            "and its mirror image (a circle drawn clockwise and anticlockwise) cannot be told "
-            "apart (framefree check names the gestures that lie near each other)")
+            "and its mirror image (a circle drawn clockwise and anticlockwise) are told apart only "
+            "by the way the path turns in the sensor's frame, learned where each has cone_takes "
+            "(20) takes or more (framefree check names the gestures that lie near each other)")
 
 
 def stop_threshold_rule() -> str:
