@@ -30,6 +30,11 @@ without orientation*). ``--set NAME=JSON`` passes a recognizer setting by name (
 was missed and what each false positive was (``framefree evaluate-stream --explain``'s diagnosis),
 counted by gesture over the people.
 
+``--rate HZ`` and ``--noise M`` give the models and the sessions as another sensor would: resampled
+at HZ and with white noise of M metres per axis on every position. With ``--no-orientation``,
+``--rate 30 --noise 0.01`` stands for a skeleton tracker's wrist joint (docs/online-history.md,
+*A sensor without orientation*, v32).
+
 ``--turned AXIS:DEG`` (e.g. ``x:90``) turns the controller in the hand in every stream, by DEG
 degrees about its own AXIS, and leaves the models as recorded: a tracker held another way than
 when the takes were recorded. Frame-free recognition does not see it; the cones of hand
@@ -79,6 +84,19 @@ def without_orientation(traj: Trajectory) -> Trajectory:
     return Trajectory(traj.t, traj.p, q, source=traj.source)
 
 
+def as_sensor(traj: Trajectory, rate: float | None, noise: float) -> Trajectory:
+    """``traj`` as another sensor would give it: resampled at ``rate`` [Hz] (``None``: as
+    recorded) and with white noise of ``noise`` [m] per axis on the positions (seeded by the
+    recording, so every run is the same)."""
+    if rate is not None:
+        traj = traj.resampled(1.0 / rate)
+    if noise > 0.0:
+        rng = np.random.default_rng([len(traj), round(1e3 * float(traj.t[0])) % 2**32])
+        traj = Trajectory(traj.t, traj.p + noise * rng.standard_normal(traj.p.shape), traj.q,
+                          source=traj.source)
+    return traj
+
+
 def turned_in_hand(traj: Trajectory, turn: np.ndarray | None) -> Trajectory:
     """``traj`` with the tracker turned by the unit quaternion ``turn`` (4,) (w, x, y, z) in the
     hand: each pose ``T`` becomes ``T G``, ``G`` the turn about the tracker's own origin
@@ -102,7 +120,8 @@ def turn_quaternion(text: str) -> np.ndarray:
 
 def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim: float,
                 positions_only: bool = False, settings: dict | None = None,
-                gestures: set[str] | None = None, turn: np.ndarray | None = None
+                gestures: set[str] | None = None, turn: np.ndarray | None = None,
+                rate: float | None = None, noise: float = 0.0
                 ) -> tuple[StreamResult, float, list[str], dict[str, list]]:
     """Counts for one held-out person (models from everyone else, that person's sessions), the
     rest level [m/s] learned from those models, the gestures the tracker does not follow, and
@@ -112,10 +131,13 @@ def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim
     ``gestures``: the vocabulary (``None``: all); the other gestures' models are left out and
     their performances in the sessions count as non-gesture motion, as ``evaluate-stream
     --gestures`` counts them. ``turn``: the streams' tracker turned in the hand
-    (:func:`turned_in_hand`), the models as recorded."""
+    (:func:`turned_in_hand`), the models as recorded. ``rate``, ``noise``: models and streams
+    as another sensor gives them (:func:`as_sensor`)."""
     others = [r for r in recordings
               if r.person != person and (gestures is None or r.gesture in gestures)]
-    sensor = without_orientation if positions_only else (lambda traj: traj)
+    def sensor(traj: Trajectory) -> Trajectory:
+        return as_sensor(without_orientation(traj) if positions_only else traj, rate, noise)
+
     rec = Recognizer.from_trajectories([sensor(trimmed(r.sample.trackers[tracker], trim))
                                         for r in others],
                                        [r.gesture for r in others], **(settings or {}))
@@ -182,6 +204,11 @@ def main(argv: list[str] | None = None) -> dict:
                     help="cut each model recording where its speed stays below this share of its peak")
     ap.add_argument("--no-orientation", action="store_true",
                     help="replace every quaternion by the identity (a position-only sensor)")
+    ap.add_argument("--rate", type=float, default=None, metavar="HZ",
+                    help="resample models and streams at this rate (another sensor's)")
+    ap.add_argument("--noise", type=float, default=0.0, metavar="M",
+                    help="add white noise of this standard deviation [m] per axis to every "
+                         "position, of models and streams")
     ap.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=JSON",
                     help="a recognizer setting by name (repeatable)")
     ap.add_argument("--gestures", default=None, metavar="G1,G2,...",
@@ -210,7 +237,7 @@ def main(argv: list[str] | None = None) -> dict:
         print(f"error: --gestures: {err}", file=sys.stderr)
         raise SystemExit(2) from None
     folds = {p: person_fold(p, recordings, args.streams, args.tracker, args.trim,
-                            args.no_orientation, settings, gestures, turn)
+                            args.no_orientation, settings, gestures, turn, args.rate, args.noise)
              for p in tqdm(people, desc="people")}
     rows = {p: {**res.summary(), "rest_speed": rest, "unseen": unseen}
             for p, (res, rest, unseen, _) in folds.items()}
@@ -225,7 +252,7 @@ def main(argv: list[str] | None = None) -> dict:
     if args.explain:
         print_reasons(why)
     out = {"tracker": args.tracker, "trim": args.trim, "positions_only": args.no_orientation,
-           "turned": args.turned,
+           "turned": args.turned, "rate": args.rate, "noise": args.noise,
            "settings": settings, "gestures": None if gestures is None else sorted(gestures),
            "misses_by_reason": dict(Counter(m["reason"] for m in why["missed"])),
            "false_positives": dict(Counter(f["label"] for f in why["false_positives"])),

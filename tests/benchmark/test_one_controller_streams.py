@@ -67,3 +67,22 @@ def test_the_right_hand_vocabulary_is_where_the_right_hand_moves_as_far(script):
     assert {"hook_left", "hook_right"} <= set(median)  # the shipped subset has 7 of the 11
     assert {g for g, m in median.items() if m >= 0.9} == set(script.RIGHT_HAND) & set(median)
     assert all(m <= 0.7 for g, m in median.items() if g not in script.RIGHT_HAND)
+
+
+def test_another_sensor_resamples_and_adds_the_same_noise_each_time(script):
+    """``--rate`` and ``--noise``: the recording at the new rate, its quaternions kept, and
+    positions off by noise of the given size, the same on every run."""
+    from framefree.core.trajectory import Trajectory
+
+    t = np.arange(0.0, 2.0, 1 / 90)
+    p = np.c_[0.3 * np.sin(t), 0.2 * t, np.zeros_like(t)]
+    traj = Trajectory(t, p, np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1)))
+    same = script.as_sensor(traj, None, 0.0)
+    assert same is traj
+    at_30 = script.as_sensor(traj, 30.0, 0.0)
+    assert np.median(np.diff(at_30.t)) == pytest.approx(1 / 30, rel=0.02)  # the grid spans the take
+    assert np.allclose(at_30.q, [1.0, 0.0, 0.0, 0.0])
+    noisy = script.as_sensor(traj, 30.0, 0.01)
+    off = noisy.p - at_30.p
+    assert off.std() == pytest.approx(0.01, rel=0.15)
+    assert np.array_equal(noisy.p, script.as_sensor(traj, 30.0, 0.01).p)
