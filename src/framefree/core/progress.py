@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 
 from ..errors import DegenerateMotionError
-from . import se3
+from . import se3_kernels
 from .smoothing import smooth_poses
 from .trajectory import Trajectory
 
@@ -90,8 +90,8 @@ def screw_path_increment(A, B, L):
 def screw_path_increment_into(A, B, L, work, xi):
     """:func:`screw_path_increment` with scratch arrays ``work`` (4×4) and ``xi`` (6,): no
     allocation."""
-    se3.relative_into(A, B, work)
-    se3.twist_from_pose_into(work, xi)
+    se3_kernels.relative_into(A, B, work)
+    se3_kernels.twist_from_pose_into(work, xi)
     return screw_increment_from_twist(xi, L)
 
 
@@ -109,7 +109,7 @@ def _increments_kernel(T, code, L):
                 d += diff * diff
             out[k] = math.sqrt(d)
         elif code == 1:
-            phi = se3.rotation_increment_one(T[k], T[k + 1])  # rotation of R_{k+1} R_kᵀ
+            phi = se3_kernels.rotation_increment_one(T[k], T[k + 1])  # rotation of R_{k+1} R_kᵀ
             out[k] = math.sqrt(phi[0] * phi[0] + phi[1] * phi[1] + phi[2] * phi[2])
         else:
             out[k] = screw_path_increment_into(T[k], T[k + 1], L, work, xi)
@@ -219,7 +219,7 @@ def reparameterize_poses(
         )
     sq = np.linspace(0.0, total, n)
     sq[-1] = total
-    out = se3.interpolate_poses_kernel(s, poses, sq)
+    out = se3_kernels.interpolate_poses_kernel(s, poses, sq)
     return Reparameterized(out, total / (n - 1), total)
 
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from . import se3
+from . import se3_kernels
 
 __all__ = [
     "gaussian_offsets",
@@ -89,8 +89,8 @@ def pose_signals(poses):
     n = poses.shape[0]
     q = np.empty((n, 4))
     for k in range(n):
-        q[k] = se3.quaternion_from_matrix_one(poses[k, :3, :3])
-    se3.continuity_inplace(q, 0.5)
+        q[k] = se3_kernels.quaternion_from_matrix_one(poses[k, :3, :3])
+    se3_kernels.continuity_inplace(q, 0.5)
     y = np.empty((n, 7))
     for k in range(n):
         for r in range(3):
@@ -108,7 +108,7 @@ def smooth_poses_kernel(poses, g, before):
     sm = _smooth_kernel(pq, g, before)
     out = np.empty((n, 4, 4))
     for k in range(n):
-        R = se3.matrix_from_quaternion_one(sm[k, 3:])
+        R = se3_kernels.matrix_from_quaternion_one(sm[k, 3:])
         out[k] = 0.0
         out[k, :3, :3] = R
         for r in range(3):

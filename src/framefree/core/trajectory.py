@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import TrajectoryError
-from . import se3
+from . import se3, se3_kernels
 from .posecsv import QUAT_ORDERS, read_pose_csv, warn_if_implausible
 
 __all__ = ["MIN_SAMPLES", "Trajectory", "read_pose_csv"]
@@ -250,7 +250,7 @@ class Trajectory:
         t_rel = self.t - self.t[0]
         tq = np.linspace(0.0, t_rel[-1], n)
         tq[-1] = t_rel[-1]
-        return tq, se3.interpolate_poses_kernel(t_rel, self.poses(), tq)
+        return tq, se3_kernels.interpolate_poses_kernel(t_rel, self.poses(), tq)
 
     def head(self, fraction: float) -> Trajectory:
         """The first ``ceil(fraction · N)`` samples (e.g. 0.5 for an unfinished gesture)."""

@@ -19,7 +19,7 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-from ..core import se3
+from ..core import se3_kernels
 from ..core.dtw import POINTWISE_EUCLIDEAN, pack_sequences, path_distance_matrix_kernel
 from ..core.kalman import PoseKinematics, smooth_pose_kinematics
 from ..core.progress import (
@@ -275,7 +275,7 @@ def rates_kernel(T, ds):
     w = np.empty((n - 1, 3))
     u = np.empty((n - 1, 3))
     for k in range(n - 1):
-        phi = se3.rotation_increment_one(T[k], T[k + 1])
+        phi = se3_kernels.rotation_increment_one(T[k], T[k + 1])
         for r in range(3):
             w[k, r] = phi[r] / ds
             u[k, r] = (T[k + 1, r, 3] - T[k, r, 3]) / ds

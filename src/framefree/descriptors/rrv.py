@@ -34,7 +34,7 @@ from collections.abc import Sequence
 import numpy as np
 from numba import njit
 
-from ..core import se3
+from ..core import se3_kernels
 from .base import register
 from .families import RATE_OFFSET, GlobalDescriptor, euclidean_distance_matrix
 
@@ -75,7 +75,7 @@ def rrv_kernel(w, u):
         for c in range(3):
             S[1 + c] = sh * (G[0, c] * A[0, k] + G[1, c] * A[1, k] + G[2, c] * A[2, k])
             ug[c] = G[0, c] * u[k, 0] + G[1, c] * u[k, 1] + G[2, c] * u[k, 2]
-        Rl = se3.matrix_from_quaternion_one(S)
+        Rl = se3_kernels.matrix_from_quaternion_one(S)
         nl = 0.0
         loc = np.empty(3)
         for c in range(3):

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..core import se3
+from ..core import se3, se3_kernels
 from ..core.progress import screw_path_increment
 
 __all__ = [
@@ -268,7 +268,7 @@ def heading(A: np.ndarray, B: np.ndarray, L: float) -> np.ndarray:
     displacement."""
     A = np.ascontiguousarray(A, dtype=np.float64)
     B = np.ascontiguousarray(B, dtype=np.float64)
-    return np.concatenate([L * se3.rotation_increment_one(A, B), B[:3, 3] - A[:3, 3]])
+    return np.concatenate([L * se3_kernels.rotation_increment_one(A, B), B[:3, 3] - A[:3, 3]])
 
 
 class MotionSegmenter:

@@ -30,7 +30,7 @@ from collections import deque
 import numpy as np
 from numba import njit
 
-from ...core import se3
+from ...core import se3, se3_kernels
 from ...core.progress import StreamingReparameterizer
 from ...core.smoothing import gaussian_offsets, gaussian_weights
 from ...core.trajectory import Trajectory
@@ -57,7 +57,7 @@ _NOISE_TABLE = np.random.default_rng(20250314).standard_normal((_NOISE_ROWS, 6))
 def pose_from_pq(p, q):
     """4×4 pose from a position (3,) [m] and a quaternion (4,) ``(w, x, y, z)`` (normalized)."""
     T = np.eye(4)
-    T[:3, :3] = se3.matrix_from_quaternion_one(q)
+    T[:3, :3] = se3_kernels.matrix_from_quaternion_one(q)
     T[0, 3] = p[0]
     T[1, 3] = p[1]
     T[2, 3] = p[2]
@@ -85,7 +85,7 @@ def smooth_window(y, g):
 @njit(cache=True)
 def central_twist(T_hi, T_lo, ds, noise):
     """Spatial twist ``vee(log(T_hi T_lo⁻¹)) / (2 ds) + noise`` (6,), rotation first."""
-    xi = se3.twist_from_pose_one(se3.compose_one(T_hi, se3.inverse_one(T_lo)))
+    xi = se3_kernels.twist_from_pose_one(se3_kernels.compose_one(T_hi, se3_kernels.inverse_one(T_lo)))
     out = np.empty(6)
     for c in range(6):
         out[c] = xi[c] / (2.0 * ds) + noise[c]
@@ -166,7 +166,7 @@ def densify_poses(poses: np.ndarray, interpolate: int) -> np.ndarray:
     out[0] = poses[0]
     for i in range(1, len(poses)):
         for j in range(1, k):
-            out[(i - 1) * k + j] = se3.sclerp_one(poses[i - 1], poses[i], j / k)
+            out[(i - 1) * k + j] = se3_kernels.sclerp_one(poses[i - 1], poses[i], j / k)
         out[i * k] = poses[i]
     return out
 
@@ -348,9 +348,9 @@ class StreamingBILTSPlus:
         k, prev = self.interpolate, self._T_prev
         if k > 1 and prev is not None:
             for j in range(1, k):
-                Tj = se3.sclerp_one(prev, T, j / k)
+                Tj = se3_kernels.sclerp_one(prev, T, j / k)
                 if self._rep.push(Tj):
-                    qj = se3.quaternion_from_matrix_one(np.ascontiguousarray(Tj[:3, :3]))
+                    qj = se3_kernels.quaternion_from_matrix_one(np.ascontiguousarray(Tj[:3, :3]))
                     d = self._accept(Tj[:3, 3].copy(), qj)
                     if d is not None:
                         out.append(d)
