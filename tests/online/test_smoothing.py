@@ -140,7 +140,7 @@ def test_on_noisy_real_takes_smoothing_brings_the_rest_level_down():
     assert rest["smoothed"] < 0.75 * rest["noisy"]
     # by default the takes' noise decides: these are smoothed, the clean ones are not
     assert learned["by default"].smoothing == 0.067 and rest["by default"] == rest["smoothed"]
-    assert "position noise" in learned["by default"].provenance.rules["smoothing"]
+    assert "pose noise" in learned["by default"].provenance.rules["smoothing"]
     assert learned["clean"].smoothing == 0.0 and learned["noisy"].smoothing == 0.0
 
 
@@ -352,7 +352,7 @@ def test_a_decided_smoothing_is_said_in_one_line_and_a_chosen_one_is_not():
     assert smoothing_advice(takes[:6], RecognizerConfig(), 0.0) is None
     report = check_takes(TakeSet(tuple(noisy), tuple(labels[:6]),
                                  tuple(f"{g}/own/{i}" for i, g in enumerate(labels[:6]))))
-    assert any("positions are noisy" in f.message for f in report.findings)
+    assert any("takes are noisy" in f.message for f in report.findings)
 
 
 def test_enroll_smooths_noisy_takes_says_so_and_the_library_keeps_it(tmp_path):
@@ -370,6 +370,6 @@ def test_enroll_smooths_noisy_takes_says_so_and_the_library_keeps_it(tmp_path):
     lib = tmp_path / "lib.npz"
     res = CliRunner().invoke(cli, ["enroll", str(folder), "-o", str(lib)])
     assert res.exit_code == 0, res.output
-    assert "note: the takes' positions are noisy" in res.output
+    assert "note: the takes are noisy" in res.output
     assert load_library(lib).learned_settings().smoothing == 0.067
     assert Recognizer.load(lib).smoother is not None

@@ -115,9 +115,10 @@ class SpottingConstants(_Group):
     speed_lag : int
         Grid samples over which the motion speed is measured, at least 1 (5: 0.1 s).
     still_speed : float
-        Speed [m/s] under which a hand counts as still (0.03). A sensor whose position noise
-        alone would make a still hand appear faster, over ``speed_lag``, is noisy: its takes and
-        stream are smoothed by ``noisy_smoothing`` unless the user sets ``smoothing``
+        Speed [m/s] under which a hand counts as still (0.03). A sensor whose noise (positions,
+        and turns times ``L``) alone would make a still hand appear faster, over
+        ``speed_lag``, is noisy: its takes and stream are smoothed by ``noisy_smoothing``
+        unless the user sets ``smoothing``
         (:func:`~framefree.online.smoothing.sensor_smoothing`; 1.3 mm of noise at the defaults).
     noisy_smoothing : float
         Standard deviation [s] of the Gaussian that smooths a noisy sensor (0.067): it keeps a

@@ -177,7 +177,7 @@ class LearnedSettings:
     smoothing : float
         Standard deviation [s] of the Gaussian that smooths the takes and the stream (0: none):
         the user's ``smoothing``, or, when it is None, ``noisy_smoothing`` for takes whose
-        position noise would make a still hand appear to move
+        noise (positions, and turns times ``L``) would make a still hand appear to move
         (:func:`~framefree.online.smoothing.sensor_smoothing`, over every tracker's takes). A
         library saved before it was learned stays unsmoothed when it is loaded, as its other
         values were learned.

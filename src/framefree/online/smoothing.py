@@ -19,8 +19,11 @@ Not :mod:`framefree.core.smoothing`, the reference descriptors' pre-smoothing of
 quaternion components by a window of samples, which is not exact for a change of body frame.
 
 By default (``smoothing=None``) the recognizer decides from its takes (:func:`sensor_smoothing`):
-it measures the white noise on their positions (:func:`position_noise`) and smooths only when
-that noise alone would make a still hand appear to move.
+it measures the white noise on their positions (:func:`position_noise`) and on their
+orientations (:func:`rotation_noise`, counted as the descriptor's scale length ``L`` times the
+angle, as the motion speed counts a turn) and smooths only when that noise alone would make a
+still hand appear to move. A sensor whose orientation jitters (a skeleton tracker's joint
+orientations) needs it as much as one whose positions do (v32).
 """
 
 from __future__ import annotations
@@ -34,8 +37,8 @@ import numpy as np
 from ..core import se3
 from ..core.trajectory import Trajectory
 
-__all__ = ["GridSmoother", "grid_gaussian", "noise_limit", "position_noise",
-           "sensor_smoothing", "smooth_in_own_frame", "smoothed_take"]
+__all__ = ["GridSmoother", "grid_gaussian", "noise_limit", "pose_noise", "position_noise",
+           "rotation_noise", "sensor_smoothing", "smooth_in_own_frame", "smoothed_take"]
 
 #: Order of the differences that :func:`position_noise` measures noise on. White noise of σ
 #: gives third differences of σ √20; a hand's smooth motion gives little at tracking rates
@@ -73,6 +76,31 @@ def position_noise(traj: Trajectory) -> float:
     return float(np.quantile(d, NOISE_QUANTILE)) / scale
 
 
+def rotation_noise(traj: Trajectory) -> float:
+    """Standard deviation [rad] of white noise on ``traj``'s orientations, per axis and sample.
+
+    :func:`position_noise` for the orientation: the second differences of the turns from one
+    sample to the next, ``log(R_kᵀ R_{k+1})`` in the tracker's frame, are third differences of
+    the noise, read at their stillest tenth. The turns are taken in the tracker's own frame and
+    only their norms are read, so the estimate depends neither on the world frame nor on how
+    the tracker sits in the hand. 0 for a sensor of positions only (a constant orientation);
+    ``nan`` for a take of fewer than eight samples.
+    """
+    if traj.q.shape[0] < 2 * NOISE_ORDER + 2:
+        return float("nan")
+    R = se3.matrix_from_quaternion(traj.q)
+    turns = se3.vector_from_rotation(np.einsum("nji,njk->nik", R[:-1], R[1:]))
+    d = np.linalg.norm(np.diff(turns, n=NOISE_ORDER - 1, axis=0), axis=1)
+    scale = CHI3_QUANTILE * math.sqrt(math.comb(2 * NOISE_ORDER, NOISE_ORDER))
+    return float(np.quantile(d, NOISE_QUANTILE)) / scale
+
+
+def pose_noise(traj: Trajectory, L: float) -> float:
+    """The noise [m per axis] of ``traj``'s poses as the motion speed sees it: its
+    :func:`position_noise` and ``L`` [m] times its :func:`rotation_noise`, in quadrature."""
+    return float(math.hypot(position_noise(traj), L * rotation_noise(traj)))
+
+
 def noise_limit(still_speed: float, lag: float) -> float:
     """Position noise [m per axis] at which a still hand appears to move at ``still_speed``
     [m/s] when its speed is taken over ``lag`` [s]: the displacement between two noisy
@@ -82,15 +110,15 @@ def noise_limit(still_speed: float, lag: float) -> float:
 
 
 def sensor_smoothing(trajectories: Sequence[Trajectory], still_speed: float, lag: float,
-                     smoothing: float) -> tuple[float, float]:
+                     smoothing: float, L: float) -> tuple[float, float]:
     """The smoothing [s] a recognizer built on ``trajectories`` applies, and the noise [m]
     that decided it.
 
-    ``smoothing`` when the takes' median :func:`position_noise` exceeds
-    :func:`noise_limit` (``still_speed``, ``lag``): the noise alone would make a still hand
-    appear to move; else 0.
+    ``smoothing`` when the takes' median :func:`pose_noise` (positions, and turns counted as
+    ``L`` [m] times the angle) exceeds :func:`noise_limit` (``still_speed``, ``lag``): the noise
+    alone would make a still hand appear to move; else 0.
     """
-    noise = [position_noise(tr) for tr in trajectories]
+    noise = [pose_noise(tr, L) for tr in trajectories]
     noise = [x for x in noise if math.isfinite(x)]
     if not noise:
         return 0.0, float("nan")
