@@ -33,7 +33,8 @@ counted by gesture over the people.
 ``--rate HZ`` and ``--noise M`` give the models and the sessions as another sensor would: resampled
 at HZ and with white noise of M metres per axis on every position. With ``--no-orientation``,
 ``--rate 30 --noise 0.01`` stands for a skeleton tracker's wrist joint (docs/online-history.md,
-*A sensor without orientation*, v32).
+*A sensor without orientation*, v32). ``--turn-noise DEG`` turns every orientation by white noise
+of DEG degrees per axis: a sensor whose orientation jitters (v32).
 
 ``--turned AXIS:DEG`` (e.g. ``x:90``) turns the controller in the hand in every stream, by DEG
 degrees about its own AXIS, and leaves the models as recorded: a tracker held another way than
@@ -54,6 +55,7 @@ import numpy as np
 from online_people import _parse_set
 from tqdm import tqdm
 
+from framefree.core import se3
 from framefree.core.se3 import quaternion_multiply
 from framefree.core.trajectory import Trajectory
 from framefree.datasets.people_layout import load_people
@@ -84,16 +86,23 @@ def without_orientation(traj: Trajectory) -> Trajectory:
     return Trajectory(traj.t, traj.p, q, source=traj.source)
 
 
-def as_sensor(traj: Trajectory, rate: float | None, noise: float) -> Trajectory:
+def as_sensor(traj: Trajectory, rate: float | None, noise: float,
+              turn_noise: float = 0.0) -> Trajectory:
     """``traj`` as another sensor would give it: resampled at ``rate`` [Hz] (``None``: as
-    recorded) and with white noise of ``noise`` [m] per axis on the positions (seeded by the
-    recording, so every run is the same)."""
+    recorded), with white noise of ``noise`` [m] per axis on the positions and of
+    ``turn_noise`` [deg] per axis on the orientations (each pose turned in its own frame by a
+    random rotation vector), seeded by the recording, so every run is the same."""
     if rate is not None:
         traj = traj.resampled(1.0 / rate)
+    rng = np.random.default_rng([len(traj), round(1e3 * float(traj.t[0])) % 2**32])
     if noise > 0.0:
-        rng = np.random.default_rng([len(traj), round(1e3 * float(traj.t[0])) % 2**32])
         traj = Trajectory(traj.t, traj.p + noise * rng.standard_normal(traj.p.shape), traj.q,
                           source=traj.source)
+    if turn_noise > 0.0:
+        T = traj.poses()
+        jitter = np.radians(turn_noise) * rng.standard_normal((len(traj), 3))
+        T[:, :3, :3] = T[:, :3, :3] @ se3.rotation_from_vector(jitter)
+        traj = Trajectory.from_poses(traj.t, T, source=traj.source)
     return traj
 
 
@@ -121,7 +130,7 @@ def turn_quaternion(text: str) -> np.ndarray:
 def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim: float,
                 positions_only: bool = False, settings: dict | None = None,
                 gestures: set[str] | None = None, turn: np.ndarray | None = None,
-                rate: float | None = None, noise: float = 0.0
+                rate: float | None = None, noise: float = 0.0, turn_noise: float = 0.0
                 ) -> tuple[StreamResult, float, list[str], dict[str, list]]:
     """Counts for one held-out person (models from everyone else, that person's sessions), the
     rest level [m/s] learned from those models, the gestures the tracker does not follow, and
@@ -132,11 +141,12 @@ def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim
     their performances in the sessions count as non-gesture motion, as ``evaluate-stream
     --gestures`` counts them. ``turn``: the streams' tracker turned in the hand
     (:func:`turned_in_hand`), the models as recorded. ``rate``, ``noise``: models and streams
-    as another sensor gives them (:func:`as_sensor`)."""
+    as another sensor gives them (:func:`as_sensor`), ``turn_noise`` as well."""
     others = [r for r in recordings
               if r.person != person and (gestures is None or r.gesture in gestures)]
     def sensor(traj: Trajectory) -> Trajectory:
-        return as_sensor(without_orientation(traj) if positions_only else traj, rate, noise)
+        return as_sensor(without_orientation(traj) if positions_only else traj, rate, noise,
+                         turn_noise)
 
     rec = Recognizer.from_trajectories([sensor(trimmed(r.sample.trackers[tracker], trim))
                                         for r in others],
@@ -209,6 +219,9 @@ def main(argv: list[str] | None = None) -> dict:
     ap.add_argument("--noise", type=float, default=0.0, metavar="M",
                     help="add white noise of this standard deviation [m] per axis to every "
                          "position, of models and streams")
+    ap.add_argument("--turn-noise", type=float, default=0.0, metavar="DEG",
+                    help="turn every orientation, of models and streams, by white noise of this "
+                         "standard deviation [deg] per axis")
     ap.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=JSON",
                     help="a recognizer setting by name (repeatable)")
     ap.add_argument("--gestures", default=None, metavar="G1,G2,...",
@@ -237,7 +250,8 @@ def main(argv: list[str] | None = None) -> dict:
         print(f"error: --gestures: {err}", file=sys.stderr)
         raise SystemExit(2) from None
     folds = {p: person_fold(p, recordings, args.streams, args.tracker, args.trim,
-                            args.no_orientation, settings, gestures, turn, args.rate, args.noise)
+                            args.no_orientation, settings, gestures, turn, args.rate, args.noise,
+                            args.turn_noise)
              for p in tqdm(people, desc="people")}
     rows = {p: {**res.summary(), "rest_speed": rest, "unseen": unseen}
             for p, (res, rest, unseen, _) in folds.items()}
@@ -253,6 +267,7 @@ def main(argv: list[str] | None = None) -> dict:
         print_reasons(why)
     out = {"tracker": args.tracker, "trim": args.trim, "positions_only": args.no_orientation,
            "turned": args.turned, "rate": args.rate, "noise": args.noise,
+           "turn_noise": args.turn_noise,
            "settings": settings, "gestures": None if gestures is None else sorted(gestures),
            "misses_by_reason": dict(Counter(m["reason"] for m in why["missed"])),
            "false_positives": dict(Counter(f["label"] for f in why["false_positives"])),

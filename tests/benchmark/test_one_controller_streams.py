@@ -86,3 +86,17 @@ def test_another_sensor_resamples_and_adds_the_same_noise_each_time(script):
     off = noisy.p - at_30.p
     assert off.std() == pytest.approx(0.01, rel=0.15)
     assert np.array_equal(noisy.p, script.as_sensor(traj, 30.0, 0.01).p)
+
+
+def test_another_sensor_jitters_the_orientation_by_the_given_angle(script):
+    """``--turn-noise``: the positions kept, each orientation turned by about the given angle."""
+    from framefree.core.trajectory import Trajectory
+    from framefree.online.smoothing import rotation_noise
+
+    t = np.arange(0.0, 4.0, 1 / 90)
+    p = np.c_[0.3 * np.sin(t), 0.2 * t, np.zeros_like(t)]
+    traj = Trajectory(t, p, np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1)))
+    jittered = script.as_sensor(traj, None, 0.0, turn_noise=5.0)
+    assert np.allclose(jittered.p, traj.p)
+    assert np.degrees(rotation_noise(jittered)) == pytest.approx(5.0, rel=0.2)
+    assert np.array_equal(jittered.q, script.as_sensor(traj, None, 0.0, turn_noise=5.0).q)
