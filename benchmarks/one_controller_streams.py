@@ -235,6 +235,10 @@ def main(argv: list[str] | None = None) -> dict:
     ap.add_argument("--out", type=Path, default=None, help="write the results as JSON here")
     args = ap.parse_args(argv)
     settings = _parse_set(args.sets)
+    if args.no_orientation and args.turn_noise > 0:
+        print("error: --turn-noise jitters an orientation that --no-orientation removes; give "
+              "one of the two", file=sys.stderr)
+        raise SystemExit(2)
     try:
         turn = None if args.turned is None else turn_quaternion(args.turned)
     except ValueError as err:

@@ -46,6 +46,7 @@ def test_a_name_the_recordings_lack_is_refused(script, text):
     (["--set", "nonsense"], "NAME=JSON"),
     (["--set", "no_such_setting=1"], "no_such_setting"),
     (["--set", "rival_quantile=2"], "rival_quantile"),
+    (["--no-orientation", "--turn-noise", "5"], "--turn-noise"),
 ])
 def test_usage_errors_are_one_line_and_exit_2(args, named):
     proc = subprocess.run([sys.executable, str(BENCH / "one_controller_streams.py"),

@@ -163,8 +163,9 @@ def hand_turn(poses: np.ndarray, min_angle: float = MIN_TURN) -> np.ndarray | No
 
 #: A tracker whose rotation matrices differ from the first by less than this (in every entry)
 #: over a motion does not turn at all: a sensor of positions only, which writes one quaternion
-#: throughout. A hand-held tracker turns by far more: by at least 0.0076 within every half
-#: second of SFINGE3D's development streams, 0.037 in the Machete takes.
+#: throughout. A hand-held tracker turns by far more: by at least 0.0076 (largest entry) within
+#: every half second of SFINGE3D's development streams, 0.012 in the Machete right controller's
+#: 330 takes (half-second windows a quarter window apart).
 STILL_TRACKER = 1e-6
 
 
