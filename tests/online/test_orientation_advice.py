@@ -40,6 +40,7 @@ def test_the_same_takes_without_orientation_get_the_note(vive):
     advice = orientation_advice([with_quaternion(t, np.array([1.0, 0, 0, 0])) for t in trajs])
     assert advice is not None
     assert "no orientation" in advice and "stop signal" in advice and "mirror image" in advice
+    assert "--no-hand-frame" in advice  # cones of the sensor's frame refuse (v33)
 
 
 @settings(max_examples=25, deadline=None)

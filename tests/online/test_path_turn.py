@@ -20,7 +20,16 @@ from hypothesis import strategies as st
 from framefree.core import se3
 from framefree.core.trajectory import Trajectory
 from framefree.online import Recognizer
-from framefree.online.hand_direction import MIN_TURN, hand_turn, path_turn
+from framefree.online.hand_direction import (
+    FIXED_FRAME_FACTOR,
+    MIN_TURN,
+    OFF_CONE_FACTOR,
+    cone_factor,
+    farther,
+    fixed_frame,
+    hand_turn,
+    path_turn,
+)
 from real_data import MACHETE
 
 DT = 0.02
@@ -162,7 +171,11 @@ def mirror_pair():
     recs = [Recognizer.from_trajectories(takes, labels, cone_takes=12, hand_frame=flag,
                                          threshold=0.01)
             for flag in (True, False)]
-    parts = [_circle_take(-1.0, rng), _circle_take(1.0, rng)]
+    return recs, _stream([_circle_take(-1.0, rng), _circle_take(1.0, rng)])
+
+
+def _stream(parts: list[Trajectory]) -> Trajectory:
+    """The takes ``parts`` one after the other, as one stream of a sensor of positions only."""
     t0 = 0.0
     stream_t, stream_p = [], []
     for part in parts:
@@ -170,7 +183,7 @@ def mirror_pair():
         stream_p.append(part.p)
         t0 = stream_t[-1][-1] + DT
     t, p = np.concatenate(stream_t), np.concatenate(stream_p)
-    return recs, Trajectory(t, p, np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1)))
+    return Trajectory(t, p, np.tile([1.0, 0.0, 0.0, 0.0], (t.size, 1)))
 
 
 def test_the_recognizer_learns_opposite_cones_for_a_mirror_pair(mirror_pair):
@@ -192,3 +205,45 @@ def test_a_circle_is_told_from_its_mirror_image_by_the_way_it_turns(mirror_pair)
     assert labels(rec) == ["clockwise", "anticlockwise"]
     # the descriptor alone took the clockwise circle for the anticlockwise one
     assert labels(without) != ["clockwise", "anticlockwise"]
+
+
+def test_takes_of_positions_only_are_in_a_fixed_frame(mirror_pair):
+    """No take of a sensor of positions only turns its tracker; a hand-held tracker's do."""
+    rng = np.random.default_rng(3)
+    still = [_circle_take(1.0, rng) for _ in range(3)]
+    assert fixed_frame(still)
+    q = still[0].q.copy()
+    q[-1] = [math.cos(0.01), math.sin(0.01), 0.0, 0.0]  # one sample turned by 1.1°
+    assert not fixed_frame([*still, Trajectory(still[0].t, still[0].p, q)])
+    (rec, without), _ = mirror_pair
+    assert rec.learned_.fixed_frame is True
+    assert without.learned_.fixed_frame is None  # no cones, nothing to weigh
+
+
+def test_a_zero_distance_outside_a_fixed_frame_cone_is_refused():
+    assert list(farther(np.array([0.0, 0.2, 0.3]), np.array([math.inf, 1.0, 1.5]))) == [
+        math.inf, 0.2, pytest.approx(0.45)]
+    assert cone_factor(True) == FIXED_FRAME_FACTOR == math.inf
+    assert cone_factor(False) == cone_factor(None) == OFF_CONE_FACTOR
+
+
+def test_in_a_fixed_frame_a_mirror_pair_calibrates_its_own_thresholds():
+    """With the sensor's frame fixed, the calibration no longer bounds each circle's threshold by
+    its mirror image, which moves outside its cone: learned without a threshold given, the pair
+    finds both circles of the stream; weighed 1.5 times farther (v32) the thresholds stay near
+    zero and it finds neither."""
+    rng = np.random.default_rng(7)
+    takes = [_circle_take(s, rng) for s in (1.0, -1.0) for _ in range(12)]
+    labels = ["anticlockwise"] * 12 + ["clockwise"] * 12
+    fixed = Recognizer.from_trajectories(takes, labels, cone_takes=12)
+    weighed_only = Recognizer.from_trajectories(takes, labels, cone_takes=12, fixed_frame=False)
+    assert min(fixed.learned_.gesture_thresholds.values()) > 3 * max(
+        weighed_only.learned_.gesture_thresholds.values())
+    stream = _stream([_circle_take(-1.0, rng), _circle_take(1.0, rng)])
+
+    def labels_of(r: Recognizer) -> list[str]:
+        return [e.label for k in range(len(stream))
+                for e in r.push(stream.t[k], stream.p[k], stream.q[k])]
+
+    assert labels_of(fixed) == ["clockwise", "anticlockwise"]
+    assert labels_of(weighed_only) == []

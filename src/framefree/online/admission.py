@@ -123,15 +123,15 @@ class GestureLimits:
     def outranked(self, j: int, distances: np.ndarray, scale: np.ndarray | None, closure_: float,
                   size: float, corners: int, turns: int, vertical: float, pause: float,
                   moved: float, shares: np.ndarray) -> bool:
-        """Whether model ``j``, nearest once the cones weighed ``distances`` (M,) by ``scale``
-        (M,; None: no cones), is not the
+        """Whether model ``j``, nearest once the cones weighed the candidate's ``distances``
+        (M,, as the descriptor gives them) by ``scale`` (M,; None: no cones), is not the
         descriptor's own nearest model and that model's gesture refuses the candidate (its
         closure, size [m], corners, ... as :meth:`admissible` takes them): the cones relabel
         only a motion whose shape the descriptor's nearest gesture admits, and a motion that
         gesture refuses is no gesture, whichever way it moves."""
         if scale is None:
             return False
-        unweighed = int(np.argmin(distances / scale))
+        unweighed = int(np.argmin(distances))
         return unweighed != j and not bool(self.admissible(
             unweighed, np.array([closure_]), np.array([size]), corners, turns, vertical, pause,
             moved, [shares])[0])

@@ -67,9 +67,12 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-__all__ = ["COVERAGE", "FAST_STEP", "MIN_TURN", "OFF_CONE_FACTOR", "SIGNIFICANCE",
-           "DirectionTable", "direction_limit", "hand_direction", "hand_turn", "path_turn",
-           "rayleigh_p", "weighed"]
+from ..core.trajectory import Trajectory
+
+__all__ = ["COVERAGE", "FAST_STEP", "FIXED_FRAME_FACTOR", "MIN_TURN", "OFF_CONE_FACTOR",
+           "SIGNIFICANCE", "DirectionTable", "cone_factor", "direction_limit", "farther",
+           "fixed_frame", "hand_direction", "hand_turn", "path_turn", "rayleigh_p", "to_weigh",
+           "weighed"]
 
 #: Steps at least this fraction of a motion's longest step make its hand direction (chosen on
 #: SFINGE3D's sequences 1–18 and the Machete development people among 0, 0.3 and 0.5:
@@ -84,6 +87,10 @@ COVERAGE = 0.99
 #: match 1 / OFF_CONE_FACTOR of the gesture's threshold (chosen on SFINGE3D's sequences 1–18 and
 #: the Machete development people: docs/online-history.md, v27).
 OFF_CONE_FACTOR = 1.5
+#: The same factor for takes whose tracker never turns (:func:`fixed_frame`, a sensor of
+#: positions only): the cones are then directions of the sensor's own frame, which the takes
+#: and the stream share, and a motion outside a gesture's cone is not that gesture (v33).
+FIXED_FRAME_FACTOR = math.inf
 
 
 def hand_direction(poses: np.ndarray, fast_step: float = FAST_STEP) -> np.ndarray | None:
@@ -215,6 +222,37 @@ def path_turn(poses: np.ndarray, min_angle: float = MIN_TURN,
     return area / norm if norm > 1e-12 * longest**2 else None
 
 
+def fixed_frame(trajectories: Sequence[Trajectory]) -> bool:
+    """Whether no take ever turns its tracker: every rotation of each take differs from the
+    take's first by less than :data:`STILL_TRACKER` in every entry, as a sensor of positions
+    only writes one orientation throughout. The frame of such takes is the sensor's own: the
+    cones learned in it are directions of the room, which the stream shares as long as the
+    sensor stands where the takes were recorded, not of the hand, which may hold a tracker
+    another way (v33)."""
+    for tr in trajectories:
+        R = tr.rotations()
+        if np.abs(np.einsum("ji,njk->nik", R[0], R) - np.eye(3)).max() >= STILL_TRACKER:
+            return False
+    return bool(len(trajectories))
+
+
+def cone_factor(fixed: bool | None) -> float:
+    """How many times farther a motion outside a cone counts: :data:`FIXED_FRAME_FACTOR` for
+    takes in a fixed frame (:func:`fixed_frame`), else :data:`OFF_CONE_FACTOR` (``None``: a
+    library saved before v33, which keeps the factor it was learned with)."""
+    return FIXED_FRAME_FACTOR if fixed else OFF_CONE_FACTOR
+
+
+def farther(distances: np.ndarray, factors: np.ndarray | float) -> np.ndarray:
+    """``distances`` times ``factors`` (broadcast), where an infinite factor gives infinity even
+    for a zero distance: a motion outside a cone of a fixed frame is never that gesture."""
+    distances = np.asarray(distances, dtype=np.float64)
+    factors = np.broadcast_to(np.asarray(factors, dtype=np.float64), distances.shape)
+    out = np.full(distances.shape, np.inf)
+    np.multiply(distances, factors, out=out, where=np.isfinite(factors))
+    return out
+
+
 def rayleigh_p(n: int, mean_length: float) -> float:
     """P-value of the Rayleigh test of uniformity on the sphere: the probability that ``n``
     uniform unit vectors have a mean resultant length of at least ``mean_length``
@@ -284,14 +322,22 @@ class DirectionTable:
         return np.where(inside, 1.0, self.factor)
 
 
+def to_weigh(distances: np.ndarray, scale: np.ndarray,
+             exact: Callable[[], np.ndarray] | None = None) -> np.ndarray:
+    """The distances (M,) that :func:`weighed` weighs: ``distances`` as given, or, when they
+    are a pruned search's (``exact`` given: exact for the nearest model only) and that model
+    lies outside its cone, every model's exact distance (``exact()``), since another may be
+    nearest once weighed."""
+    if exact is not None and scale[int(np.argmin(distances))] != 1.0:
+        return exact()
+    return distances
+
+
 def weighed(distances: np.ndarray, scale: np.ndarray,
             exact: Callable[[], np.ndarray] | None = None) -> np.ndarray:
     """A candidate's distances (M,) to the models, each times its cone's factor ``scale`` (M,)
-    (:meth:`DirectionTable.factors`). With ``exact``, the distances are a pruned search's, exact
-    for the nearest model only: where that model lies outside its cone, another may be nearest
-    once weighed, so ``exact()`` gives every model's distance first."""
+    (:meth:`DirectionTable.factors`; an infinite factor gives infinity): :func:`to_weigh`'s
+    distances, weighed."""
     if (scale == 1.0).all():
         return distances
-    if exact is not None and scale[int(np.argmin(distances))] != 1.0:
-        distances = exact()
-    return distances * scale
+    return farther(to_weigh(distances, scale, exact), scale)

@@ -98,7 +98,7 @@ _CASTS: dict[str, Callable[[Any], Any]] = {
     "direction_limits": lambda d: {str(g): tuple(float(x) for x in v) for g, v in d.items()},
     "rotation_limits": lambda d: {str(g): tuple(float(x) for x in v) for g, v in d.items()},
     "unseen": lambda v: [str(g) for g in v], "stop_threshold": float,
-    "continuations": _per_gesture(float), "smoothing": float,
+    "continuations": _per_gesture(float), "smoothing": float, "fixed_frame": bool,
 }
 
 
@@ -159,6 +159,13 @@ class LearnedSettings:
         it, the mean axis and the cone's half-angle [deg]; a candidate that turns about an axis
         outside counts ``OFF_CONE_FACTOR`` times farther (only with ``hand_frame``). A library
         saved before they were learned gets them from its takes when it is loaded.
+    fixed_frame : bool
+        Whether no take ever turns its tracker (:func:`~framefree.online.hand_direction.
+        fixed_frame`): a sensor of positions only, whose frame, where the cones lie, is the
+        sensor's own and not the hand's. A candidate outside a cone is then refused as that
+        gesture instead of counting ``OFF_CONE_FACTOR`` times farther, and another gesture's
+        take outside it bounds no threshold (v33; only with ``hand_frame``). A library saved
+        before it was learned keeps the factor it was calibrated with (False).
     gesture_thresholds : dict of str to float
         Decision threshold τ_g per gesture [DTW distance].
     unseen : list of str
@@ -203,6 +210,7 @@ class LearnedSettings:
     vertical_limits: dict[str, tuple[float, float]] | None = None
     direction_limits: dict[str, tuple[float, float, float, float]] | None = None
     rotation_limits: dict[str, tuple[float, float, float, float]] | None = None
+    fixed_frame: bool | None = None
     gesture_thresholds: dict[str, float] | None = None
     unseen: list[str] | None = None
     stop_threshold: float | None = None

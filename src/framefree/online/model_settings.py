@@ -27,7 +27,7 @@ from ..core.trajectory import Trajectory
 from ..descriptors.base import Descriptor, get_descriptor
 from ..descriptors.bilts import window_spacing
 from .config import RecognizerConfig
-from .hand_direction import direction_limit, hand_turn
+from .hand_direction import cone_factor, direction_limit, fixed_frame, hand_turn
 from .learned import GIVEN, LEARNED_NAMES, LearnedSettings, Provenance, rule_name, takes_digest
 from .limits import (
     candidate_limits,
@@ -158,6 +158,8 @@ def resolve_learned(
         draft.fill(vertical_limits, vertical_limits={g: x for g, x in limits.items() if x is not None})
     # a cone stands for how many people move only where the takes are more than one person's
     many = {g: n >= k.cone_takes for g, n in Counter(labels).items()}
+    if config.hand_frame and draft.missing("fixed_frame"):
+        draft.fill(fixed_frame, fixed_frame=fixed_frame(trajectories))
     if config.hand_frame and draft.missing("direction_limits"):
         ways = gesture_directions(trajectories, labels, levels, L, k.dt)
         cones = {g: direction_limit(ways.get(g, [])) for g in gestures if many[g]}
@@ -286,7 +288,8 @@ def orientation_advice(trajectories: Sequence[Trajectory]) -> str | None:
     cartwheels) differ by a rotation, so no frame-free distance tells them apart; only the way
     the path turns in the sensor's frame does, once the takes are many enough to learn it
     (:func:`~framefree.online.hand_direction.path_turn`, ``cone_takes``; docs/online-history.md,
-    *A sensor without orientation*, v32).
+    *A sensor without orientation*, v32). The cones of such takes lie in the sensor's frame, and
+    a motion outside one is refused (:func:`~framefree.online.hand_direction.fixed_frame`, v33).
     """
     if not trajectories:
         return None
@@ -298,7 +301,9 @@ def orientation_advice(trajectories: Sequence[Trajectory]) -> str | None:
             "only?), so the stop signal, a quick roll of the hand, cannot be made, and a gesture "
             "and its mirror image (a circle drawn clockwise and anticlockwise) are told apart only "
             "by the way the path turns in the sensor's frame, learned where each has cone_takes "
-            "(20) takes or more (framefree check names the gestures that lie near each other)")
+            "(20) takes or more (framefree check names the gestures that lie near each other); "
+            "such cones are directions of the sensor's frame, and a motion outside one is not "
+            "that gesture: if the sensor has moved since the takes, use --no-hand-frame")
 
 
 def stop_threshold_rule() -> str:
@@ -465,4 +470,4 @@ def make_spotter(classifier: SegmentClassifier, model_thresholds: np.ndarray,
                    k.return_error if c.closure else 0.0, openings, k.fire_on_motion,
                    k.rest_before, corners, k.corner_angle, turns, up, vertical, one_go,
                    travels, c.descriptor.presmooth, labels, unseen, k.returns, k.brief_starts,
-                   shares, directions, k.valley_starts, rotations)
+                   shares, directions, k.valley_starts, rotations, cone_factor(s.fixed_frame))

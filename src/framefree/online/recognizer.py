@@ -200,6 +200,9 @@ class Recognizer(StreamingRecognizer):
         # the takes as the live recognizer will see the stream (after the library's rules: the
         # user's smoothing replaces a library's value and its rule)
         trajectories = resolve_smoothing(trajectories, config, draft, learned is not None)
+        if learned is not None and config.hand_frame:  # calibrated with the factor of before
+            draft.fill("a library saved before framefree learned whether the sensor's frame is "
+                       "fixed: the cones' factor it was calibrated with", fixed_frame=False)
         if config.descriptor.relative_window and draft.missing("window_spacing"):
             draft.fill(model_window_spacing,
                        window_spacing=model_window_spacing(trajectories, config))

@@ -26,7 +26,15 @@ import numpy as np
 
 from .admission import GestureLimits
 from .candidate import Candidate, candidate_spans, refuse_tails
-from .hand_direction import DirectionTable, hand_direction, hand_turn, weighed
+from .hand_direction import (
+    OFF_CONE_FACTOR,
+    DirectionTable,
+    farther,
+    hand_direction,
+    hand_turn,
+    to_weigh,
+    weighed,
+)
 from .proportions import ProportionTable, proportions
 from .returns import ReturnGuard
 from .segment_classifier import SegmentClassifier
@@ -134,6 +142,10 @@ class Spotter(GestureLimits):
         The same for the axis about which the hand turns
         (:func:`~framefree.online.hand_direction.hand_turn`); a candidate outside either of a
         model's cones counts ``OFF_CONE_FACTOR`` times farther from it (default: no cone).
+    cone_factor : float
+        How many times farther a candidate outside a cone counts (default ``OFF_CONE_FACTOR``;
+        infinite, i.e. refused, for takes in a fixed frame:
+        :func:`~framefree.online.hand_direction.cone_factor`).
     proportion_limits : sequence of (list of (float, float)) or None, shape (M,), optional
         Per model, the stroke length ratios a candidate with its takes' corners must keep
         (:class:`~framefree.online.proportions.ProportionTable`; default: no limit).
@@ -174,10 +186,11 @@ class Spotter(GestureLimits):
         direction_limits: np.ndarray | None = None,
         valley_starts: bool = False,
         rotation_limits: np.ndarray | None = None,
+        cone_factor: float = OFF_CONE_FACTOR,
     ) -> None:
         self.classifier = classifier
-        self.directions = DirectionTable(direction_limits, len(classifier.models))
-        self.rotations = DirectionTable(rotation_limits, len(classifier.models))
+        self.directions = DirectionTable(direction_limits, len(classifier.models), cone_factor)
+        self.rotations = DirectionTable(rotation_limits, len(classifier.models), cone_factor)
         #: the way back after a fired gesture is refused as that gesture (None: not watched)
         self.returns = ReturnGuard() if returns else None
         n_models = len(classifier.models)
@@ -295,8 +308,10 @@ class Spotter(GestureLimits):
             tier = bar if full else brief_bar
             d, size, may_accept = self._classify(times, poses, c, tier, corners, turns, v,
                                                  pause, moved, shares, scale)
-            d = weighed(d, scale, (lambda t=times, P=poses: self.classifier.distances(t, P)[0])
-                        if self.classifier.pruning and may_accept else None)
+            unweighed = to_weigh(d, scale, (lambda t=times, P=poses:
+                                            self.classifier.distances(t, P)[0])
+                                 if self.classifier.pruning and may_accept else None)
+            d = weighed(unweighed, scale)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
             j = int(np.argmin(d))
@@ -304,7 +319,7 @@ class Spotter(GestureLimits):
             ok = ratio < tier and bool(self.admissible(j, np.array([c]), np.array([size]),
                                                        corners, turns, v, pause, moved,
                                                        [shares])[0])
-            outranked = ok and self.outranked(j, d, scale, c, size, corners, turns, v, pause,
+            outranked = ok and self.outranked(j, unweighed, scale, c, size, corners, turns, v, pause,
                                               moved, shares)
             ok = ok and not outranked
             back = (self.returns is not None
@@ -313,7 +328,7 @@ class Spotter(GestureLimits):
             if not ok and full and self.needs_exact_nearest(out, n):
                 # its nearest gesture decides whether the part before it is a tail: a refused
                 # candidate's pruned values are bounds, so search it in full
-                d = self.classifier.distances(times, poses)[0] * scale
+                d = farther(self.classifier.distances(times, poses)[0], scale)
                 j = int(np.argmin(d))
                 ratio = float(d[j] / self.model_thresholds[j])
             if ok and self.tighten and not self.fire_on_motion:

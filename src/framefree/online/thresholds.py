@@ -45,7 +45,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..core.trajectory import Trajectory
-from .hand_direction import hand_turn
+from .hand_direction import farther, hand_turn
 from .limits import recording_direction, recording_units
 from .negatives import non_gesture_motions
 from .proportions import proportions
@@ -368,11 +368,11 @@ def calibrate_segment_thresholds(
         if between is not None and (~own).any():
             # per take of another gesture; one that moves outside g's cone counts farther, as the
             # live spotter counts it
-            farther = np.array([max(spotter.directions.factors(w)[first[g]],
+            factors = np.array([max(spotter.directions.factors(w)[first[g]],
                                     spotter.rotations.factors(a)[first[g]])
                                 for w, a, mine in zip(ways, axes, own, strict=True) if not mine])
-            nearest_of_g = between[np.ix_(own, ~own)].min(axis=0) * farther
-            N = min(N, float(np.quantile(nearest_of_g, rival_quantile)))
+            nearest_of_g = farther(between[np.ix_(own, ~own)].min(axis=0), factors)
+            N = min(N, _rival_bound(nearest_of_g, rival_quantile))
         negatives[g] = N
         separated[g] = bool(P < N)
         a = position if separated[g] or unseparated_position is None else unseparated_position
@@ -383,6 +383,15 @@ def calibrate_segment_thresholds(
         if floor is not None:
             smallest[g] = floor
     return SegmentThresholds(thresholds, positives, negatives, separated, smallest)
+
+
+def _rival_bound(nearest: np.ndarray, quantile: float) -> float:
+    """The ``quantile`` of the other gestures' takes' distances to their nearest take of a
+    gesture (weighed by its cones); those outside a cone of a fixed frame lie at infinity and
+    bound nothing, so a quantile that reaches them is taken without interpolating."""
+    if np.isfinite(nearest).all():
+        return float(np.quantile(nearest, quantile))
+    return float(np.quantile(nearest, quantile, method="inverted_cdf"))
 
 
 def _episode_scores(
