@@ -247,3 +247,34 @@ def test_in_a_fixed_frame_a_mirror_pair_calibrates_its_own_thresholds():
 
     assert labels_of(fixed) == ["clockwise", "anticlockwise"]
     assert labels_of(weighed_only) == []
+
+
+def test_real_takes_turn_their_tracker_unless_their_orientation_is_removed():
+    """The real Vive right controller's takes all turn it (a hand-held tracker: the factor of
+    v27 stays), and the same takes with every quaternion the identity lie in a fixed frame."""
+    from framefree.datasets.people_layout import load_people
+
+    takes = [r.sample.trackers[0] for r in load_people(MACHETE)][:40]
+    assert not any(fixed_frame([take]) for take in takes)
+    assert fixed_frame([_without_orientation(take) for take in takes])
+
+
+def test_a_library_saved_before_keeps_the_factor_it_was_calibrated_with():
+    """Learned values without ``fixed_frame`` (a library saved before v33) are restored with
+    the factor of v32, whose thresholds they hold; saved now, the value goes to JSON and back."""
+    import json
+
+    from framefree.online.learned import LearnedSettings
+
+    rng = np.random.default_rng(7)
+    takes = [_circle_take(s, rng) for s in (1.0, -1.0) for _ in range(12)]
+    labels = ["anticlockwise"] * 12 + ["clockwise"] * 12
+    rec = Recognizer.from_trajectories(takes, labels, cone_takes=12)
+    old = rec.learned_.replace(fixed_frame=None)
+    restored = Recognizer.from_trajectories(takes, labels, rec.config, old)
+    assert restored.learned_.fixed_frame is False
+    assert "saved before" in restored.learned_.provenance.rules["fixed_frame"]
+    assert restored.spotter.directions.factor == OFF_CONE_FACTOR
+    again = LearnedSettings.from_dict(json.loads(json.dumps(rec.learned_.to_dict())))
+    assert again.fixed_frame is True
+    assert rec.spotter.rotations.factor == FIXED_FRAME_FACTOR

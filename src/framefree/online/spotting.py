@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -308,9 +308,7 @@ class Spotter(GestureLimits):
             tier = bar if full else brief_bar
             d, size, may_accept = self._classify(times, poses, c, tier, corners, turns, v,
                                                  pause, moved, shares, scale)
-            unweighed = to_weigh(d, scale, (lambda t=times, P=poses:
-                                            self.classifier.distances(t, P)[0])
-                                 if self.classifier.pruning and may_accept else None)
+            unweighed = to_weigh(d, scale, self.exact_search(times, poses, may_accept))
             d = weighed(unweighed, scale)
             self.last_distances = d
             self.evaluated.append((last.end_t, d))
@@ -339,6 +337,15 @@ class Spotter(GestureLimits):
                                  direction=() if way is None else tuple(way.tolist()),
                                  outranked=outranked))
         return refuse_tails(out, self._gesture)
+
+    def exact_search(self, times: np.ndarray, poses: np.ndarray, may_accept: bool
+                     ) -> Callable[[], np.ndarray] | None:
+        """Every model's exact distance on demand (for
+        :func:`~framefree.online.hand_direction.to_weigh`) where the search was pruned and the
+        candidate may be accepted; None where its distances are exact or it is refused anyway."""
+        if not (self.classifier.pruning and may_accept):
+            return None
+        return lambda: self.classifier.distances(times, poses)[0]
 
     def needs_exact_nearest(self, batch: list[Candidate], n: int) -> bool:
         """Whether the candidate of ``n`` units, refused, needs its exact nearest model: the
