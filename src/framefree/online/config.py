@@ -53,8 +53,11 @@ class RecognizerConfig:
         (:mod:`framefree.online.hand_direction`). It pays where the tracker's frame sits on
         every hand about the same way (a hand tracker's palm, a controller held by its
         handle); a tracker turned in the hand since the takes costs only the performances near
-        their threshold. False: nothing depends on how the tracker sits in the hand. One
-        tracker only: the recognizer of several trackers does not use it.
+        their threshold. Takes whose tracker never turns (a sensor of positions only) have the
+        sensor's own frame, which the stream shares while the sensor stays where it stood: a
+        candidate outside a cone of theirs is refused (v33). False: nothing depends on how the
+        tracker sits in the hand, nor on where a sensor of positions only stands (for one moved
+        since the takes). One tracker only: the recognizer of several trackers does not use it.
     threshold : float or None
         One decision threshold τ for every gesture, > 0 [DTW distance]; None: each gesture's is
         calibrated on the takes.
