@@ -99,6 +99,7 @@ _CASTS: dict[str, Callable[[Any], Any]] = {
     "rotation_limits": lambda d: {str(g): tuple(float(x) for x in v) for g, v in d.items()},
     "unseen": lambda v: [str(g) for g in v], "stop_threshold": float,
     "continuations": _per_gesture(float), "smoothing": float, "fixed_frame": bool,
+    "positions_only": bool,
 }
 
 
@@ -188,6 +189,13 @@ class LearnedSettings:
         (:func:`~framefree.online.smoothing.sensor_smoothing`, over every tracker's takes). A
         library saved before it was learned stays unsmoothed when it is loaded, as its other
         values were learned.
+    positions_only : bool
+        Whether the takes' orientation is too noisy to use
+        (:func:`~framefree.online.noisy_orientation.orientation_unusable`): its noise times
+        ``L`` would make a still hand appear to move even after the smoothing of a noisy
+        sensor. Then every quaternion of the takes and of the stream is taken as the identity,
+        and the recognizer works on the positions alone (v34). A library saved before it was
+        learned keeps its orientation (False).
     provenance : Provenance
         Which rule derived each value, from which takes, in which framefree.
     """
@@ -216,6 +224,7 @@ class LearnedSettings:
     stop_threshold: float | None = None
     continuations: dict[str, float] | None = None
     smoothing: float | None = None
+    positions_only: bool | None = None
     provenance: Provenance = field(default_factory=Provenance)
 
     def __post_init__(self) -> None:

@@ -47,6 +47,7 @@ from .limits import (
     travel_percentiles,
     travel_shares,
 )
+from .noisy_orientation import constant_orientation, unusable_orientation_advice
 from .proportions import proportion_limits
 from .rest_levels import restless_takes, speed_levels
 from .segment_classifier import SegmentClassifier
@@ -242,9 +243,11 @@ def takes_advice(trajectories: Sequence[Trajectory], config: RecognizerConfig,
     """The one-line notes a command prints about a recognizer's takes: no rests (unless ``rest``
     is False: the user gave the speed levels), gestures the tracker does not follow, no
     orientation, a noisy sensor smoothed."""
+    dropped = unusable_orientation_advice(learned)
     lines = (rest_advice(trajectories, config) if rest else None, unseen_advice(learned.unseen),
-             orientation_advice(trajectories),
-             smoothing_advice(trajectories, config, learned.smoothing))
+             dropped or orientation_advice(trajectories),
+             smoothing_advice([constant_orientation(tr) for tr in trajectories] if dropped
+                              else trajectories, config, learned.smoothing))
     return [line for line in lines if line is not None]
 
 

@@ -46,6 +46,7 @@ from .model_settings import (
     resolve_smoothing,
     segment_descriptor,
 )
+from .noisy_orientation import IDENTITY, resolve_orientation
 from .segment_classifier import SegmentClassifier
 from .segmentation import (
     MotionSegmenter,
@@ -140,6 +141,8 @@ class Recognizer(StreamingRecognizer):
         self.gesture_thresholds = {g: float(s.gesture_thresholds[g]) for g in self.gestures}
         self.model_thresholds = np.array([self.gesture_thresholds[g] for g in self.labels])
         self.stop_threshold = float(s.stop_threshold)
+        #: the orientation is too noisy to use: every sample's quaternion taken as the identity
+        self.positions_only = bool(s.positions_only)
         self.gate = SampleGate(max_bridge=c.max_bridge, nominal_period=k.dt)
         self.stop = StopDetector(self.stop_threshold, k.stop_window, k.stop_min_duration,
                                  k.stop_rearm, k.stop_refractory, k.stop_confirm,
@@ -199,6 +202,7 @@ class Recognizer(StreamingRecognizer):
                                 if n not in given and n in draft.rules})
         # the takes as the live recognizer will see the stream (after the library's rules: the
         # user's smoothing replaces a library's value and its rule)
+        trajectories = resolve_orientation(trajectories, config, draft, learned is not None)
         trajectories = resolve_smoothing(trajectories, config, draft, learned is not None)
         if learned is not None and config.hand_frame:  # calibrated with the factor of before
             draft.fill("a library saved before framefree learned whether the sensor's frame is "
@@ -361,7 +365,7 @@ class Recognizer(StreamingRecognizer):
             Stop events and gesture events, in time order.
         """
         self.observations = []
-        accepted = self.gate.push(t, p, q)
+        accepted = self.gate.push(t, p, IDENTITY if self.positions_only else q)
         if accepted.restarted:
             self._counts["restarts"] += 1
             self._restart()
