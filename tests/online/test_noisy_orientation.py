@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from test_rotation_noise import turning_motion, with_orientation_noise
 
 from framefree.online import Recognizer
 from framefree.online.evaluation import run_stream
@@ -27,7 +28,6 @@ from framefree.online.noisy_orientation import (
 )
 from framefree.online.smoothing import noise_limit
 from real_data import shipped_right_controller
-from test_rotation_noise import turning_motion, with_orientation_noise
 
 
 @settings(max_examples=30, deadline=None)
