@@ -101,4 +101,5 @@ def unusable_orientation_advice(learned: Any) -> str | None:
     noise = rule[rule.find("(") + 1:rule.find(")")]
     return (f"the takes' orientation is too noisy to use ({noise}: even smoothed, a still hand "
             "would appear to turn), so the takes and the stream are recognized from their "
-            "positions alone (--set positions_only=false keeps the orientation)")
+            "positions alone, without the stop signal, a quick roll of the hand (--set "
+            "positions_only=false keeps the orientation)")
