@@ -14,10 +14,12 @@ import math
 
 import numpy as np
 import pytest
+from click.testing import CliRunner
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_rotation_noise import turning_motion, with_orientation_noise
 
+from framefree.cli import cli
 from framefree.online import Recognizer
 from framefree.online.evaluation import run_stream
 from framefree.online.model_settings import takes_advice
@@ -112,3 +114,14 @@ def test_precise_takes_keep_their_orientation_and_a_given_value_wins():
     assert forced.positions_only
     assert not any("too noisy" in line
                    for line in takes_advice(takes, forced.config, forced.learned_))
+
+
+def test_enroll_says_when_it_drops_the_orientation(jittering_recognizer, tmp_path):
+    _, jittering, labels = jittering_recognizer
+    for k, (take, gesture) in enumerate(zip(jittering, labels, strict=True)):
+        take.to_csv(tmp_path / "takes" / gesture / "own" / f"trial_{k + 1}.csv")
+    res = CliRunner().invoke(cli, ["enroll", str(tmp_path / "takes"), "-o",
+                                   str(tmp_path / "lib.npz")])
+    assert res.exit_code == 0, res.output
+    assert "note: the takes' orientation is too noisy to use" in res.output
+    assert "hold no orientation" not in res.output
