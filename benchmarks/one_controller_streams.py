@@ -40,7 +40,8 @@ of DEG degrees per axis: a sensor whose orientation jitters (v32).
 degrees about its own AXIS, and leaves the models as recorded: a tracker held another way than
 when the takes were recorded. Frame-free recognition does not see it; the cones of hand
 directions (``hand_frame``) weigh the turned performances as moving another way
-(docs/online-history.md, v27).
+(docs/online-history.md, v27). With ``--no-orientation`` it stands for a sensor of positions only
+moved since the takes, whose cones then refuse what moves outside them (v33).
 """
 
 from __future__ import annotations
@@ -231,7 +232,7 @@ def main(argv: list[str] | None = None) -> dict:
                     help="print why each gesture was missed and what each false positive was")
     ap.add_argument("--turned", default=None, metavar="AXIS:DEG",
                     help="turn the tracker in the hand in every stream (e.g. x:90), not in the "
-                         "models")
+                         "models (with --no-orientation: the sensor moved since the takes)")
     ap.add_argument("--out", type=Path, default=None, help="write the results as JSON here")
     args = ap.parse_args(argv)
     settings = _parse_set(args.sets)
