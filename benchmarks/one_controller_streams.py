@@ -64,6 +64,7 @@ from framefree.datasets.stream_files import load_stream
 from framefree.online import Recognizer
 from framefree.online.diagnosis import explain_stream
 from framefree.online.evaluation import StreamResult, combine
+from framefree.online.noisy_orientation import constant_orientation
 
 REPO = Path(__file__).resolve().parent.parent
 DATA = REPO.parent / "shared" / "data"
@@ -81,10 +82,9 @@ def trimmed(traj: Trajectory, fraction: float) -> Trajectory:
 
 
 def without_orientation(traj: Trajectory) -> Trajectory:
-    """``traj`` with every quaternion replaced by the identity (positions only)."""
-    q = np.zeros_like(traj.q)
-    q[:, 0] = 1.0
-    return Trajectory(traj.t, traj.p, q, source=traj.source)
+    """``traj`` with every quaternion replaced by the identity (positions only), as the
+    recognizer takes an orientation too noisy to use (:func:`constant_orientation`)."""
+    return constant_orientation(traj)
 
 
 def as_sensor(traj: Trajectory, rate: float | None, noise: float,

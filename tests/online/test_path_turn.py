@@ -30,6 +30,7 @@ from framefree.online.hand_direction import (
     hand_turn,
     path_turn,
 )
+from framefree.online.noisy_orientation import constant_orientation
 from real_data import MACHETE
 
 DT = 0.02
@@ -121,10 +122,6 @@ def test_hand_turn_takes_the_path_only_where_the_tracker_never_turns():
     assert hand_turn(wobbling) is None
 
 
-def _without_orientation(traj: Trajectory) -> Trajectory:
-    return Trajectory(traj.t, traj.p, np.tile([1.0, 0.0, 0.0, 0.0], (len(traj), 1)))
-
-
 def test_real_cartwheels_without_orientation_run_round_opposite_axes():
     """The right controller's cartwheels of the real Vive people (all six next to the checkout,
     the two shipped ones otherwise), every quaternion the identity: each *cartwheel left* runs
@@ -135,7 +132,7 @@ def test_real_cartwheels_without_orientation_run_round_opposite_axes():
     axes: dict[str, list[np.ndarray]] = {}
     for r in load_people(MACHETE):
         if r.gesture in ("cartwheel_left", "cartwheel_right"):
-            axis = hand_turn(_without_orientation(r.sample.trackers[0]).poses())
+            axis = hand_turn(constant_orientation(r.sample.trackers[0]).poses())
             axes.setdefault(r.gesture, []).append(axis)
     right = np.array(axes["cartwheel_right"])
     mean = right.sum(axis=0) / np.linalg.norm(right.sum(axis=0))
@@ -256,7 +253,7 @@ def test_real_takes_turn_their_tracker_unless_their_orientation_is_removed():
 
     takes = [r.sample.trackers[0] for r in load_people(MACHETE)][:40]
     assert not any(fixed_frame([take]) for take in takes)
-    assert fixed_frame([_without_orientation(take) for take in takes])
+    assert fixed_frame([constant_orientation(take) for take in takes])
 
 
 def test_a_library_saved_before_keeps_the_factor_it_was_calibrated_with():

@@ -243,7 +243,7 @@ def takes_advice(trajectories: Sequence[Trajectory], config: RecognizerConfig,
     """The one-line notes a command prints about a recognizer's takes: no rests (unless ``rest``
     is False: the user gave the speed levels), gestures the tracker does not follow, no
     orientation, a noisy sensor smoothed."""
-    dropped = unusable_orientation_advice(learned)
+    dropped = unusable_orientation_advice(trajectories, config, learned)
     lines = (rest_advice(trajectories, config) if rest else None, unseen_advice(learned.unseen),
              dropped or orientation_advice(trajectories),
              smoothing_advice([constant_orientation(tr) for tr in trajectories] if dropped

@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from ..core.trajectory import Trajectory
+from .learned import GIVEN
 from .smoothing import noise_limit, rotation_noise
 
 __all__ = ["IDENTITY", "constant_orientation", "orientation_unusable", "residual_noise",
@@ -90,16 +91,16 @@ def resolve_orientation(trajectories: Sequence[Trajectory], config: Any, draft: 
     return [constant_orientation(tr) for tr in trajectories]
 
 
-def unusable_orientation_advice(learned: Any) -> str | None:
-    """One line when the recognizer decided to drop the takes' orientation (not when a caller
-    fixed ``positions_only``), else ``None``."""
-    if not learned.positions_only:
+def unusable_orientation_advice(trajectories: Sequence[Trajectory], config: Any,
+                                learned: Any) -> str | None:
+    """One line when the recognizer decided to drop the orientation of ``trajectories`` (its
+    takes as given), else ``None`` (also when a caller fixed ``positions_only``)."""
+    if not learned.positions_only or learned.provenance.rules.get("positions_only") == GIVEN:
         return None
-    rule = learned.provenance.rules.get("positions_only", "")
-    if not rule.startswith(orientation_unusable.__module__):
-        return None
-    noise = rule[rule.find("(") + 1:rule.find(")")]
-    return (f"the takes' orientation is too noisy to use ({noise}: even smoothed, a still hand "
-            "would appear to turn), so the takes and the stream are recognized from their "
-            "positions alone, without the stop signal, a quick roll of the hand (--set "
-            "positions_only=false keeps the orientation)")
+    k = config.constants
+    _, noise = orientation_unusable(trajectories, k.still_speed, k.speed_lag * k.dt,
+                                    k.noisy_smoothing, config.descriptor.L, k.dt)
+    return (f"the takes' orientation is too noisy to use ({math.degrees(noise):.2g}° per sample: "
+            "even smoothed, a still hand would appear to turn), so the takes and the stream are "
+            "recognized from their positions alone, without the stop signal, a quick roll of the "
+            "hand (--set positions_only=false keeps the orientation)")
