@@ -16,6 +16,7 @@ import pytest
 
 from framefree.library import LibraryError, enroll, load_library
 from framefree.online import Recognizer, RecognizerConfig
+from framefree.online.acceptance import HAND_HELD_SPEEDS
 from framefree.online.evaluation import run_stream
 from framefree.replica import make_stream
 
@@ -59,10 +60,11 @@ def test_a_format_3_library_loads_with_what_enrolling_again_learns(old, enrolled
     stored, learned = old.learned_settings().values(), enrolled_again.learned_settings().values()
     # newer than format 3: learned when it is loaded (the smoothing as it was built: none)
     for newer in ("travel_limits", "unseen", "smoothing", "proportion_limits", "direction_limits",
-                  "rotation_limits", "fixed_frame", "positions_only"):
+                  "rotation_limits", "fixed_frame", "positions_only", "gate_speeds"):
         assert stored.pop(newer) is None
     assert learned.pop("fixed_frame") is False  # the replica's takes turn the tracker
     assert learned.pop("positions_only") is False  # and their orientation is precise
+    assert learned.pop("gate_speeds") == HAND_HELD_SPEEDS  # a hand-held tracker's pace
     assert learned.pop("direction_limits") == {}  # three takes a gesture set no cone
     assert learned.pop("rotation_limits") == {}
     learned.pop("travel_limits")

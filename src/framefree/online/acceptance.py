@@ -39,8 +39,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core import se3
+from ..core.trajectory import Trajectory
 
-__all__ = ["GATE_STAT_KEYS", "Accepted", "Sample", "SampleGate", "well_formed"]
+__all__ = ["GATE_FACTOR", "GATE_STAT_KEYS", "HAND_HELD_SPEEDS", "Accepted", "Sample", "SampleGate",
+           "gate_limits", "well_formed"]
 
 
 def well_formed(t: float, p: Sequence[float] | np.ndarray, q: Sequence[float] | np.ndarray,
@@ -59,6 +61,45 @@ def well_formed(t: float, p: Sequence[float] | np.ndarray, q: Sequence[float] | 
         stats["bad_quaternion"] += 1
         return None
     return t, p, q / nq
+
+#: The gate's fastest plausible speed [m/s] and angular speed [rad/s] of a hand-held tracker
+#: drawing a gesture: :class:`SampleGate`'s defaults, and the least :func:`gate_limits` gives.
+HAND_HELD_SPEEDS = (5.0, 30.0)
+
+#: How much faster than the fastest take a live sample may move before the acceptance gate takes
+#: it for a glitch (:func:`gate_limits`).
+GATE_FACTOR = 3.0
+
+
+def gate_limits(trajectories: Sequence[Trajectory], factor: float = GATE_FACTOR,
+                floor: tuple[float, float] = HAND_HELD_SPEEDS, turns: bool = True
+                ) -> tuple[float, float]:
+    """The acceptance gate's fastest plausible speed [m/s] and angular speed [rad/s], from the
+    takes: ``factor`` × the largest 99th percentile of any take's sample-to-sample speed, at
+    least ``floor``; with ``turns`` False the angular speed is ``floor``'s.
+
+    A hand-held tracker drawing a gesture stays below 5 m/s and 30 rad/s; a controller in a golf
+    swing or a hook does not (the six Machete Vive people: 99th percentiles of 6.3-12.2 m/s and
+    17-50 rad/s). Between two samples 33 ms apart (a skeleton tracker's 30 Hz) a hand at 8 m/s
+    moves farther than the hand-held limit allows, and the gate took one Machete person's
+    fastest strokes for glitches and relocations: 8 restarts in a session of 2.5 minutes
+    (docs/online-history.md, v35). A take of a constant orientation (a sensor of positions only)
+    turns at 0 rad/s and keeps the angular floor.
+
+    One tracker learns the speed alone (``turns`` False): a hand tracker flips the palm's
+    orientation now and then, faster than a hand turns, and the hand-held angular limit is what
+    takes such a flip for a relocation (after which no stop fires, v20). Learned from SFINGE3D's
+    dictionary, the angular limit rises to 46 rad/s, and one flip fired a false stop.
+    """
+    v_max, w_max = 0.0, 0.0
+    for tr in trajectories:
+        dt = np.diff(tr.t)
+        v = np.linalg.norm(np.diff(tr.p, axis=0), axis=1) / dt
+        dots = np.clip(np.abs(np.sum(tr.q[1:] * tr.q[:-1], axis=1)), 0.0, 1.0)
+        w = 2.0 * np.arccos(dots) / dt
+        v_max = max(v_max, float(np.percentile(v, 99)))
+        w_max = max(w_max, float(np.percentile(w, 99)))
+    return max(floor[0], factor * v_max), max(floor[1], factor * w_max if turns else 0.0)
 
 #: A pose sample: time [s], position (3,) [m], unit quaternion (4,) ``(w, x, y, z)``.
 Sample = tuple[float, np.ndarray, np.ndarray]

@@ -99,7 +99,7 @@ _CASTS: dict[str, Callable[[Any], Any]] = {
     "rotation_limits": lambda d: {str(g): tuple(float(x) for x in v) for g, v in d.items()},
     "unseen": lambda v: [str(g) for g in v], "stop_threshold": float,
     "continuations": _per_gesture(float), "smoothing": float, "fixed_frame": bool,
-    "positions_only": bool,
+    "positions_only": bool, "gate_speeds": lambda v: (float(v[0]), float(v[1])),
 }
 
 
@@ -196,6 +196,14 @@ class LearnedSettings:
         sensor. Then every quaternion of the takes and of the stream is taken as the identity,
         and the recognizer works on the positions alone (v34). A library saved before it was
         learned keeps its orientation (False).
+    gate_speeds : (float, float)
+        The acceptance gate's fastest plausible speed [m/s] and angular speed [rad/s]: three
+        times the takes' fastest speed (their 99th percentile), at least a hand-held tracker's
+        5 m/s, and the hand-held 30 rad/s, which catches a hand tracker's palm flips
+        (:func:`~framefree.online.acceptance.gate_limits`), so that a whole-arm stroke sampled
+        at 30 Hz is not taken for a glitch (v35). A library saved before it was
+        learned gets it from its takes when it is loaded (the gate plays no part in the
+        calibration).
     provenance : Provenance
         Which rule derived each value, from which takes, in which framefree.
     """
@@ -225,6 +233,7 @@ class LearnedSettings:
     continuations: dict[str, float] | None = None
     smoothing: float | None = None
     positions_only: bool | None = None
+    gate_speeds: tuple[float, float] | None = None
     provenance: Provenance = field(default_factory=Provenance)
 
     def __post_init__(self) -> None:

@@ -16,7 +16,7 @@ noise of every tracker's takes together, :func:`smoothed_samples`), the rest and
 combined speed, the candidate limits (units, duration, pauses), each gesture's size range, the
 thresholds τ_g (the offline rule :func:`~framefree.rejection.thresholds_from_models`, P + N, with
 P also measured on the models as the live spotter cuts them, :func:`multi_thresholds`), the
-acceptance gates' speed limits (:func:`~framefree.online.multi_stream.gate_limits`), the stop
+acceptance gates' speed limits (:func:`~framefree.online.acceptance.gate_limits`), the stop
 threshold (the fastest rotation of any tracker of any model), and how long a pending gesture
 waits for a longer one that begins the same way (:func:`~framefree.online.continuations.
 continuation_waits`, measured by running the recognizer over the takes).
@@ -36,7 +36,7 @@ import numpy as np
 from ..core import se3
 from ..core.multitrajectory import MultiTrajectory
 from ..rejection import thresholds_from_models
-from .acceptance import SampleGate
+from .acceptance import SampleGate, gate_limits
 from .config import RecognizerConfig
 from .continuations import continuation_waits
 from .events import Event
@@ -54,7 +54,6 @@ from .multi_stream import (
     GridJoiner,
     MultiMotionSegmenter,
     StopGroup,
-    gate_limits,
     live_cut,
     multi_candidate_limits,
     multi_speed_levels,
@@ -191,7 +190,7 @@ class MultiRecognizer(Recognizer):
         The classifier's invariance (reported by :meth:`describe`).
     gate_speeds : (float, float), optional
         Fastest plausible speed [m/s] and angular speed [rad/s] of a tracker for the acceptance
-        gates (:func:`~framefree.online.multi_stream.gate_limits`; default: the gate's own, 5 m/s
+        gates (:func:`~framefree.online.acceptance.gate_limits`; default: the gate's own, 5 m/s
         and 30 rad/s).
     """
 
@@ -291,7 +290,7 @@ class MultiRecognizer(Recognizer):
         clf = _classifier(invariance).fit(seen, list(labels))
         resolved = resolve_multi_learned(seen, labels, config, clf, draft)
         wrapped = MultiSegmentClassifier(clf, samples[0].names, samples[0].up)
-        gates = gate_limits(samples)
+        gates = gate_limits([tr for smp in samples for tr in smp.trackers])
         if resolved.continuations is None:  # learned by running the recognizer over the takes
             probe = cls(wrapped, labels, config, resolved, invariance, gates)
             rules = {**resolved.provenance.rules, "continuations": rule_name(continuation_waits)}

@@ -44,7 +44,6 @@ __all__ = [
     "MultiPoseBuffer",
     "StopGroup",
     "combined_speed",
-    "gate_limits",
     "grid_poses",
     "live_cut",
     "multi_candidate_limits",
@@ -142,34 +141,6 @@ def multi_speed_levels(samples: Sequence[MultiTrajectory], L: float, dt: float =
         raise ValueError("no model recording is long enough to measure its motion speed")
     rest = rest_level(motions, lag, noise_factor, peak_fraction)
     return SpeedLevels(rest=rest, move=move_factor * rest)
-
-
-#: How much faster than the fastest model recording a live sample may move before the acceptance
-#: gate takes it for a glitch (:func:`gate_limits`).
-GATE_FACTOR = 3.0
-
-
-def gate_limits(samples: Sequence[MultiTrajectory], factor: float = GATE_FACTOR,
-                floor: tuple[float, float] = (5.0, 30.0)) -> tuple[float, float]:
-    """The acceptance gate's fastest plausible speed [m/s] and angular speed [rad/s] from model
-    recordings: ``factor`` × the largest 99th percentile of any tracker's sample-to-sample speed,
-    at least the hand-held defaults ``floor``.
-
-    A hand-held tracker drawing a gesture stays below 5 m/s and 30 rad/s, the gate's defaults; a
-    controller in a golf swing or a hook does not (the six Machete Vive people: 99th percentiles
-    of 6.3-12.2 m/s and 17-50 rad/s), and the default gate cut one person's sessions into pieces at
-    every fast stroke (18 restarts in 2.5 minutes).
-    """
-    v_max, w_max = 0.0, 0.0
-    for s in samples:
-        for tr in s.trackers:
-            dt = np.diff(tr.t)
-            v = np.linalg.norm(np.diff(tr.p, axis=0), axis=1) / dt
-            dots = np.clip(np.abs(np.sum(tr.q[1:] * tr.q[:-1], axis=1)), 0.0, 1.0)
-            w = 2.0 * np.arccos(dots) / dt
-            v_max = max(v_max, float(np.percentile(v, 99)))
-            w_max = max(w_max, float(np.percentile(w, 99)))
-    return max(floor[0], factor * v_max), max(floor[1], factor * w_max)
 
 
 def _padded(sample: MultiTrajectory, dt: float, pad: float = 0.5

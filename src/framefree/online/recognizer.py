@@ -4,7 +4,9 @@ Per pose sample ``(t, p, q)``, four small stages:
 
 1. **acceptance** (:class:`~framefree.online.acceptance.SampleGate`): invalid, repeated, backwards
    and glitched samples are dropped, quaternion signs made continuous, dropouts up to
-   ``max_bridge`` seconds bridged by ScLERP, longer gaps and relocations restart the stream;
+   ``max_bridge`` seconds bridged by ScLERP, longer gaps and relocations restart the stream; a
+   sample is a glitch when it moves faster than three times the takes' fastest
+   (:func:`~framefree.online.acceptance.gate_limits`);
 2. **stop detection** (:class:`~framefree.online.stop.StopDetector`): windowed angular speed; a
    stop fires first and nothing that overlaps the fast rotation can become a gesture; for
    ``stop_refractory`` seconds after a relocation no stop fires (a tracking error settling);
@@ -32,11 +34,11 @@ import numpy as np
 from ..core import se3
 from ..core.trajectory import Trajectory
 from ..io.library_file import LibraryError, library_takes, read_library_file
-from .acceptance import SampleGate
+from .acceptance import HAND_HELD_SPEEDS, SampleGate, gate_limits
 from .background import SerialWorker
 from .config import RecognizerConfig
 from .events import STOP, Event
-from .learned import LearnedSettings, restored_provenance, split_settings
+from .learned import LearnedSettings, restored_provenance, rule_name, split_settings
 from .library_settings import settings_from_meta
 from .model_settings import (
     LearnedDraft,
@@ -143,7 +145,9 @@ class Recognizer(StreamingRecognizer):
         self.stop_threshold = float(s.stop_threshold)
         #: the orientation is too noisy to use: every sample's quaternion taken as the identity
         self.positions_only = bool(s.positions_only)
-        self.gate = SampleGate(max_bridge=c.max_bridge, nominal_period=k.dt)
+        speed, turn = s.gate_speeds or HAND_HELD_SPEEDS
+        self.gate = SampleGate(max_bridge=c.max_bridge, nominal_period=k.dt, max_speed=speed,
+                               max_angular_speed=turn)
         self.stop = StopDetector(self.stop_threshold, k.stop_window, k.stop_min_duration,
                                  k.stop_rearm, k.stop_refractory, k.stop_confirm,
                                  k.stop_sustain_ratio, k.stop_instant)
@@ -203,6 +207,9 @@ class Recognizer(StreamingRecognizer):
         # the takes as the live recognizer will see the stream (after the library's rules: the
         # user's smoothing replaces a library's value and its rule)
         trajectories = resolve_orientation(trajectories, config, draft, learned is not None)
+        if draft.missing("gate_speeds"):  # from the takes as the gate will see the stream
+            draft.fill(f"{rule_name(gate_limits)} (the speed; the angular speed a hand-held "
+                       "tracker's)", gate_speeds=gate_limits(trajectories, turns=False))
         trajectories = resolve_smoothing(trajectories, config, draft, learned is not None)
         if learned is not None and config.hand_frame:  # calibrated with the factor of before
             draft.fill("a library saved before framefree learned whether the sensor's frame is "

@@ -1,0 +1,119 @@
+"""The acceptance gate's plausible speeds come from the takes (v35).
+
+A whole-arm stroke sampled at a skeleton tracker's 30 Hz moves farther between two samples than
+a hand-held tracker's limits allow (5 m/s, 30 rad/s), and the gate took such strokes for
+glitches and relocations, restarting the stream. The tests check the rule (three times the
+takes' fastest, at least the hand-held limits; a sensor of positions only keeps the angular
+floor, and one tracker keeps it), that real Vive takes read faster than a hand-held tracker, that a recognizer taught fast
+strokes keeps a 30 Hz stream of them whole where the hand-held limits cut it, and that a library
+saved before learns the value from its takes.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from framefree.core.trajectory import Trajectory
+from framefree.online import Recognizer
+from framefree.online.acceptance import GATE_FACTOR, HAND_HELD_SPEEDS, gate_limits
+from framefree.online.learned import LearnedSettings
+from framefree.online.noisy_orientation import constant_orientation
+from real_data import SHIPPED_MACHETE
+
+RATE = 30.0
+
+
+def _swing(peak: float, bend: float, rng: np.random.Generator, rest: float = 0.6) -> Trajectory:
+    """A fast arc at ``RATE`` Hz: 1.2 m (± 5 %) travelled with a minimum-jerk profile whose
+    peak speed is about ``peak`` [m/s], its heading turning by ``bend`` [rad], the tracker
+    turning by a quarter turn and back with it; ``rest`` seconds still before and after."""
+    length = 1.2 * rng.uniform(0.95, 1.05)
+    duration = 1.875 * length / peak  # a minimum-jerk stroke peaks at 1.875 × its mean speed
+    n_rest, n_move = round(rest * RATE), round(duration * RATE)
+    s = np.linspace(0.0, 1.0, n_move)
+    s = 10 * s**3 - 15 * s**4 + 6 * s**5
+    s = np.concatenate([np.zeros(n_rest), s, np.ones(n_rest)])
+    radius = length / bend
+    p = np.c_[radius * np.sin(bend * s), radius * (1 - np.cos(bend * s)), 0.1 * s]
+    half = 0.125 * np.pi * np.sin(np.pi * s)  # an eighth of a turn out and back
+    q = np.c_[np.cos(half), np.zeros_like(s), np.zeros_like(s), np.sin(half)]
+    return Trajectory(np.arange(s.size) / RATE, p + 0.0005 * rng.standard_normal(p.shape), q)
+
+
+def _joined(parts: list[Trajectory]) -> Trajectory:
+    """The takes one after the other, as one stream."""
+    t0, ts, ps, qs = 0.0, [], [], []
+    for part in parts:
+        ts.append(part.t - part.t[0] + t0)
+        ps.append(part.p - part.p[0] + (ps[-1][-1] if ps else 0.0))
+        qs.append(part.q)
+        t0 = ts[-1][-1] + 1.0 / RATE
+    return Trajectory(np.concatenate(ts), np.concatenate(ps), np.concatenate(qs))
+
+
+@pytest.fixture(scope="module")
+def swings():
+    """Six fast wide swings and six fast tight ones (peaks of about 9 m/s), and a stream of two of
+    each sampled at 30 Hz."""
+    rng = np.random.default_rng(3)
+    takes = [_swing(9.0, bend, rng) for bend in (0.8, 2.4) for _ in range(6)]
+    labels = ["wide"] * 6 + ["tight"] * 6
+    stream = _joined([_swing(9.0, bend, rng) for bend in (0.8, 2.4, 2.4, 0.8)])
+    return takes, labels, stream
+
+
+def test_slow_takes_keep_the_hand_held_limits():
+    rng = np.random.default_rng(0)
+    assert gate_limits([_swing(1.0, 1.0, rng) for _ in range(3)]) == HAND_HELD_SPEEDS
+
+
+def test_fast_takes_raise_the_limits_to_three_times_their_fastest(swings):
+    takes, _, _ = swings
+    speed, turn = gate_limits(takes)
+    fastest = max(np.percentile(np.linalg.norm(np.diff(tr.p, axis=0), axis=1) * RATE, 99)
+                  for tr in takes)
+    assert speed == pytest.approx(GATE_FACTOR * fastest)
+    assert speed > 3 * HAND_HELD_SPEEDS[0]
+    assert turn > HAND_HELD_SPEEDS[1]  # a quarter turn and back in a quarter of a second
+    assert gate_limits([constant_orientation(tr) for tr in takes])[1] == HAND_HELD_SPEEDS[1]
+    assert gate_limits(takes, turns=False) == (speed, HAND_HELD_SPEEDS[1])
+
+
+def test_real_vive_takes_move_faster_than_a_hand_held_tracker():
+    """The Machete controllers in hooks, uppercuts and golf swings (the shipped people)."""
+    from framefree.datasets.people_layout import load_people
+
+    takes = [r.sample.trackers[0] for r in load_people(SHIPPED_MACHETE)]
+    speed, turn = gate_limits(takes)
+    assert speed > 3 * HAND_HELD_SPEEDS[0] and turn > HAND_HELD_SPEEDS[1]
+
+
+def test_a_stream_of_fast_strokes_at_30_hz_is_kept_whole(swings):
+    takes, labels, stream = swings
+    learned = Recognizer.from_trajectories(takes, labels)
+    hand_held = Recognizer.from_trajectories(takes, labels, gate_speeds=HAND_HELD_SPEEDS)
+    assert learned.learned_.gate_speeds == gate_limits(takes, turns=False)
+    assert learned.learned_.gate_speeds[1] == HAND_HELD_SPEEDS[1]  # catches a palm flip
+    counts = {}
+    for name, rec in (("learned", learned), ("hand-held", hand_held)):
+        rec.background = False
+        for t, p, q in zip(stream.t, stream.p, stream.q, strict=True):
+            rec.push(float(t), p, q)
+        rec.finish()
+        counts[name] = rec.stats["outliers"] + rec.stats["restarts"]
+    assert counts["learned"] == 0
+    assert counts["hand-held"] > 0  # the hand-held limits take the strokes for glitches
+
+
+def test_a_library_saved_before_learns_the_limits_from_its_takes(swings):
+    takes, labels, _ = swings
+    rec = Recognizer.from_trajectories(takes, labels)
+    old = rec.learned_.replace(gate_speeds=None)
+    restored = Recognizer.from_trajectories(takes, labels, rec.config, old)
+    assert restored.learned_.gate_speeds == rec.learned_.gate_speeds
+    assert restored.gate.max_speed == rec.learned_.gate_speeds[0]
+    again = LearnedSettings.from_dict(json.loads(json.dumps(rec.learned_.to_dict())))
+    assert again.gate_speeds == rec.learned_.gate_speeds
