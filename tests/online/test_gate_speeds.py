@@ -4,9 +4,9 @@ A whole-arm stroke sampled at a skeleton tracker's 30 Hz moves farther between t
 a hand-held tracker's limits allow (5 m/s, 30 rad/s), and the gate took such strokes for
 glitches and relocations, restarting the stream. The tests check the rule (three times the
 takes' fastest, at least the hand-held limits; a sensor of positions only keeps the angular
-floor, and one tracker keeps it), that real Vive takes read faster than a hand-held tracker, that a recognizer taught fast
-strokes keeps a 30 Hz stream of them whole where the hand-held limits cut it, and that a library
-saved before learns the value from its takes.
+floor, and one tracker keeps it), that real Vive takes read faster than a hand-held tracker,
+that a recognizer taught fast strokes keeps a 30 Hz stream of them whole where the hand-held
+limits cut it, and that a library saved before learns the value from its takes.
 """
 
 from __future__ import annotations
