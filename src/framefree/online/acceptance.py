@@ -62,6 +62,7 @@ def well_formed(t: float, p: Sequence[float] | np.ndarray, q: Sequence[float] | 
         return None
     return t, p, q / nq
 
+
 #: The gate's fastest plausible speed [m/s] and angular speed [rad/s] of a hand-held tracker
 #: drawing a gesture: :class:`SampleGate`'s defaults, and the least :func:`gate_limits` gives.
 HAND_HELD_SPEEDS = (5.0, 30.0)
@@ -82,7 +83,7 @@ def gate_limits(trajectories: Sequence[Trajectory], factor: float = GATE_FACTOR,
     swing or a hook does not (the six Machete Vive people: 99th percentiles of 6.3-12.2 m/s and
     17-50 rad/s). Between two samples 33 ms apart (a skeleton tracker's 30 Hz) a hand at 8 m/s
     moves farther than the hand-held limit allows, and the gate took one Machete person's
-    fastest strokes for glitches and relocations: 8 restarts in a session of 2.5 minutes
+    fastest strokes for glitches and relocations: 8 restarts in a session of 2.7 minutes
     (docs/online-history.md, v35). A take of a constant orientation (a sensor of positions only)
     turns at 0 rad/s and keeps the angular floor.
 
@@ -100,6 +101,7 @@ def gate_limits(trajectories: Sequence[Trajectory], factor: float = GATE_FACTOR,
         v_max = max(v_max, float(np.percentile(v, 99)))
         w_max = max(w_max, float(np.percentile(w, 99)))
     return max(floor[0], factor * v_max), max(floor[1], factor * w_max if turns else 0.0)
+
 
 #: A pose sample: time [s], position (3,) [m], unit quaternion (4,) ``(w, x, y, z)``.
 Sample = tuple[float, np.ndarray, np.ndarray]

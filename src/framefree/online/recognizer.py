@@ -5,8 +5,8 @@ Per pose sample ``(t, p, q)``, four small stages:
 1. **acceptance** (:class:`~framefree.online.acceptance.SampleGate`): invalid, repeated, backwards
    and glitched samples are dropped, quaternion signs made continuous, dropouts up to
    ``max_bridge`` seconds bridged by ScLERP, longer gaps and relocations restart the stream; a
-   sample is a glitch when it moves faster than three times the takes' fastest
-   (:func:`~framefree.online.acceptance.gate_limits`);
+   sample is a glitch when it moves faster than three times the takes' fastest, or than a
+   hand-held tracker when the takes are slower (:func:`~framefree.online.acceptance.gate_limits`);
 2. **stop detection** (:class:`~framefree.online.stop.StopDetector`): windowed angular speed; a
    stop fires first and nothing that overlaps the fast rotation can become a gesture; for
    ``stop_refractory`` seconds after a relocation no stop fires (a tracking error settling);
@@ -208,8 +208,8 @@ class Recognizer(StreamingRecognizer):
         # user's smoothing replaces a library's value and its rule)
         trajectories = resolve_orientation(trajectories, config, draft, learned is not None)
         if draft.missing("gate_speeds"):  # from the takes as the gate will see the stream
-            draft.fill(f"{rule_name(gate_limits)} (the speed; the angular speed a hand-held "
-                       "tracker's)", gate_speeds=gate_limits(trajectories, turns=False))
+            draft.fill(f"{rule_name(gate_limits)} (the speed from the takes, the angular speed "
+                       "a hand-held tracker's)", gate_speeds=gate_limits(trajectories, turns=False))
         trajectories = resolve_smoothing(trajectories, config, draft, learned is not None)
         if learned is not None and config.hand_frame:  # calibrated with the factor of before
             draft.fill("a library saved before framefree learned whether the sensor's frame is "
