@@ -25,6 +25,8 @@ REAL_MOTIONS = _first(*_shared("real_motions"), SHIPPED / "real_motions")
 MACHETE = _first(*_shared("machete_vive"), SHIPPED / "machete_vive")
 #: the shipped subset itself (always present)
 SHIPPED_MACHETE = SHIPPED / "machete_vive"
+#: two takes of the fastest Machete person (Sub_U005's golf swing and right uppercut), shipped
+SHIPPED_FAST_MACHETE = SHIPPED / "machete_fast"
 
 
 def shipped_right_controller() -> tuple[list, list[str]]:
