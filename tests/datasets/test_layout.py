@@ -171,3 +171,41 @@ def test_csv_with_wrong_column_count(tiny: Path) -> None:
     (tiny / "clap" / "ref" / "rec_1.csv").write_text("0,1,2\n")
     with pytest.raises(DatasetError, match=r"rec_1.csv, row 1: expected 8"):
         load_dataset(tiny, model_context="ref")
+
+
+def test_a_folder_of_people_gives_every_persons_recordings_to_their_label(tmp_path: Path) -> None:
+    """``<person>/<label>/*.csv`` (several people's segmented examples) has a dataset root's
+    shape; with no model context in it, ``--models`` and ``enroll`` read it as people."""
+    from framefree.datasets import resolve_models
+    from framefree.library import read_takes
+
+    for person, labels in (("ann", ("swing", "punch")), ("bob", ("swing", "punch")), ("cy", ("swing",))):
+        for label in labels:
+            for k in (1, 2):
+                _write(tmp_path / "people" / person / label / f"{k}.csv", _rows())
+    found = resolve_models(tmp_path / "people")
+    assert found.layout == "people"
+    assert sorted(found.labels) == ["punch"] * 4 + ["swing"] * 6
+    assert "folder of people" in found.description and "from 3 people" in found.description
+    takes = read_takes(tmp_path / "people")
+    assert list(takes.labels) == found.labels  # the same recordings in the same order
+    assert "swing/cy/2" in takes.names and len(takes.without(["swing/cy/2"]).takes) == 9
+
+
+def test_a_dataset_root_is_not_read_as_people(tiny: Path) -> None:
+    """A dataset root keeps its meaning: with its model context, with a context asked for, and
+    with one gesture folder of two unknown contexts (which asks for the context)."""
+    from framefree.datasets import resolve_models
+    from framefree.datasets.layout import people_trials
+
+    assert resolve_models(tiny, model_context="ref").layout == "dataset"
+    own = tiny.with_name(tiny.name + "_own")
+    for g in ("wave", "clap"):
+        shutil.copytree(tiny / g / "ref", own / g / "own")
+    assert people_trials(own) is None  # framefree record's own folders
+    single = tiny.with_name(tiny.name + "_single")
+    shutil.copytree(tiny / "clap", single / "clap")
+    with pytest.raises(DatasetError, match="--model-context"):
+        resolve_models(single)
+    _write(tiny / "wave" / MODEL_CONTEXT / "rec_1.csv", _rows())
+    assert people_trials(tiny) is None

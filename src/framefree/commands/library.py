@@ -210,8 +210,9 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
     """Build the models and calibrate the thresholds once; write a library file for live use.
 
     \b
-    SOURCES are library folders (<gesture>/<context>/trial_k.csv) and/or library files (.npz),
-    merged. Takes of several trackers: folders <gesture>/<recording> (framefree record from a
+    SOURCES are library folders (<gesture>/<context>/trial_k.csv, <gesture>/<trial>.csv, or
+    several people's <person>/<gesture>/<trial>.csv) and/or library files (.npz), merged.
+    Takes of several trackers: folders <gesture>/<recording> (framefree record from a
     multi-tracker source) or <person>/<gesture>/<recording>, and their library files.
     Adding a gesture: framefree enroll lib.npz new_takes/ -o lib.npz
     Removing one:        framefree enroll lib.npz --remove wave -o lib.npz

@@ -26,8 +26,9 @@ def _model_options(f):
     opts = [
         click.option("--models", "models", required=True, type=click.Path(exists=True),
                      help="A dataset root <gesture>/<context>/*.csv (see --model-context), a "
-                     "folder of <label>/*.csv recordings, or a gesture library file from "
-                     "`framefree enroll` (nothing recalibrated); for several trackers, a folder "
+                     "folder of <label>/*.csv recordings, a folder of people "
+                     "<person>/<label>/*.csv (several people's examples), or a gesture library "
+                     "file from `framefree enroll` (nothing recalibrated); for several trackers, a folder "
                      "of people <person>/<gesture>/<recording> or of <label>/<recording> "
                      "(Machete files or multi-tracker CSV)."),
         click.option("--model-context", default="original_1", show_default=True,

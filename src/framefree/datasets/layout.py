@@ -28,6 +28,7 @@ __all__ = [
     "is_training_trial",
     "load_dataset",
     "load_model_recordings",
+    "people_trials",
     "resolve_models",
 ]
 
@@ -300,9 +301,10 @@ class ModelSet:
     trajectories : list of Trajectory
     labels : list of str
         The label (gesture folder name) of each recording.
-    layout : {"dataset", "labelled"}
+    layout : {"dataset", "labelled", "people"}
         ``"dataset"``: ``<root>/<gesture>/<context>/*.csv`` (the model context's recordings);
-        ``"labelled"``: ``<root>/<label>/*.csv``.
+        ``"labelled"``: ``<root>/<label>/*.csv``; ``"people"``: ``<root>/<person>/<label>/*.csv``
+        (:func:`people_trials`).
     description : str
         One line saying what was found, for the user.
     """
@@ -335,6 +337,30 @@ def _layout_of(root: Path) -> str:
     return kinds.pop()
 
 
+def people_trials(root: str | Path, contexts: tuple[str, ...] = (MODEL_CONTEXT, "own")
+                  ) -> list[tuple[str, str, Path]] | None:
+    """The recordings of a folder of people ``<root>/<person>/<label>/*.csv``, as (label, person,
+    file), or None when ``root`` is not one.
+
+    Such a folder has the shape of a dataset root ``<gesture>/<context>/*.csv``. It is read as
+    people when no first-level folder holds one of ``contexts`` (a dataset's model context, or
+    the ``own`` folder that ``framefree record`` writes), there are several first-level folders
+    and some holds several label folders of CSV files: the segmented examples of several people,
+    each in their own folder. One gesture folder with two unknown contexts stays a dataset (and
+    asks for ``--model-context``).
+    """
+    root = Path(root).expanduser()
+    firsts = [p for p in _entries(root) if p.is_dir() and p.name != STREAMS_DIR]
+    inner = {p: [q for q in _entries(p) if q.is_dir()] for p in firsts}
+    if len(firsts) < 2 or any(q.name in contexts for qs in inner.values() for q in qs):
+        return None
+    if not any(len(qs) > 1 for qs in inner.values()):
+        return None
+    if any(not any(_is_csv(f) for f in _entries(q)) for qs in inner.values() for q in qs):
+        return None
+    return [(q.name, p.name, f) for p, qs in inner.items() for q in qs for f in _trial_files(q)]
+
+
 def resolve_models(
     root: str | Path,
     model_context: str = MODEL_CONTEXT,
@@ -348,7 +374,9 @@ def resolve_models(
     ----------
     root : str or Path
         A dataset root ``<root>/<gesture>/<context>/<trial>.csv`` (the ``model_context``
-        recordings become the models) or a folder of ``<root>/<label>/*.csv`` recordings.
+        recordings become the models), a folder of ``<root>/<label>/*.csv`` recordings, or a
+        folder of people ``<root>/<person>/<label>/*.csv`` (:func:`people_trials`; only when
+        ``model_context`` is the default).
     model_context : str
         Context folder of the models in a dataset root (ignored for a ``<label>/*.csv`` folder).
         When it is the default and missing, a gesture folder's only context is used (the ``own``
@@ -372,6 +400,9 @@ def resolve_models(
     labels: list[str] = []
     layout = _layout_of(root)
     asked = model_context
+    people = people_trials(root) if layout == "dataset" and asked == MODEL_CONTEXT else None
+    if people is not None:
+        return _people_models(root, people, quat_order, units, skip_header)
     for gdir in _subfolders(root, "gesture" if layout == "dataset" else "label", skip=(STREAMS_DIR,)):
         if layout == "dataset":
             names = [c.name for c in _subfolders(gdir, "context")]
@@ -397,6 +428,19 @@ def resolve_models(
         what = "folder of <label>/*.csv recordings"
     description = f"models: {root} is a {what}: {len(trajs)} recordings of {n_labels} labels"
     return ModelSet(trajs, labels, layout, description)
+
+
+def _people_models(root: Path, people: list[tuple[str, str, Path]], quat_order: str, units: str,
+                   skip_header: bool) -> ModelSet:
+    """:func:`resolve_models` for a folder of people (:func:`people_trials`): every person's
+    recordings are models of their label."""
+    trajs = [_load_trial(f, quat_order, units, skip_header) for _, _, f in people]
+    labels = [label for label, _, _ in people]
+    n_people = len({person for _, person, _ in people})
+    description = (f"models: {root} is a folder of people <person>/<label>/*.csv (no context "
+                   f"folder {MODEL_CONTEXT!r}): {len(trajs)} recordings of {len(set(labels))} "
+                   f"labels ({', '.join(sorted(set(labels)))}) from {n_people} people")
+    return ModelSet(trajs, labels, "people", description)
 
 
 def load_model_recordings(

@@ -25,6 +25,7 @@ import numpy as np
 
 from .._version import __version__
 from ..core.trajectory import Trajectory
+from ..datasets.layout import people_trials
 from ..errors import DatasetError, FramefreeError
 from ..io.library_file import (
     FORMAT_VERSION,
@@ -176,9 +177,10 @@ def _choose_context(gdir: Path, context: str | None) -> Path:
 
 
 def read_takes(folder: str | Path, context: str | None = None) -> TakeSet:
-    """Takes of a library folder laid out as ``<folder>/<gesture>/<context>/<trial>.csv``, or as
+    """Takes of a library folder laid out as ``<folder>/<gesture>/<context>/<trial>.csv``, as
     ``<folder>/<gesture>/<trial>.csv`` (a benchmark's dictionary of examples, as every command's
-    ``--models`` reads it).
+    ``--models`` reads it), or as ``<folder>/<person>/<gesture>/<trial>.csv`` (several people's
+    examples, :func:`~framefree.datasets.layout.people_trials`; without ``context``).
 
     Parameters
     ----------
@@ -204,22 +206,27 @@ def read_takes(folder: str | Path, context: str | None = None) -> TakeSet:
     if not root.is_dir():
         raise LibraryError(f"{root}: no such library folder "
                            "(expected <folder>/<gesture>/<context>/<trial>.csv)")
+    people = people_trials(root, _PREFERRED_CONTEXTS) if context is None else None
+    if people is not None:  # <person>/<gesture>/<trial>.csv: named <gesture>/<person>/<trial>
+        found = [(label, f"{label}/{person}/{f.stem}", f) for label, person, f in people]
+    else:
+        found = []
+        for gdir in sorted(p for p in root.iterdir() if p.is_dir() and p.name not in ("streams",)
+                           and not p.name.startswith(".")):
+            cdir = _choose_context(gdir, context)
+            files = sorted(cdir.glob("*.csv"), key=lambda f: _natural(f.stem))
+            if not files:
+                raise LibraryError(f"{cdir}: no takes (*.csv)")
+            found += [(gdir.name, "/".join(f.relative_to(root).with_suffix("").parts), f)
+                      for f in files]
     takes: list[Trajectory] = []
-    labels: list[str] = []
-    names: list[str] = []
-    for gdir in sorted(p for p in root.iterdir() if p.is_dir() and p.name not in ("streams",)
-                       and not p.name.startswith(".")):
-        cdir = _choose_context(gdir, context)
-        files = sorted(cdir.glob("*.csv"), key=lambda f: _natural(f.stem))
-        if not files:
-            raise LibraryError(f"{cdir}: no takes (*.csv)")
-        for f in files:
-            try:
-                takes.append(Trajectory.from_csv(f))
-            except FramefreeError as exc:
-                raise DatasetError(f"bad take: {exc}") from exc
-            labels.append(gdir.name)
-            names.append("/".join(f.relative_to(root).with_suffix("").parts))
+    for _, _, f in found:
+        try:
+            takes.append(Trajectory.from_csv(f))
+        except FramefreeError as exc:
+            raise DatasetError(f"bad take: {exc}") from exc
+    labels = [label for label, _, _ in found]
+    names = [name for _, name, _ in found]
     if not takes:
         raise LibraryError(f"{root}: no gesture folders with takes")
     return TakeSet(tuple(takes), tuple(labels), tuple(names))
