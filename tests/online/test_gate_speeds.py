@@ -140,3 +140,21 @@ def test_a_library_saved_before_learns_the_limits_from_its_takes(swings):
     assert restored.gate.max_speed == rec.learned_.gate_speeds[0]
     again = LearnedSettings.from_dict(json.loads(json.dumps(rec.learned_.to_dict())))
     assert again.gate_speeds == rec.learned_.gate_speeds
+
+
+def test_several_trackers_learn_both_limits_and_keep_them_with_the_rest():
+    """The recognizer of several trackers learns the speed and the angular speed from every
+    tracker's takes, keeps them among its learned values, and takes given ones."""
+    from framefree.datasets.people_layout import load_people
+    from framefree.online.multi import MultiRecognizer
+
+    people = load_people(SHIPPED_MACHETE)
+    samples, labels = [r.sample for r in people], [r.gesture for r in people]
+    rec = MultiRecognizer.from_samples(samples, labels)
+    expected = gate_limits([tr for s in samples for tr in s.trackers])
+    assert rec.learned_.gate_speeds == rec.gate_speeds == expected
+    assert expected[1] > HAND_HELD_SPEEDS[1]  # the controllers turn faster than a hand-held tracker
+    given = MultiRecognizer.from_samples(samples, labels, learned=rec.learned_.replace(
+        gate_speeds=HAND_HELD_SPEEDS))
+    assert given.gate_speeds == HAND_HELD_SPEEDS
+    assert given.gates[0].max_speed == HAND_HELD_SPEEDS[0]

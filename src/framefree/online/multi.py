@@ -285,12 +285,15 @@ class MultiRecognizer(Recognizer):
         if learned is not None:  # what a library learned keeps its rules
             draft.rules.update({n: r for n, r in learned.provenance.rules.items()
                                 if n not in given and n in draft.rules})
+        if draft.missing("gate_speeds"):  # every tracker's takes, both limits
+            draft.fill(gate_limits, gate_speeds=gate_limits([tr for smp in samples
+                                                             for tr in smp.trackers]))
         # the takes as the live recognizer will see the stream
         seen = smoothed_samples(samples, config, draft, learned is not None)
         clf = _classifier(invariance).fit(seen, list(labels))
         resolved = resolve_multi_learned(seen, labels, config, clf, draft)
         wrapped = MultiSegmentClassifier(clf, samples[0].names, samples[0].up)
-        gates = gate_limits([tr for smp in samples for tr in smp.trackers])
+        gates = resolved.gate_speeds
         if resolved.continuations is None:  # learned by running the recognizer over the takes
             probe = cls(wrapped, labels, config, resolved, invariance, gates)
             rules = {**resolved.provenance.rules, "continuations": rule_name(continuation_waits)}
