@@ -36,7 +36,7 @@ import numpy as np
 from ..core import se3
 from ..core.multitrajectory import MultiTrajectory
 from ..rejection import thresholds_from_models
-from .acceptance import SampleGate, gate_limits
+from .acceptance import HAND_HELD_SPEEDS, SampleGate, gate_limits
 from .config import RecognizerConfig
 from .continuations import continuation_waits
 from .events import Event
@@ -188,15 +188,16 @@ class MultiRecognizer(Recognizer):
         What was learned from the models (:func:`resolve_multi_learned`).
     invariance : str
         The classifier's invariance (reported by :meth:`describe`).
-    gate_speeds : (float, float), optional
-        Fastest plausible speed [m/s] and angular speed [rad/s] of a tracker for the acceptance
-        gates (:func:`~framefree.online.acceptance.gate_limits`; default: the gate's own, 5 m/s
-        and 30 rad/s).
+
+    Notes
+    -----
+    The acceptance gates' speed limits are ``learned.gate_speeds``
+    (:func:`~framefree.online.acceptance.gate_limits`; None: a hand-held tracker's).
     """
 
     def __init__(self, classifier: MultiSegmentClassifier, labels: Sequence[str],
-                 config: RecognizerConfig, learned: LearnedSettings, invariance: str = "gravity",
-                 gate_speeds: tuple[float, float] = (5.0, 30.0)) -> None:
+                 config: RecognizerConfig, learned: LearnedSettings, invariance: str = "gravity"
+                 ) -> None:
         c, s, k = config, learned, config.constants
         self.smoother = None  # one smoother per tracker instead
         n = len(classifier.names)
@@ -215,7 +216,8 @@ class MultiRecognizer(Recognizer):
         self.model_thresholds = np.array([self.gesture_thresholds[g] for g in self.labels])
         self.stop_threshold = float(s.stop_threshold)
         n = self.n_trackers
-        self.gate_speeds = (float(gate_speeds[0]), float(gate_speeds[1]))
+        speed, turn = s.gate_speeds or HAND_HELD_SPEEDS
+        self.gate_speeds = (float(speed), float(turn))
         self.gates = [SampleGate(max_bridge=c.max_bridge, nominal_period=k.dt,
                                  max_speed=self.gate_speeds[0],
                                  max_angular_speed=self.gate_speeds[1]) for _ in range(n)]
@@ -293,16 +295,15 @@ class MultiRecognizer(Recognizer):
         clf = _classifier(invariance).fit(seen, list(labels))
         resolved = resolve_multi_learned(seen, labels, config, clf, draft)
         wrapped = MultiSegmentClassifier(clf, samples[0].names, samples[0].up)
-        gates = resolved.gate_speeds
         if resolved.continuations is None:  # learned by running the recognizer over the takes
-            probe = cls(wrapped, labels, config, resolved, invariance, gates)
+            probe = cls(wrapped, labels, config, resolved, invariance)
             rules = {**resolved.provenance.rules, "continuations": rule_name(continuation_waits)}
             resolved = resolved.replace(
                 continuations=continuation_waits(probe, samples, labels),
                 provenance=dataclasses.replace(resolved.provenance, rules=rules))
         if learned is not None:
             resolved = resolved.replace(provenance=restored_provenance(resolved, learned))
-        return cls(wrapped, labels, config, resolved, invariance, gates)
+        return cls(wrapped, labels, config, resolved, invariance)
 
     # ---------------------------------------------------------------------------------- running
     @property
