@@ -98,3 +98,14 @@ def test_the_rival_bound_is_a_quantile_of_the_other_takes_nearest_distances(voca
 def test_the_rival_quantile_is_a_fraction(value):
     with pytest.raises(ValueError, match="rival_quantile"):
         SpottingConstants(rival_quantile=value)
+
+
+def test_the_summary_reports_the_worst_finite_take_that_sets_P():
+    """A take none of whose candidates is admitted scores infinity and takes no part in ``P_g``;
+    the summary (kept in a library file, quoted by ``framefree check``) reports the ``P_g`` the
+    threshold used, and ``None`` for a gesture with no finite score, never infinity."""
+    result = thresholds.SegmentThresholds(
+        {"a": 0.2, "b": 0.3}, {"a": [0.1, np.inf, 0.15], "b": [np.inf, np.inf]},
+        {"a": 0.4, "b": 0.5})
+    assert result.summary()["positives_max"] == {"a": 0.15, "b": None}
+    assert thresholds.worst_take([0.1, np.inf, 0.15]) == 0.15

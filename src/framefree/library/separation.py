@@ -36,6 +36,8 @@ def separation_findings(library: GestureLibrary) -> list[Finding]:
     out = []
     for g in library.unseparated:
         worst = calibration["positives_max"][g]
+        if worst is None:  # no take is found among the others: the gesture is not followed
+            continue
         nearest = calibration["negatives_quantile"][g]
         tau = calibration["thresholds"][g]
         out.append(Finding(

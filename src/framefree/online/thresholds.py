@@ -63,6 +63,7 @@ __all__ = [
     "segment_distances",
     "take_scores",
     "unseen_gestures",
+    "worst_take",
 ]
 
 
@@ -99,11 +100,18 @@ class SegmentThresholds:
                     "other gesture's recording; a: threshold_position where P_g < N_g, "
                     "unseparated_position where not)",
             "thresholds": dict(self.thresholds),
-            "positives_max": {g: float(max(v)) for g, v in self.positives.items()},
+            "positives_max": {g: worst_take(v) for g, v in self.positives.items()},
             "negatives_quantile": dict(self.negatives),
             "separated": dict(self.separated),
             "smallest_sizes": dict(self.smallest_sizes),
         }
+
+
+def worst_take(scores: Sequence[float]) -> float | None:
+    """``P_g``: the largest finite leave-one-out score (a take none of whose candidates is
+    admitted scores infinity and takes no part); ``None`` where no take has a finite one."""
+    finite = [float(s) for s in scores if np.isfinite(s)]
+    return max(finite) if finite else None
 
 
 class SegmentScores(NamedTuple):
@@ -361,8 +369,8 @@ def calibrate_segment_thresholds(
     axes = ([recording_direction(tr, levels, L, measure=hand_turn) for tr in trajectories]
             if rivals and spotter.rotations.active else [None] * len(labels))
     for g in gestures:
-        finite = [p for p in positives[g] if np.isfinite(p)]
-        P = max(finite) if finite else np.inf
+        worst = worst_take(positives[g])
+        P = np.inf if worst is None else worst
         N = _quantile(episodes[g], negative_quantile)
         own = labels_arr == g
         if between is not None and (~own).any():
