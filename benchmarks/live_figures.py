@@ -22,6 +22,9 @@ Rows:
 ``machete_right_hand``
     The same, evaluating only the eight gestures the right hand performs; the others stay in the
     sessions as non-gesture motion (``... --people all --gestures right-hand``).
+``machete_left_hand``
+    The left controller and the eight gestures the left hand performs, a vocabulary no rule was
+    chosen on (``... --people all --tracker 1 --gestures left-hand``).
 ``machete_two``
     The same sessions with both controllers (``benchmarks/multi_people_streams.py``).
 ``replica``
@@ -118,6 +121,9 @@ ROWS: dict[str, tuple[str, Path | None, Callable[[Path], dict[str, Any]]]] = {
                     DATA / "machete_streams", _machete_one()),
     "machete_right_hand": ("Machete sessions, right controller, the right hand's eight gestures",
                            DATA / "machete_streams", _machete_one("--gestures", "right-hand")),
+    "machete_left_hand": ("Machete sessions, left controller, the left hand's eight gestures",
+                          DATA / "machete_streams",
+                          _machete_one("--tracker", "1", "--gestures", "left-hand")),
     "machete_two": ("Machete sessions, both controllers, six people held out in turn",
                     DATA / "machete_streams", _machete_two),
     "replica": ("replica, 20 held-out people, one session each", None, _replica),

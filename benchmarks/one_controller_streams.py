@@ -23,6 +23,11 @@ A comma-separated list of gestures works the same way.
 
     python benchmarks/one_controller_streams.py --people all --gestures right-hand
 
+``--tracker 1 --gestures left-hand`` does the same for the left controller and the eight gestures
+the left hand performs: a vocabulary on which no rule of the recognizer was chosen.
+
+    python benchmarks/one_controller_streams.py --people all --tracker 1 --gestures left-hand
+
 ``--no-orientation`` replaces every quaternion, of the models and of the streams, by the identity:
 a sensor that tracks positions only, as skeleton trackers do (docs/online-history.md, *A sensor
 without orientation*). ``--set NAME=JSON`` passes a recognizer setting by name (e.g.
@@ -177,14 +182,21 @@ def person_fold(person: str, recordings: list, streams: Path, tracker: int, trim
 #: (the *left-right-left combo*, whose one right hook is, to the right hand, a *hook right*).
 RIGHT_HAND = ("backflip", "cartwheel_left", "cartwheel_right", "fly_eagle", "golf_swing",
               "hook_right", "right_left_right_combo", "uppercut_right")
+#: The same for the left hand (``--tracker 1``): in the takes of its three own gestures the left
+#: controller's path is 6.4-6.6 times the right's (*hook left*, *uppercut left*) and 1.6 times (the
+#: *left-right-left combo*); in those of the five both hands perform, 1.00-1.03 times.
+LEFT_HAND = ("backflip", "cartwheel_left", "cartwheel_right", "fly_eagle", "golf_swing",
+             "hook_left", "left_right_left_combo", "uppercut_left")
+HANDS = {"right-hand": RIGHT_HAND, "left-hand": LEFT_HAND}
 
 
 def vocabulary(text: str | None, known: set[str]) -> set[str] | None:
-    """The gestures ``--gestures`` names (``None``: all; ``right-hand``: :data:`RIGHT_HAND`);
-    a name the recordings do not hold raises ``ValueError``."""
+    """The gestures ``--gestures`` names (``None``: all; ``right-hand``: :data:`RIGHT_HAND`,
+    ``left-hand``: :data:`LEFT_HAND`); a name the recordings do not hold raises ``ValueError``."""
     if text is None:
         return None
-    names = set(RIGHT_HAND) if text == "right-hand" else {g.strip() for g in text.split(",") if g.strip()}
+    names = (set(HANDS[text]) if text in HANDS
+             else {g.strip() for g in text.split(",") if g.strip()})
     unknown = sorted(names - known)
     if unknown or not names:
         raise ValueError(f"unknown gesture(s) {', '.join(unknown) or '(none given)'}; "
@@ -227,7 +239,8 @@ def main(argv: list[str] | None = None) -> dict:
                     help="a recognizer setting by name (repeatable)")
     ap.add_argument("--gestures", default=None, metavar="G1,G2,...",
                     help="evaluate these gestures only; the others' performances count as "
-                         "non-gesture motion ('right-hand': those the right hand performs)")
+                         "non-gesture motion ('right-hand', 'left-hand': those that hand performs, "
+                         "alone or with the other)")
     ap.add_argument("--explain", action="store_true",
                     help="print why each gesture was missed and what each false positive was")
     ap.add_argument("--turned", default=None, metavar="AXIS:DEG",

@@ -56,7 +56,7 @@ def test_an_unknown_row_is_one_line_and_exit_2():
     assert proc.returncode == 2
     assert proc.stderr.strip().splitlines() == [
         "--only: unknown row 'nope' (rows: sfinge, sfinge_no_hand_frame, machete_one, "
-        "machete_right_hand, machete_two, replica, zigzag, check_mark)"]
+        "machete_right_hand, machete_left_hand, machete_two, replica, zigzag, check_mark)"]
 
 
 def test_a_row_without_its_data_is_skipped(monkeypatch, tmp_path, capsys):

@@ -30,6 +30,15 @@ def test_the_right_hand_vocabulary_leaves_out_the_left_hand_gestures(script):
     assert {"cartwheel_left", "right_left_right_combo"} <= right  # both arms move in these
 
 
+def test_the_left_hand_vocabulary_mirrors_the_right_hands(script):
+    left = script.vocabulary("left-hand", GESTURES)
+    right = set(script.RIGHT_HAND)
+    assert left == set(script.LEFT_HAND)
+    assert left & right == {"backflip", "cartwheel_left", "cartwheel_right", "fly_eagle",
+                            "golf_swing"}  # both arms move in these
+    assert left - right == {"hook_left", "uppercut_left", "left_right_left_combo"}
+
+
 def test_a_list_of_gestures_and_no_list(script):
     assert script.vocabulary(" hook_right, backflip ,", GESTURES) == {"hook_right", "backflip"}
     assert script.vocabulary(None, GESTURES) is None
