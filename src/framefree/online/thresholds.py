@@ -38,7 +38,7 @@ geometric midpoint, favouring neither error). If no negative is finite, ``τ_g =
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
@@ -276,7 +276,7 @@ def take_scores(
     scaled by ``1/ONE_TAKE_SIZE`` and ``ONE_TAKE_SIZE`` to itself)."""
     labels_arr = np.asarray(labels)
     positives: dict[str, list[float]] = {g: [] for g in dict.fromkeys(labels)}
-    for r, tr in enumerate(trajectories):
+    for r, tr in enumerate(_bar(trajectories, "calibrating: the takes", "take")):
         same = labels_arr == labels[r]
         same[r] = False
         if not same.any():  # a single demonstration: another person's, larger and smaller
@@ -423,8 +423,9 @@ def _episode_scores(
     episodes: dict[str, list[float]] = {g: [] for g in gestures}
     records: list[SegmentScores] = []
     kinds = ("rest", "moves", "drawn") if drawn else ("rest", "moves")
-    for kind, neg in non_gesture_motions(trajectories, labels, L, seed=seed,
-                                         kinds=(*kinds, "regrip") if regrips else kinds):
+    motions = non_gesture_motions(trajectories, labels, L, seed=seed,
+                                  kinds=(*kinds, "regrip") if regrips else kinds)
+    for kind, neg in _bar(motions, "calibrating: other motion", "episode"):
         scores = segment_distances(neg, classifier, levels, spotter, L)
         D, c, size, corners, turns, pauses, shares = scores
         if regrips:
@@ -439,6 +440,14 @@ def _episode_scores(
             elif gated:
                 episodes[g].append(np.inf)
     return episodes, records
+
+
+def _bar(items: Sequence, desc: str, unit: str) -> Iterable:
+    """``items`` with a progress bar on a terminal, shown once the loop has run a second (a few
+    hundred takes calibrate for minutes), none elsewhere."""
+    from tqdm import tqdm
+
+    return tqdm(items, desc=desc, unit=unit, leave=False, disable=None, delay=1.0)
 
 
 def _between(gesture: str, P: float, N: float, a: float) -> float:
