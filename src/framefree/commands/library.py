@@ -211,7 +211,8 @@ def enroll_cmd(sources: tuple[str, ...], out: str | None, context: str | None, r
 
     \b
     SOURCES are library folders (<gesture>/<context>/trial_k.csv, <gesture>/<trial>.csv, or
-    several people's <person>/<gesture>/<trial>.csv) and/or library files (.npz), merged.
+    several people's <person>/<gesture>/<trial>.csv or <gesture>/<person>/<trial>.csv) and/or
+    library files (.npz), merged.
     Takes of several trackers: folders <gesture>/<recording> (framefree record from a
     multi-tracker source) or <person>/<gesture>/<recording>, and their library files.
     Adding a gesture: framefree enroll lib.npz new_takes/ -o lib.npz

@@ -27,7 +27,8 @@ def _model_options(f):
         click.option("--models", "models", required=True, type=click.Path(exists=True),
                      help="A dataset root <gesture>/<context>/*.csv (see --model-context), a "
                      "folder of <label>/*.csv recordings, a folder of people "
-                     "<person>/<label>/*.csv (several people's examples), or a gesture library "
+                     "<person>/<label>/*.csv or <label>/<person>/*.csv (several people's "
+                     "examples; the motions tell which level is the label), or a gesture library "
                      "file from `framefree enroll` (nothing recalibrated); for several trackers, a folder "
                      "of people <person>/<gesture>/<recording> or of <label>/<recording> "
                      "(Machete files or multi-tracker CSV)."),

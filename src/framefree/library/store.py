@@ -207,7 +207,8 @@ def read_takes(folder: str | Path, context: str | None = None) -> TakeSet:
         raise LibraryError(f"{root}: no such library folder "
                            "(expected <folder>/<gesture>/<context>/<trial>.csv)")
     people = people_trials(root, _PREFERRED_CONTEXTS) if context is None else None
-    if people is not None:  # <person>/<gesture>/<trial>.csv: named <gesture>/<person>/<trial>
+    if people is not None:  # <person>/<gesture>/ or <gesture>/<person>/: <gesture>/<person>/<trial>
+        people = _gestures_first_level_checked(people)
         found = [(label, f"{label}/{person}/{f.stem}", f) for label, person, f in people]
     else:
         found = []
@@ -230,6 +231,22 @@ def read_takes(folder: str | Path, context: str | None = None) -> TakeSet:
     if not takes:
         raise LibraryError(f"{root}: no gesture folders with takes")
     return TakeSet(tuple(takes), tuple(labels), tuple(names))
+
+
+def _gestures_first_level_checked(people: list[tuple[str, str, Path]]
+                                  ) -> list[tuple[str, str, Path]]:
+    """``(label, person, file)`` of a folder of people, with the two levels swapped where the
+    motions say the first-level folders are the gestures
+    (:func:`~framefree.datasets.gesture_level.first_level_names_gestures`)."""
+    from ..datasets.gesture_level import first_level_names_gestures
+
+    try:
+        trajectories = [Trajectory.from_csv(f) for _, _, f in people]
+    except FramefreeError as exc:
+        raise DatasetError(f"bad take: {exc}") from exc
+    if first_level_names_gestures(people, trajectories):
+        return [(person, label, f) for label, person, f in people]
+    return people
 
 
 def combine_takes(parts: Sequence[tuple[str, TakeSet]], merge: Iterable[str] = ()) -> TakeSet:
