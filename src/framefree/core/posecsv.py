@@ -38,10 +38,14 @@ QUAT_ORDERS = ("wxyz", "xyzw")
 #: position units a file may have, and their size in metres
 UNITS = {"m": 1.0, "cm": 0.01, "mm": 0.001}
 
-#: a hand-held tracker rarely exceeds 3 m/s; 95 % of a recording's samples above this is not a hand
-MAX_HAND_SPEED = 10.0
+#: 95 % of a recording's samples faster than this [m/s] is not a hand: a whole-arm stroke cut to its
+#: motion reaches 10.3 m/s at its 95th percentile (a Machete person's uppercut, cut at a fifth of
+#: its peak speed), and positions read in the wrong unit move 100 or 1000 times faster than they did
+MAX_HAND_SPEED = 20.0
 #: positions farther than this from the origin [m] are not a tracking volume
 MAX_POSITION = 100.0
+#: positions of a hand in a room lie within this of the origin [m] (to tell the unit they came in)
+ROOM = 10.0
 
 _MAGIC = (
     (b"\x89PNG", "a PNG image"),
@@ -287,10 +291,16 @@ def _unit_problem(data: np.ndarray) -> str | None:
     far = float(np.abs(data[:, 1:4]).max())
     if fast <= MAX_HAND_SPEED and far <= MAX_POSITION:
         return None
-    unit, name = ("mm", "millimetres") if max(fast / 100, far / 1000) > 1 else ("cm", "centimetres")
+    # the units in which these numbers are a hand in a room; both where a slow, small motion in
+    # millimetres reads like a fast, large one in centimetres
+    names = {"mm": "millimetres", "cm": "centimetres"}
+    units = [u for u in names if fast * UNITS[u] <= MAX_HAND_SPEED and far * UNITS[u] <= ROOM]
+    units = units or ["mm"]
     return (
-        f"positions look like {name} (95 % of speeds below {fast:.3g} m/s, positions up to "
-        f"{far:.3g} m; a hand moves at most a few m/s); use --units {unit} (Python: units={unit!r})"
+        f"positions look like {' or '.join(names[u] for u in units)} (95 % of speeds below "
+        f"{fast:.3g} m/s, positions up to {far:.3g} m; the fastest real strokes reach about "
+        f"10 m/s); use {' or '.join(f'--units {u}' for u in units)} (Python: units="
+        f"{' or '.join(repr(u) for u in units)})"
     )
 
 
@@ -331,7 +341,7 @@ def plausibility_problems(data: np.ndarray, quat_order: str = "wxyz") -> list[st
 
     Notes
     -----
-    Two heuristics. *Units*: 95 % of the sample-to-sample speeds above 10 m/s, or positions
+    Two heuristics. *Units*: 95 % of the sample-to-sample speeds above 20 m/s, or positions
     farther than 100 m from the origin. *Quaternion order*: many tracking SDKs keep the scalar
     non-negative, so the quaternion's sign jumps where the scalar crosses zero; when the last
     column is never negative and the sign jumps happen where it is near zero (and the first column
