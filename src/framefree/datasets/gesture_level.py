@@ -21,7 +21,7 @@ import numpy as np
 from ..core.trajectory import Trajectory
 from ..errors import DegenerateMotionError
 
-__all__ = ["PER_FOLDER", "first_level_names_gestures", "group_recovery"]
+__all__ = ["PER_FOLDER", "first_level_names_gestures", "group_recovery", "oriented"]
 
 #: Takes of each innermost folder that the decision compares (the first ones): enough to see
 #: which names the motions follow, few enough that it costs seconds, not a calibration.
@@ -95,3 +95,13 @@ def first_level_names_gestures(people: Sequence[tuple[str, str, Path]],
     distances = descriptor.distance_matrix(descriptors, descriptors)
     seconds, firsts = [k[0] for k in kept], [k[1] for k in kept]
     return group_recovery(distances, firsts, seconds) > group_recovery(distances, seconds, firsts)
+
+
+def oriented(people: Sequence[tuple[str, str, Path]], trajectories: Sequence[Trajectory]
+             ) -> tuple[list[tuple[str, str, Path]], bool]:
+    """``(label, person, file)`` of every recording of a folder of people, the two levels swapped
+    where the first-level folders name the gestures (:func:`first_level_names_gestures`), and
+    whether they were."""
+    if first_level_names_gestures(people, trajectories):
+        return [(person, label, f) for label, person, f in people], True
+    return list(people), False

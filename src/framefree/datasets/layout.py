@@ -434,13 +434,11 @@ def _people_models(root: Path, people: list[tuple[str, str, Path]], quat_order: 
                    skip_header: bool) -> ModelSet:
     """:func:`resolve_models` for a folder of people (:func:`people_trials`): every person's
     recordings are models of their label."""
-    from .gesture_level import first_level_names_gestures
+    from .gesture_level import oriented
 
     trajs = [_load_trial(f, quat_order, units, skip_header) for _, _, f in people]
-    shape = "<person>/<label>/*.csv"
-    if first_level_names_gestures(people, trajs):
-        people = [(person, label, f) for label, person, f in people]
-        shape = "<label>/<person>/*.csv, as the motions group"
+    people, swapped = oriented(people, trajs)
+    shape = "<label>/<person>/*.csv, as the motions group" if swapped else "<person>/<label>/*.csv"
     labels = [label for label, _, _ in people]
     n_people = len({person for _, person, _ in people})
     description = (f"models: {root} is a folder of people {shape} (no context "

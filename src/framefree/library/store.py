@@ -25,6 +25,7 @@ import numpy as np
 
 from .._version import __version__
 from ..core.trajectory import Trajectory
+from ..datasets.gesture_level import oriented
 from ..datasets.layout import people_trials
 from ..errors import DatasetError, FramefreeError
 from ..io.library_file import (
@@ -208,7 +209,8 @@ def read_takes(folder: str | Path, context: str | None = None) -> TakeSet:
                            "(expected <folder>/<gesture>/<context>/<trial>.csv)")
     people = people_trials(root, _PREFERRED_CONTEXTS) if context is None else None
     if people is not None:  # <person>/<gesture>/ or <gesture>/<person>/: <gesture>/<person>/<trial>
-        people = _gestures_first_level_checked(people)
+        takes = _read([f for _, _, f in people])
+        people, _ = oriented(people, takes)
         found = [(label, f"{label}/{person}/{f.stem}", f) for label, person, f in people]
     else:
         found = []
@@ -220,12 +222,7 @@ def read_takes(folder: str | Path, context: str | None = None) -> TakeSet:
                 raise LibraryError(f"{cdir}: no takes (*.csv)")
             found += [(gdir.name, "/".join(f.relative_to(root).with_suffix("").parts), f)
                       for f in files]
-    takes: list[Trajectory] = []
-    for _, _, f in found:
-        try:
-            takes.append(Trajectory.from_csv(f))
-        except FramefreeError as exc:
-            raise DatasetError(f"bad take: {exc}") from exc
+        takes = _read([f for _, _, f in found])
     labels = [label for label, _, _ in found]
     names = [name for _, name, _ in found]
     if not takes:
@@ -233,20 +230,12 @@ def read_takes(folder: str | Path, context: str | None = None) -> TakeSet:
     return TakeSet(tuple(takes), tuple(labels), tuple(names))
 
 
-def _gestures_first_level_checked(people: list[tuple[str, str, Path]]
-                                  ) -> list[tuple[str, str, Path]]:
-    """``(label, person, file)`` of a folder of people, with the two levels swapped where the
-    motions say the first-level folders are the gestures
-    (:func:`~framefree.datasets.gesture_level.first_level_names_gestures`)."""
-    from ..datasets.gesture_level import first_level_names_gestures
-
+def _read(files: Sequence[Path]) -> list[Trajectory]:
+    """The takes of ``files``, in order; a bad one raises :class:`DatasetError` naming it."""
     try:
-        trajectories = [Trajectory.from_csv(f) for _, _, f in people]
+        return [Trajectory.from_csv(f) for f in files]
     except FramefreeError as exc:
         raise DatasetError(f"bad take: {exc}") from exc
-    if first_level_names_gestures(people, trajectories):
-        return [(person, label, f) for label, person, f in people]
-    return people
 
 
 def combine_takes(parts: Sequence[tuple[str, TakeSet]], merge: Iterable[str] = ()) -> TakeSet:
