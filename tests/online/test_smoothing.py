@@ -140,7 +140,7 @@ def test_on_noisy_real_takes_smoothing_brings_the_rest_level_down():
     assert rest["smoothed"] < 0.75 * rest["noisy"]
     # by default the takes' noise decides: these are smoothed, the clean ones are not
     assert learned["by default"].smoothing == 0.067 and rest["by default"] == rest["smoothed"]
-    assert "pose noise" in learned["by default"].provenance.rules["smoothing"]
+    assert "position noise" in learned["by default"].provenance.rules["smoothing"]
     assert learned["clean"].smoothing == 0.0 and learned["noisy"].smoothing == 0.0
 
 

@@ -193,9 +193,8 @@ def decided_smoothing(trajectories: Sequence[Trajectory], config: RecognizerConf
         return config.smoothing, f"{GIVEN}: smoothing"
     k = config.constants
     lag = k.speed_lag * k.dt
-    value, noise = sensor_smoothing(trajectories, k.still_speed, lag, k.noisy_smoothing,
-                                    config.descriptor.L)
-    return value, (f"{rule_name(sensor_smoothing)} (pose noise {1000 * noise:.2g} mm, "
+    value, noise = sensor_smoothing(trajectories, k.still_speed, lag, k.noisy_smoothing)
+    return value, (f"{rule_name(sensor_smoothing)} (position noise {1000 * noise:.2g} mm, "
                    f"noisy above {1000 * noise_limit(k.still_speed, lag):.2g} mm)")
 
 
@@ -228,10 +227,8 @@ def smoothing_advice(trajectories: Sequence[Trajectory], config: RecognizerConfi
         return None
     k = config.constants
     lag = k.speed_lag * k.dt
-    _, noise = sensor_smoothing(trajectories, k.still_speed, lag, k.noisy_smoothing,
-                                config.descriptor.L)
-    return (f"the takes are noisy ({1000 * noise:.1f} mm per sample, a turn counted as "
-            f"{config.descriptor.L:g} m per radian; a precise "
+    _, noise = sensor_smoothing(trajectories, k.still_speed, lag, k.noisy_smoothing)
+    return (f"the takes are noisy ({1000 * noise:.1f} mm per sample on their positions; a precise "
             f"tracker reads under {1000 * noise_limit(k.still_speed, lag):.1f} mm), so the takes "
             f"and the stream are smoothed by a Gaussian of {1000 * applied:.0f} ms and gestures "
             f"fire {GridSmoother(applied, k.dt).delay:.2f} s later (--set smoothing=0 turns it "

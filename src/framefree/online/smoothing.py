@@ -19,11 +19,13 @@ Not :mod:`framefree.core.smoothing`, the reference descriptors' pre-smoothing of
 quaternion components by a window of samples, which is not exact for a change of body frame.
 
 By default (``smoothing=None``) the recognizer decides from its takes (:func:`sensor_smoothing`):
-it measures the white noise on their positions (:func:`position_noise`) and on their
-orientations (:func:`rotation_noise`, counted as the descriptor's scale length ``L`` times the
-angle, as the motion speed counts a turn) and smooths only when that noise alone would make a
-still hand appear to move. A sensor whose orientation jitters (a skeleton tracker's joint
-orientations) needs it as much as one whose positions do (v32).
+it measures the white noise on their positions (:func:`position_noise`) and smooths only when
+that noise alone would make a still hand appear to move. v32 counted the orientations' noise too
+(:func:`rotation_noise` times the scale length ``L``); since v34 drops an orientation noisy enough
+to matter, v36 counts the positions only: a hand tracker's palm turns more noisily in motion
+than at rest, and on examples cut without rests (SFINGE3D's dictionary cut at 5 % of its peak
+speed) the turns alone put the reading over the limit, and the smoothing cost 4 swipes and 8
+false positives (docs/online-history.md, *v36*).
 """
 
 from __future__ import annotations
@@ -110,15 +112,16 @@ def noise_limit(still_speed: float, lag: float) -> float:
 
 
 def sensor_smoothing(trajectories: Sequence[Trajectory], still_speed: float, lag: float,
-                     smoothing: float, L: float) -> tuple[float, float]:
+                     smoothing: float) -> tuple[float, float]:
     """The smoothing [s] a recognizer built on ``trajectories`` applies, and the noise [m]
     that decided it.
 
-    ``smoothing`` when the takes' median :func:`pose_noise` (positions, and turns counted as
-    ``L`` [m] times the angle) exceeds :func:`noise_limit` (``still_speed``, ``lag``): the noise
-    alone would make a still hand appear to move; else 0.
+    ``smoothing`` when the takes' median :func:`position_noise` exceeds :func:`noise_limit`
+    (``still_speed``, ``lag``): the noise alone would make a still hand appear to move; else 0.
+    The orientations' noise takes no part (v36): one noisy enough to matter is dropped
+    (:mod:`~framefree.online.noisy_orientation`).
     """
-    noise = [pose_noise(tr, L) for tr in trajectories]
+    noise = [position_noise(tr) for tr in trajectories]
     noise = [x for x in noise if math.isfinite(x)]
     if not noise:
         return 0.0, float("nan")
