@@ -260,17 +260,17 @@ def unseen_advice(unseen: Sequence[str] | None) -> str | None:
 def rest_advice(trajectories: Sequence[Trajectory], config: RecognizerConfig) -> str | None:
     """One line of advice when most takes hold no rest before or after the gesture
     (:func:`~framefree.online.rest_levels.restless_takes`), else ``None``: the sensor's rest
-    level cannot be measured on them, and is taken from the speed at which they start or end
-    (:func:`~framefree.online.rest_levels.rest_level`)."""
+    level cannot be measured on them, and is guessed from their speeds, at most the speed at
+    which they start or end (:func:`~framefree.online.rest_levels.rest_level`)."""
     k = config.constants
     restless = restless_takes(trajectories, config.descriptor.L, k.dt, k.speed_lag, k.peak_fraction)
     if restless.size == 0 or restless.sum() * 2 <= restless.size:
         return None
     return (f"{int(restless.sum())} of {restless.size} takes hold no rest before or after the "
-            "gesture, so the sensor's rest level cannot be measured on them and is taken from the "
-            "speed at which they start or end: record each take with a short rest before and "
-            "after it, or give rest_speed and move_speed (docs/online.md, Models cut without "
-            "rests)")
+            "gesture, so the sensor's rest level cannot be measured on them and is guessed from "
+            "their speeds (at most the speed at which they start or end; cut tightly, recognition "
+            "suffers): record each take with a short rest before and after it, or give "
+            "rest_speed and move_speed (docs/online.md, Models cut without rests)")
 
 
 #: How far [rad] a take's tracker may turn from its first orientation and still count as holding
