@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 from framefree.core import se3
 from framefree.core.trajectory import Trajectory
 from framefree.online import Recognizer
-from framefree.online.smoothing import noise_limit, pose_noise, position_noise, rotation_noise
+from framefree.online.smoothing import noise_limit, position_noise, rotation_noise
 from real_data import shipped_right_controller
 
 L = 0.1
@@ -74,18 +74,18 @@ def test_no_orientation_no_rotation_noise():
     traj = turning_motion(3, 30.0)
     still = Trajectory(traj.t, traj.p, np.tile([1.0, 0.0, 0.0, 0.0], (len(traj), 1)))
     assert rotation_noise(still) == 0.0
-    assert pose_noise(still, L) == position_noise(still)
     assert math.isnan(rotation_noise(Trajectory(traj.t[:5], traj.p[:5], traj.q[:5])))
 
 
 def test_real_trackers_read_as_precise_and_a_jittering_orientation_as_noisy_but_not_smoothed():
     takes, labels = shipped_right_controller()
     limit = noise_limit(0.03, 0.1)
-    assert np.median([pose_noise(t, L) for t in takes]) < limit / 3  # a Vive controller, 90 Hz
+    assert np.median([position_noise(t) for t in takes]) < limit / 3  # a Vive controller, 90 Hz
+    assert L * np.median([rotation_noise(t) for t in takes]) < limit / 3  # its turns too
     rng = np.random.default_rng(5)
     jittering = [with_orientation_noise(t, rng, math.radians(5.0)) for t in takes]
     assert np.median([position_noise(t) for t in jittering]) < limit / 3  # positions as recorded
-    assert np.median([pose_noise(t, L) for t in jittering]) > 3 * limit
+    assert L * np.median([rotation_noise(t) for t in jittering]) > 3 * limit  # turns noisy
     precise = Recognizer.from_trajectories(takes, labels)
     # kept: at 5° per sample the orientation is dropped by default (v34, test_noisy_orientation)
     kept = Recognizer.from_trajectories(jittering, labels, positions_only=False)

@@ -39,7 +39,7 @@ import numpy as np
 from ..core import se3
 from ..core.trajectory import Trajectory
 
-__all__ = ["GridSmoother", "grid_gaussian", "noise_limit", "pose_noise", "position_noise",
+__all__ = ["GridSmoother", "grid_gaussian", "noise_limit", "position_noise",
            "rotation_noise", "sensor_smoothing", "smooth_in_own_frame", "smoothed_take"]
 
 #: Order of the differences that :func:`position_noise` measures noise on. White noise of σ
@@ -95,12 +95,6 @@ def rotation_noise(traj: Trajectory) -> float:
     d = np.linalg.norm(np.diff(turns, n=NOISE_ORDER - 1, axis=0), axis=1)
     scale = CHI3_QUANTILE * math.sqrt(math.comb(2 * NOISE_ORDER, NOISE_ORDER))
     return float(np.quantile(d, NOISE_QUANTILE)) / scale
-
-
-def pose_noise(traj: Trajectory, L: float) -> float:
-    """The noise [m per axis] of ``traj``'s poses as the motion speed sees it: its
-    :func:`position_noise` and ``L`` [m] times its :func:`rotation_noise`, in quadrature."""
-    return float(math.hypot(position_noise(traj), L * rotation_noise(traj)))
 
 
 def noise_limit(still_speed: float, lag: float) -> float:
