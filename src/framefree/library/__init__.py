@@ -11,7 +11,8 @@
     rec = load_recognizer("my_gestures.npz")                         # live, no recalibration
 
 Modules: :mod:`~framefree.library.takes` (cutting a recording into takes),
-:mod:`~framefree.library.store` (library folders and files), :mod:`~framefree.library.probes`
+:mod:`~framefree.library.take_set` (the takes of a library folder),
+:mod:`~framefree.library.store` (library files), :mod:`~framefree.library.probes`
 (motions that probe a vocabulary), :mod:`~framefree.library.check` (the report),
 :mod:`~framefree.library.figures` (its figures).
 """
@@ -22,16 +23,14 @@ from .probes import everyday_motions, perturbed, random_frame, slowest_stop_spee
 from .recorder import TakeRecorder
 from .store import (
     FORMAT_VERSION,
-    OWN_CONTEXT,
     GestureLibrary,
     LibraryError,
-    TakeSet,
     build_recognizer,
     enroll,
     load_library,
     load_recognizer,
-    read_takes,
 )
+from .take_set import OWN_CONTEXT, TakeSet, read_takes
 from .takes import (
     TakeSettings,
     TakeSpan,
