@@ -1,6 +1,6 @@
 """Takes that hold no rest: the rest level is measured where the takes hold still; models cut
-where the motion starts and ends have no rest to measure, so their level is a twentieth of their
-peak speed, and they get a note saying so (docs/online.md, Models cut without rests). Real Vive
+where the motion starts and ends have no rest to measure, so their level is where they start or
+end or, cut in mid-motion, the slowest the hand moves inside them, and they get a note saying so (docs/online.md, Models cut without rests). Real Vive
 recordings, as recorded and cut at 5 % and a fifth of their peak speed."""
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from framefree.online.rest_levels import (
     end_speed,
     holds_no_rest,
     restless_takes,
+    slowest_stretch,
     speed_levels,
     take_motion,
     take_speeds,
@@ -73,10 +74,17 @@ def test_cut_takes_rest_below_the_speed_they_start_at_and_get_advice(vive):
     assert rest_cut == pytest.approx(float(np.median(starts)))
     assert rest_cut < 0.6 * 3 * 0.05 * float(np.median(peaks))  # well under session 29's level
     assert rest_cut < 1.5 * rest  # near the level of the takes as recorded
-    # cut at a fifth they start faster than three times the bound on the floor (session 29)
+    # cut at a fifth they start faster than three times the bound on the floor (session 29):
+    # cut in mid-motion, the level is the slowest the hand moves for a rest's length (0.2 s)
+    # inside them, so that no gesture rests inside (v37)
     cuts20 = [cut(t, 0.2) for t in trajs]
-    peaks20 = [v.max() for v in take_speeds(cuts20, L) if v.size]
-    assert speed_levels(cuts20, L).rest == pytest.approx(3 * 0.05 * float(np.median(peaks20)))
+    speeds20 = [v for v in take_speeds(cuts20, L) if v.size]
+    bound = 3 * 0.05 * float(np.median([v.max() for v in speeds20]))
+    slowest = [slowest_stretch(v, 10) for v in speeds20]
+    rest20 = speed_levels(cuts20, L).rest
+    assert rest20 == pytest.approx(float(np.percentile(slowest, 10)))
+    assert rest20 < 0.7 * bound  # v36 took the bound itself
+    assert 0.5 * rest < rest20 < 1.5 * rest  # near the level of the takes as recorded
     assert rest_advice(trajs, config) is None
     for takes in (cuts, cuts20):
         advice = rest_advice(takes, config)
@@ -129,9 +137,12 @@ def test_several_trackers_cut_without_rests_get_the_same_level():
         return MultiTrajectory(tuple(Trajectory(tr.t[a:b], tr.p[a:b], tr.q[a:b]) for tr in s.trackers),
                                s.names, s.up, s.source)
 
-    cuts = [cut_both(s, 0.2) for s in samples]
-    peaks = [combined_speed(s, L).max() for s in cuts]
-    assert multi_speed_levels(cuts, L).rest == pytest.approx(3 * 0.05 * float(np.median(peaks)))
+    cuts = [cut_both(s, 0.2) for s in samples]  # cut in mid-motion: the slowest stretch (v37)
+    speeds = [combined_speed(s, L) for s in cuts]
+    bound = 3 * 0.05 * float(np.median([v.max() for v in speeds]))
+    slowest = float(np.percentile([slowest_stretch(v, 10) for v in speeds], 10))
+    assert slowest < bound
+    assert multi_speed_levels(cuts, L).rest == pytest.approx(slowest)
     floors = [np.percentile(combined_speed(s, L), 10) for s in samples]
     assert multi_speed_levels(samples, L).rest == pytest.approx(3 * float(np.median(floors)))
     cuts5 = [cut_both(s, 0.05) for s in samples]  # the speed they start at, as for one tracker
@@ -139,3 +150,17 @@ def test_several_trackers_cut_without_rests_get_the_same_level():
     starts = [end_speed(v, 5) for v, p in motion if holds_no_rest(v, p, 5)]
     assert 2 * len(starts) > len(cuts5)
     assert multi_speed_levels(cuts5, L).rest == pytest.approx(float(np.median(starts)))
+
+
+def test_the_slowest_stretch_is_inside_the_motion_and_lasts_a_rest():
+    # two strokes with a slow top between them (a golf swing), cut in mid-motion at both ends
+    t = np.arange(0.0, 2.0, 0.02)
+    v = 1.0 + 3.0 * np.abs(np.sin(np.pi * t))  # 1 m/s at both cut ends and at the top
+    v[(t > 0.95) & (t < 1.05)] = 0.2  # the top: 0.1 s slow, then up again
+    # the ends are slower than half the peak and take no part; 10 samples (0.2 s) around the
+    # top average the 0.2 m/s of its 5 samples with the faster samples on either side
+    slowest = slowest_stretch(v, 10)
+    assert 0.2 < slowest < 1.0
+    window = np.convolve(v[(t > 0.8) & (t < 1.2)], np.full(10, 0.1), "valid")
+    assert slowest == pytest.approx(window.min())
+    assert slowest_stretch(np.array([0.5, 2.0, 1.5]), 10) == pytest.approx(1.75)  # too short

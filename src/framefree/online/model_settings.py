@@ -140,7 +140,7 @@ def resolve_learned(
     v = draft.values
     if draft.missing("rest_speed", "move_speed"):
         lv = speed_levels(trajectories, L, k.dt, k.speed_lag, k.noise_factor, k.peak_fraction,
-                          k.move_factor)
+                          k.move_factor, k.rest_before)
         draft.fill(speed_levels, rest_speed=lv.rest, move_speed=lv.move)
     levels = SpeedLevels(v["rest_speed"], v["move_speed"])
     if draft.missing("max_units", "max_duration", "max_pause", "pause_ratio"):

@@ -93,7 +93,7 @@ def resolve_multi_learned(samples: Sequence[MultiTrajectory], labels: Sequence[s
     gestures = list(dict.fromkeys(labels))
     if draft.missing("rest_speed", "move_speed"):
         lv = multi_speed_levels(samples, L, k.dt, k.speed_lag, k.noise_factor, k.peak_fraction,
-                                k.move_factor)
+                                k.move_factor, k.rest_before)
         draft.fill(multi_speed_levels, rest_speed=lv.rest, move_speed=lv.move)
     levels = SpeedLevels(v["rest_speed"], v["move_speed"])
     if draft.missing("max_units", "max_duration", "max_pause", "pause_ratio"):

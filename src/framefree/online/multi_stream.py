@@ -124,7 +124,7 @@ def combined_speed(sample: MultiTrajectory, L: float, dt: float = 0.02, lag: int
 
 def multi_speed_levels(samples: Sequence[MultiTrajectory], L: float, dt: float = 0.02,
                        lag: int = 5, noise_factor: float = 3.0, peak_fraction: float = 0.05,
-                       move_factor: float = 1.5) -> SpeedLevels:
+                       move_factor: float = 1.5, rest_before: float = 0.2) -> SpeedLevels:
     """Rest and move levels [m/s] of the combined speed from model recordings.
 
     As :func:`~framefree.online.rest_levels.speed_levels`, with the **median** noise floor (10th
@@ -132,14 +132,15 @@ def multi_speed_levels(samples: Sequence[MultiTrajectory], L: float, dt: float =
     Machete Vive set often start or end in motion, and the largest floor of the six people's 330
     recordings (0.95 m/s) lies above many of their strokes' valleys; the median (0.15 m/s)
     is a rest. The median floor counts at most ``peak_fraction`` × the median peak, and where most
-    recordings hold no rest the level is at most the speed at which they start or end, as there
+    recordings hold no rest the level is at most the speed at which they start or end or, where
+    that is faster, the slowest the hand moves for ``rest_before`` seconds inside them, as there
     (:func:`~framefree.online.rest_levels.rest_level`; the trackers' positions tell whether an
     end heads one way).
     """
     motions = [m for m in (combined_motion(s, L, dt, lag) for s in samples) if m[0].size]
     if not motions:
         raise ValueError("no model recording is long enough to measure its motion speed")
-    rest = rest_level(motions, lag, noise_factor, peak_fraction)
+    rest = rest_level(motions, lag, noise_factor, peak_fraction, max(1, round(rest_before / dt)))
     return SpeedLevels(rest=rest, move=move_factor * rest)
 
 

@@ -26,6 +26,7 @@ __all__ = [
     "holds_no_rest",
     "rest_level",
     "restless_takes",
+    "slowest_stretch",
     "speed_levels",
     "take_motion",
     "take_speeds",
@@ -87,21 +88,49 @@ def holds_no_rest(v: np.ndarray, positions: np.ndarray, lag: int, share: float =
     return min(going_somewhere(positions[:n]), going_somewhere(positions[-n:])) > GOING_SOMEWHERE
 
 
+def slowest_stretch(v: np.ndarray, samples: int) -> float:
+    """The slowest mean motion speed [m/s] over ``samples`` consecutive samples of ``v`` (n,)
+    inside a recording's motion: between the first and the last sample faster than half its
+    peak, where the ends of a recording cut in mid-motion take no part (the mean of that stretch
+    where it is shorter)."""
+    fast = np.flatnonzero(v > 0.5 * float(v.max()))
+    inside = v[fast[0]:fast[-1] + 1]
+    if inside.size <= samples:
+        return float(inside.mean())
+    return float(np.convolve(inside, np.full(samples, 1.0 / samples), "valid").min())
+
+
+#: Share of the takes whose slowest stretch may lie below the rest level of takes cut in
+#: mid-motion (:func:`rest_level`): the 10th percentile, as the noise floor is a recording's.
+SLOW_TAKES = 10.0
+
+
 def rest_level(motions: Sequence[tuple[np.ndarray, np.ndarray]], lag: int = 5,
-               noise_factor: float = 3.0, peak_fraction: float = 0.05) -> float:
+               noise_factor: float = 3.0, peak_fraction: float = 0.05,
+               rest_samples: int = 10) -> float:
     """The rest level [m/s] of model recordings from their motion (speed (n - lag,), non-empty,
     and positions (n, k, 3), as :func:`take_motion` gives them).
 
     ``noise_factor`` times the median noise floor (the 10th percentile of a recording's speed),
     the floor counting at most ``peak_fraction`` × the median peak: a rest is slower than that
     (session 29). Where most recordings hold no rest (:func:`holds_no_rest`: a benchmark's
-    examples cut where the motion starts and ends), their floor is their slowest motion, and the
-    level is at most the median speed at which those recordings start or end
-    (:func:`end_speed`, session 30): where the cut was made, the hand left its rest. The Machete
-    right controller's takes cut at 5 % of their peak speed get 0.27 m/s (all eleven gestures;
-    about 0.5 before, 0.21 as recorded), SFINGE3D's dictionary cut the same way 0.094 (0.098 as
-    recorded). Either way at least ``peak_fraction`` × the smallest peak, so that a noiseless
-    recording still separates strokes.
+    examples cut where the motion starts and ends), they have no floor to measure:
+
+    * where they start or end slower than that level, the level is the median speed at which
+      they do (:func:`end_speed`, session 30): where the cut was made, the hand left its rest.
+      The Machete right controller's takes cut at 5 % of their peak speed get 0.27 m/s (all
+      eleven gestures; 0.21 as recorded), SFINGE3D's dictionary cut the same way 0.094 (0.098 as
+      recorded);
+    * where they start or end faster (cut in mid-motion: the Machete takes cut at 10 % start at
+      0.8 m/s, above the level of 0.55), the level is at most the slowest the hand moves for a
+      rest's length (``rest_samples``) inside the recordings' motion (:func:`slowest_stretch`),
+      the 10th percentile over the recordings (:data:`SLOW_TAKES`; v37). A rest so long inside a
+      gesture would end its unit, and the part after it would start a candidate of its own:
+      the top of a golf swing, whose second half was taken for a cartwheel. The Machete takes cut
+      at 10 % or 20 % get 0.25–0.31 m/s instead of 0.54–0.58.
+
+    Either way at least ``peak_fraction`` × the smallest peak, so that a noiseless recording
+    still separates strokes.
     """
     peaks = [float(v.max()) for v, _ in motions]
     floor = min(float(np.median([np.percentile(v, 10) for v, _ in motions])),
@@ -109,7 +138,12 @@ def rest_level(motions: Sequence[tuple[np.ndarray, np.ndarray]], lag: int = 5,
     rest = noise_factor * floor
     restless = [end_speed(v, lag) for v, p in motions if holds_no_rest(v, p, lag, peak_fraction)]
     if 2 * len(restless) > len(motions):
-        rest = min(rest, float(np.median(restless)))
+        start = float(np.median(restless))
+        if start < rest:
+            rest = start
+        else:
+            slowest = [slowest_stretch(v, rest_samples) for v, _ in motions]
+            rest = min(rest, float(np.percentile(slowest, SLOW_TAKES)))
     return max(rest, peak_fraction * min(peaks))
 
 
@@ -121,6 +155,7 @@ def speed_levels(
     noise_factor: float = 3.0,
     peak_fraction: float = 0.05,
     move_factor: float = 1.5,
+    rest_before: float = 0.2,
 ) -> SpeedLevels:
     """Rest and move levels from model recordings (each a gesture, usually between rests).
 
@@ -143,7 +178,8 @@ def speed_levels(
 
     Where most takes hold no rest (:func:`restless_takes`: a benchmark's segmented examples),
     they have no noise floor to measure, and the rest level is at most the speed at which they
-    start or end (:func:`rest_level`).
+    start or end or, where that is faster, the slowest the hand moves for ``rest_before``
+    seconds inside them (:func:`rest_level`).
 
     Parameters
     ----------
@@ -151,11 +187,15 @@ def speed_levels(
         Model recordings.
     L : float
         Scale length of the screw path [m].
+    dt : float
+        Grid step [s].
+    rest_before : float
+        How long [s] the hand rests before a candidate that starts after a full rest.
     """
     motions = [(v, p) for v, p in take_motion(trajectories, L, dt, lag) if v.size]
     if not motions:
         raise ValueError("no model recording is long enough to measure its motion speed")
-    rest = rest_level(motions, lag, noise_factor, peak_fraction)
+    rest = rest_level(motions, lag, noise_factor, peak_fraction, max(1, round(rest_before / dt)))
     typical_peak = float(np.median([v.max() for v, _ in motions]))
     if move_factor * rest > 0.5 * typical_peak:  # most takes cut without a rest: the typical take
         rest = 0.5 * typical_peak / move_factor  # must reach twice the move level to start a unit
