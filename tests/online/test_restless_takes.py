@@ -1,7 +1,8 @@
 """Takes that hold no rest: the rest level is measured where the takes hold still; models cut
 where the motion starts and ends have no rest to measure, so their level is where they start or
-end or, cut in mid-motion, the slowest the hand moves inside them, and they get a note saying so (docs/online.md, Models cut without rests). Real Vive
-recordings, as recorded and cut at 5 % and a fifth of their peak speed."""
+end or, cut in mid-motion, the slowest the hand moves inside them, and they get a note saying so
+(docs/online.md, Models cut without rests). Real Vive recordings, as recorded and cut at 5 % and
+a fifth of their peak speed."""
 
 from __future__ import annotations
 

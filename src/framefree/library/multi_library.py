@@ -19,7 +19,7 @@ from __future__ import annotations
 import datetime
 import hashlib
 import json
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -41,6 +41,7 @@ from ..io.library_file import (
 from ..online.config import RecognizerConfig
 from ..online.multi import MultiRecognizer
 from .store import StoredSettings
+from .take_set import LabelledTakes, refuse_copies
 
 __all__ = [
     "MultiGestureLibrary",
@@ -54,7 +55,7 @@ __all__ = [
 
 
 @dataclass(frozen=True)
-class MultiTakeSet:
+class MultiTakeSet(LabelledTakes):
     """Takes of a vocabulary made with several trackers.
 
     Attributes
@@ -75,28 +76,10 @@ class MultiTakeSet:
     names: tuple[str, ...]
     arrays: tuple[np.ndarray, ...] = ()
 
-    def __post_init__(self) -> None:
-        if not len(self.takes) == len(self.labels) == len(self.names):
-            raise ValueError(f"{len(self.takes)} takes, {len(self.labels)} labels, {len(self.names)} names")
-        if self.arrays and len(self.arrays) != len(self.takes):
-            raise ValueError(f"{len(self.takes)} takes but {len(self.arrays)} arrays")
-
-    def __len__(self) -> int:
-        return len(self.takes)
-
     @property
     def trackers(self) -> tuple[str, ...]:
         """Tracker names, in column order (those of the first take)."""
         return self.takes[0].names if self.takes else ()
-
-    @property
-    def gestures(self) -> list[str]:
-        """Distinct gesture labels in first-appearance order."""
-        return list(dict.fromkeys(self.labels))
-
-    def counts(self) -> dict[str, int]:
-        """Number of takes per gesture."""
-        return {g: self.labels.count(g) for g in self.gestures}
 
     def rows(self) -> tuple[np.ndarray, ...]:
         """Every take's rows as stored in a library file, (N_k, 1 + 7 n_trackers) each."""
@@ -120,28 +103,13 @@ class MultiTakeSet:
                             self.names + other.names,
                             self.rows() + tuple(_rows(s) for s in theirs))
 
-    def without(self, patterns: Iterable[str]) -> MultiTakeSet:
-        """A copy without the takes matching any pattern: a gesture (``hook_left``) or the end of
-        a take's name (``hook_left/trial_3``, ``Sub_U001/hook_left/ex_0_moderate``).
-
-        Raises
-        ------
-        LibraryError
-            For a pattern that matches no take.
-        """
-        drop = np.zeros(len(self), dtype=bool)
-        for pat in patterns:
-            parts = pat.strip("/").split("/")
-            hit = np.array([lab == pat.strip("/") or name.split("/")[-len(parts):] == parts
-                            for lab, name in zip(self.labels, self.names, strict=True)], dtype=bool)
-            if not hit.any():
-                raise LibraryError(f"--remove {pat}: no such gesture or take (gestures: "
-                                   f"{', '.join(self.gestures)})")
-            drop |= hit
-        keep = np.flatnonzero(~drop)
-        rows = self.rows()
-        return MultiTakeSet(tuple(self.takes[k] for k in keep), tuple(self.labels[k] for k in keep),
-                            tuple(self.names[k] for k in keep), tuple(rows[k] for k in keep))
+    @staticmethod
+    def matches(pattern: str, label: str, name: str) -> bool:
+        """Whether ``pattern`` names a take of gesture ``label`` called ``name``: its gesture
+        (``hook_left``) or the end of its name (``hook_left/trial_3``,
+        ``Sub_U001/hook_left/ex_0_moderate``)."""
+        parts = pattern.strip("/").split("/")
+        return label == pattern.strip("/") or name.split("/")[-len(parts):] == parts
 
 
 def _rows(sample: MultiTrajectory) -> np.ndarray:
@@ -305,7 +273,7 @@ def enroll_multi(takes: MultiTakeSet, config: RecognizerConfig | None = None,
         raise LibraryError(f"takes of {len(takes.gestures)} gesture(s) ({', '.join(takes.gestures)}): "
                            "a library needs at least two, each gesture's threshold is measured "
                            "against the others")
-    _refuse_copies(takes)
+    refuse_copies(takes)
     config = config or RecognizerConfig()
     stored = takes.as_stored()
     rec = MultiRecognizer.from_samples(list(stored.takes), list(stored.labels), config, invariance)
@@ -313,17 +281,6 @@ def enroll_multi(takes: MultiTakeSet, config: RecognizerConfig | None = None,
                                _as_json(rec.learned_.to_dict()),
                                rec.gate_speeds,
                                tuple(str(s) for s in built_from))
-
-
-def _refuse_copies(takes: MultiTakeSet) -> None:
-    seen: dict[bytes, str] = {}
-    for name, rows in zip(takes.names, takes.rows(), strict=True):
-        key = hashlib.sha256(np.ascontiguousarray(rows[:, 1:]).tobytes()).digest()
-        if key in seen:
-            raise LibraryError(f"take {name} is an exact copy of take {seen[key]}: remove one "
-                               f"(--remove {name}); a copied take makes its gesture's threshold "
-                               "meaningless")
-        seen[key] = name
 
 
 def _as_json(d: dict[str, Any]) -> dict[str, Any]:

@@ -14,6 +14,7 @@ import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Self
 
 import numpy as np
 
@@ -23,15 +24,75 @@ from ..datasets.layout import people_trials
 from ..errors import DatasetError, FramefreeError
 from ..io.library_file import LibraryError
 
-__all__ = ["OWN_CONTEXT", "TakeSet", "combine_takes", "read_takes", "refuse_copies"]
+__all__ = ["OWN_CONTEXT", "LabelledTakes", "TakeSet", "combine_takes", "read_takes", "refuse_copies"]
 
 #: Context folder that ``framefree record`` writes by default and :func:`read_takes` prefers.
 OWN_CONTEXT = "own"
 _PREFERRED_CONTEXTS = (OWN_CONTEXT, "original_1")
 
 
+class LabelledTakes:
+    """What the takes of a vocabulary share, of one tracker (:class:`TakeSet`) or several
+    (:class:`~framefree.library.multi_library.MultiTakeSet`): a label and a name for each take
+    (and its stored rows, where known), and the gestures they hold. For frozen dataclasses with
+    the fields ``takes``, ``labels``, ``names`` and ``arrays``."""
+
+    takes: tuple
+    labels: tuple[str, ...]
+    names: tuple[str, ...]
+    arrays: tuple[np.ndarray, ...]
+
+    def __post_init__(self) -> None:
+        if not len(self.takes) == len(self.labels) == len(self.names):
+            raise ValueError(f"{len(self.takes)} takes, {len(self.labels)} labels, {len(self.names)} names")
+        if self.arrays and len(self.arrays) != len(self.takes):
+            raise ValueError(f"{len(self.takes)} takes but {len(self.arrays)} arrays")
+
+    def __len__(self) -> int:
+        return len(self.takes)
+
+    @property
+    def gestures(self) -> list[str]:
+        """Distinct gesture labels in first-appearance order."""
+        return list(dict.fromkeys(self.labels))
+
+    def counts(self) -> dict[str, int]:
+        """Number of takes per gesture."""
+        return {g: self.labels.count(g) for g in self.gestures}
+
+
+    def matches(self, pattern: str, label: str, name: str) -> bool:
+        """Whether ``pattern`` (of ``--remove``) names a take of gesture ``label`` called ``name``."""
+        raise NotImplementedError
+
+    def without(self, patterns: Iterable[str]) -> Self:
+        """A copy without the takes matching any pattern (:meth:`matches`).
+
+        Raises
+        ------
+        LibraryError
+            For a pattern that matches no take.
+        """
+        drop = np.zeros(len(self), dtype=bool)
+        for pat in patterns:
+            hit = np.array([self.matches(pat, lab, name)
+                            for lab, name in zip(self.labels, self.names, strict=True)], dtype=bool)
+            if not hit.any():
+                raise LibraryError(f"--remove {pat}: no such gesture or take (gestures: "
+                                   f"{', '.join(self.gestures)})")
+            drop |= hit
+        keep = np.flatnonzero(~drop)
+        rows = self.rows()
+        return type(self)(tuple(self.takes[k] for k in keep), tuple(self.labels[k] for k in keep),
+                          tuple(self.names[k] for k in keep), tuple(rows[k] for k in keep))
+
+    def rows(self) -> tuple[np.ndarray, ...]:
+        """Every take's rows as a library file stores them."""
+        raise NotImplementedError
+
+
 @dataclass(frozen=True)
-class TakeSet:
+class TakeSet(LabelledTakes):
     """Takes of a vocabulary: the recordings, their gesture labels and their names.
 
     Attributes
@@ -52,12 +113,6 @@ class TakeSet:
     names: tuple[str, ...]
     arrays: tuple[np.ndarray, ...] = ()
 
-    def __post_init__(self) -> None:
-        if not len(self.takes) == len(self.labels) == len(self.names):
-            raise ValueError(f"{len(self.takes)} takes, {len(self.labels)} labels, {len(self.names)} names")
-        if self.arrays and len(self.arrays) != len(self.takes):
-            raise ValueError(f"{len(self.takes)} takes but {len(self.arrays)} arrays")
-
     def rows(self) -> tuple[np.ndarray, ...]:
         """The rows of every take as stored in a library file, (N_k, 8) each."""
         return self.arrays or tuple(tr.to_array() for tr in self.takes)
@@ -75,45 +130,15 @@ class TakeSet:
                       for r, tr in zip(rows, self.takes, strict=True))
         return TakeSet(takes, self.labels, self.names, rows)
 
-    def __len__(self) -> int:
-        return len(self.takes)
-
-    @property
-    def gestures(self) -> list[str]:
-        """Distinct gesture labels in first-appearance order."""
-        return list(dict.fromkeys(self.labels))
-
-    def counts(self) -> dict[str, int]:
-        """Number of takes per gesture."""
-        return {g: self.labels.count(g) for g in self.gestures}
-
     def __add__(self, other: TakeSet) -> TakeSet:
         return TakeSet(self.takes + other.takes, self.labels + other.labels, self.names + other.names,
                        self.rows() + other.rows())
 
-    def without(self, patterns: Iterable[str]) -> TakeSet:
-        """A copy without the takes matching any pattern.
-
-        A pattern is a gesture (``wave``), a take (``wave/own/trial_3``) or a gesture and a trial
-        (``wave/trial_3``).
-
-        Raises
-        ------
-        LibraryError
-            For a pattern that matches no take.
-        """
-        drop = np.zeros(len(self), dtype=bool)
-        for pat in patterns:
-            hit = np.array([_matches(pat, lab, name)
-                            for lab, name in zip(self.labels, self.names, strict=True)], dtype=bool)
-            if not hit.any():
-                raise LibraryError(f"--remove {pat}: no such gesture or take (gestures: "
-                                   f"{', '.join(self.gestures)})")
-            drop |= hit
-        keep = np.flatnonzero(~drop)
-        rows = self.rows()
-        return TakeSet(tuple(self.takes[k] for k in keep), tuple(self.labels[k] for k in keep),
-                       tuple(self.names[k] for k in keep), tuple(rows[k] for k in keep))
+    @staticmethod
+    def matches(pattern: str, label: str, name: str) -> bool:
+        """Whether ``pattern`` names a take of gesture ``label`` called ``name``: its gesture
+        (``wave``), the take (``wave/own/trial_3``) or its gesture and trial (``wave/trial_3``)."""
+        return _matches(pattern, label, name)
 
 
 def _matches(pattern: str, label: str, name: str) -> bool:
@@ -237,7 +262,7 @@ def combine_takes(parts: Sequence[tuple[str, TakeSet]], merge: Iterable[str] = (
     return takes
 
 
-def refuse_copies(takes: TakeSet) -> None:
+def refuse_copies(takes: LabelledTakes) -> None:
     """Raise :class:`LibraryError` if a take is an exact copy of another (the same samples, at any
     time offset): leave-one-out calibration would put its gesture's threshold at about zero."""
     seen: dict[bytes, str] = {}
