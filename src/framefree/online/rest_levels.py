@@ -127,7 +127,7 @@ def rest_level(motions: Sequence[tuple[np.ndarray, np.ndarray]], lag: int = 5,
       the 10th percentile over the recordings (:data:`SLOW_TAKES`; v37). A rest so long inside a
       gesture would end its unit, and the part after it would start a candidate of its own:
       the top of a golf swing, whose second half was taken for a cartwheel. The Machete takes cut
-      at 10 % or 20 % get 0.25–0.31 m/s instead of 0.54–0.58.
+      at 10 % or 20 % get 0.19–0.37 m/s instead of 0.54–0.58.
 
     Either way at least ``peak_fraction`` × the smallest peak, so that a noiseless recording
     still separates strokes.
