@@ -35,7 +35,9 @@ class LabelledTakes:
     """What the takes of a vocabulary share, of one tracker (:class:`TakeSet`) or several
     (:class:`~framefree.library.multi_library.MultiTakeSet`): a label and a name for each take
     (and its stored rows, where known), and the gestures they hold. For frozen dataclasses with
-    the fields ``takes``, ``labels``, ``names`` and ``arrays``."""
+    the fields ``takes``, ``labels``, ``names`` and ``arrays``, and the methods ``rows`` (each
+    take's rows as a library file stores them) and ``matches`` (whether a ``--remove`` pattern
+    names a take of a gesture and name)."""
 
     takes: tuple
     labels: tuple[str, ...]
@@ -60,13 +62,8 @@ class LabelledTakes:
         """Number of takes per gesture."""
         return {g: self.labels.count(g) for g in self.gestures}
 
-
-    def matches(self, pattern: str, label: str, name: str) -> bool:
-        """Whether ``pattern`` (of ``--remove``) names a take of gesture ``label`` called ``name``."""
-        raise NotImplementedError
-
     def without(self, patterns: Iterable[str]) -> Self:
-        """A copy without the takes matching any pattern (:meth:`matches`).
+        """A copy without the takes matching any pattern (``matches``).
 
         Raises
         ------
@@ -85,10 +82,6 @@ class LabelledTakes:
         rows = self.rows()
         return type(self)(tuple(self.takes[k] for k in keep), tuple(self.labels[k] for k in keep),
                           tuple(self.names[k] for k in keep), tuple(rows[k] for k in keep))
-
-    def rows(self) -> tuple[np.ndarray, ...]:
-        """Every take's rows as a library file stores them."""
-        raise NotImplementedError
 
 
 @dataclass(frozen=True)
